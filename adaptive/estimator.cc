@@ -1,0 +1,240 @@
+#include "adaptive/estimator.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace calibench {
+namespace {
+
+// Integrator state: column 0 = theta_hat, columns 1..16 = P = Gamma^-1 (symmetric).
+using State = Eigen::Matrix<double, 16, 17>;
+
+// Dormand-Prince 5(4) tableau (Hairer, Norsett & Wanner, Table II.5.2).
+constexpr double kC[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
+constexpr double kA[7][6] = {
+    {0, 0, 0, 0, 0, 0},
+    {1.0 / 5, 0, 0, 0, 0, 0},
+    {3.0 / 40, 9.0 / 40, 0, 0, 0, 0},
+    {44.0 / 45, -56.0 / 15, 32.0 / 9, 0, 0, 0},
+    {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729, 0, 0},
+    {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656, 0},
+    {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
+// Error weights: 5th-order minus embedded 4th-order solution.
+constexpr double kE[7] = {71.0 / 57600,      0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200,
+                          22.0 / 525, -1.0 / 40};
+
+class AdaptiveOde {
+ public:
+  AdaptiveOde(const MeasurementSource& source, double alpha) : source_(source), alpha_(alpha) {}
+
+  // d/dt state at (t, y) in `segment`. Returns false if a depth is <= 0 or non-finite.
+  bool Derivative(double t, int segment, const State& y, State* dy) {
+    ++evaluations_;
+    source_.Measure(t, segment, &frame_);
+    const Vector16d theta = y.col(0);
+    // G = W_bar^T W_bar assembled from per-point outer products X = x_bar x_bar^T:
+    //   blocks (r, r) = sum X; (r, z) = -sum p_hat_r X; (z, z) = sum |p_hat|^2 X.
+    Eigen::Matrix4d sum_x = Eigen::Matrix4d::Zero(), sum_zz = Eigen::Matrix4d::Zero();
+    Eigen::Matrix4d sum_px[3] = {Eigen::Matrix4d::Zero(), Eigen::Matrix4d::Zero(),
+                                 Eigen::Matrix4d::Zero()};
+    Vector16d g = Vector16d::Zero();  // W_bar^T p_tilde.
+    for (size_t i = 0; i < frame_.pixels.size(); ++i) {
+      const Eigen::Vector4d x = frame_.points_in_parent[i].homogeneous();
+      const double depth = theta.segment<4>(12).dot(x);
+      if (!(depth > 0) || !std::isfinite(depth)) return false;
+      const Eigen::Vector3d m(theta.segment<4>(0).dot(x), theta.segment<4>(4).dot(x),
+                              theta.segment<4>(8).dot(x));
+      const Eigen::Vector3d p_hat = m / depth;
+      const Eigen::Vector3d p_tilde = frame_.pixels[i].homogeneous() - p_hat;
+      const Eigen::Matrix4d xx = x * x.transpose();
+      sum_x += xx;
+      sum_zz += p_hat.squaredNorm() * xx;
+      for (int r = 0; r < 3; ++r) {
+        sum_px[r] += p_hat[r] * xx;
+        g.segment<4>(4 * r) += p_tilde[r] * x;
+      }
+      g.segment<4>(12) -= p_hat.dot(p_tilde) * x;
+    }
+    Matrix16d gram = Matrix16d::Zero();
+    for (int r = 0; r < 3; ++r) {
+      gram.block<4, 4>(4 * r, 4 * r) = sum_x;
+      gram.block<4, 4>(4 * r, 12) = -sum_px[r];
+      gram.block<4, 4>(12, 4 * r) = -sum_px[r];
+    }
+    gram.block<4, 4>(12, 12) = sum_zz;
+
+    // theta_dot = alpha P^-1 g with P Jacobi-scaled: P = S^-1 Ps S^-1, S = diag(P)^-1/2.
+    const Matrix16d p = y.rightCols<16>();
+    const Vector16d s = p.diagonal().cwiseSqrt().cwiseInverse();
+    const Matrix16d ps = s.asDiagonal() * p * s.asDiagonal();
+    const Eigen::LLT<Matrix16d> llt(ps);
+    if (llt.info() != Eigen::Success) return false;
+    dy->col(0) = alpha_ * s.cwiseProduct(llt.solve(s.cwiseProduct(g)));
+    dy->rightCols<16>() = gram;
+    return dy->allFinite();
+  }
+
+  long evaluations() const { return evaluations_; }
+
+ private:
+  const MeasurementSource& source_;
+  double alpha_;
+  Frame frame_;
+  long evaluations_ = 0;
+};
+
+// Max over entries of |error| / scale (see estimator.h for the scales).
+double ErrorNorm(const State& err, const State& y0, const State& y1, double rtol) {
+  double worst = 0.0;
+  for (int block = 0; block < 4; ++block) {
+    const double block_scale = std::max(y0.col(0).segment<4>(4 * block).norm(),
+                                        y1.col(0).segment<4>(4 * block).norm());
+    for (int i = 4 * block; i < 4 * block + 4; ++i) {
+      const double sc = rtol * (block_scale + std::max(std::abs(y0(i, 0)), std::abs(y1(i, 0))));
+      worst = std::max(worst, std::abs(err(i, 0)) / sc);
+    }
+  }
+  for (int j = 0; j < 16; ++j) {
+    for (int i = 0; i <= j; ++i) {
+      const double sc = rtol * std::sqrt(y1(i, 1 + i) * y1(j, 1 + j));
+      worst = std::max(worst, std::abs(err(i, 1 + j)) / sc);
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+bool AdaptiveOptions::Check(std::string* why) const {
+  std::ostringstream msg;
+  if (!(alpha > 0 && std::isfinite(alpha))) {
+    msg << "alpha must be a positive finite gain, got " << alpha;
+  } else if (!(gamma0 > 0 && std::isfinite(gamma0))) {
+    msg << "gamma0 must be positive, got " << gamma0;
+  } else if (!(rtol > 0 && rtol < 1e-2)) {
+    msg << "rtol must lie in (0, 1e-2), got " << rtol;
+  } else if (!(max_step_s > 0)) {
+    msg << "max_step_s must be positive, got " << max_step_s;
+  } else if (!(initial_step_s > 0 && initial_step_s <= max_step_s)) {
+    msg << "initial_step_s must lie in (0, max_step_s], got " << initial_step_s;
+  } else if (max_steps <= 0) {
+    msg << "max_steps must be positive, got " << max_steps;
+  }
+  if (msg.str().empty()) return true;
+  if (why) *why = msg.str();
+  return false;
+}
+
+AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vector16d& theta0,
+                                     const AdaptiveOptions& options,
+                                     const ThetaObserver& observer) {
+  const auto start = std::chrono::steady_clock::now();
+  AdaptiveSummary summary;
+  summary.theta_hat = theta0;
+  auto finish = [&](MethodStatus status, const std::string& message) {
+    summary.status = status;
+    summary.message = message;
+    summary.wall_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return summary;
+  };
+  std::string why;
+  if (!options.Check(&why)) return finish(MethodStatus::kFailed, "adaptive options: " + why);
+  if (!theta0.allFinite()) return finish(MethodStatus::kFailed, "initial theta is not finite");
+
+  AdaptiveOde ode(source, options.alpha);
+  State y;
+  y.col(0) = theta0;
+  y.rightCols<16>() = Matrix16d::Identity() / options.gamma0;
+  const Matrix16d p0 = y.rightCols<16>();
+  if (observer) observer(0.0, theta0);
+
+  const std::vector<double>& breaks = source.Breakpoints();
+  State k[7];
+  double h = options.initial_step_s;
+  double t = 0.0;
+  long attempts = 0;
+  for (int segment = 0; segment + 1 < static_cast<int>(breaks.size()); ++segment) {
+    const double t_end = breaks[segment + 1];
+    t = breaks[segment];
+    if (!ode.Derivative(t, segment, y, &k[0])) {
+      summary.final_time_s = t;
+      summary.rhs_evaluations = ode.evaluations();
+      return finish(MethodStatus::kDiverged, "a depth W_z theta_z_hat became <= 0 or non-finite at t = " +
+                                                 std::to_string(t) + " s");
+    }
+    while (t < t_end) {
+      if (++attempts > options.max_steps) {
+        summary.final_time_s = t;
+        return finish(MethodStatus::kFailed, "max_steps exceeded at t = " + std::to_string(t));
+      }
+      const bool last = h >= t_end - t;
+      const double step = last ? t_end - t : h;
+      State y_new;
+      bool valid = true;
+      for (int s = 1; s < 7 && valid; ++s) {
+        State ys = y;
+        for (int j = 0; j < s; ++j) {
+          if (kA[s][j] != 0.0) ys += (step * kA[s][j]) * k[j];
+        }
+        if (s == 6) y_new = ys;  // Row 7 of the tableau is the 5th-order solution (FSAL).
+        valid = ode.Derivative(t + kC[s] * step, segment, ys, &k[s]);
+      }
+      double err = std::numeric_limits<double>::infinity();
+      if (valid) {
+        State e = State::Zero();
+        for (int s = 0; s < 7; ++s) {
+          if (kE[s] != 0.0) e += (step * kE[s]) * k[s];
+        }
+        err = ErrorNorm(e, y, y_new, options.rtol);
+      }
+      if (err <= 1.0) {
+        t = last ? t_end : t + step;
+        y = y_new;
+        k[0] = k[6];
+        ++summary.iterations;
+        if (observer) observer(t, y.col(0));
+        const double factor = err == 0.0 ? 5.0 : std::clamp(0.9 * std::pow(err, -0.2), 0.2, 5.0);
+        // A step shortened to hit the segment end says nothing about the next one.
+        h = std::min(options.max_step_s, last ? std::max(h, step * factor) : step * factor);
+      } else {
+        ++summary.rejected_steps;
+        h = step * (std::isfinite(err) ? std::clamp(0.9 * std::pow(err, -0.2), 0.1, 0.9) : 0.25);
+        if (h < 1e-14 * (1.0 + t)) {
+          summary.final_time_s = t;
+          summary.theta_hat = y.col(0);
+          summary.rhs_evaluations = ode.evaluations();
+          return finish(MethodStatus::kDiverged,
+                        "step size underflow at t = " + std::to_string(t) +
+                            " s: a depth W_z theta_z_hat is driven to <= 0 or the state blows up");
+        }
+      }
+    }
+  }
+  summary.theta_hat = y.col(0);
+  summary.information = y.rightCols<16>() - p0;
+  summary.final_time_s = t;
+  summary.rhs_evaluations = ode.evaluations();
+  return finish(MethodStatus::kOk, "");
+}
+
+double PersistentExcitationIndex(const Matrix16d& information, const Vector16d& theta_hat) {
+  const Vector16d diag = information.diagonal();
+  if (!(diag.minCoeff() > 0)) return 0.0;
+  const Vector16d s = diag.cwiseSqrt().cwiseInverse();
+  const Matrix16d normalised = s.asDiagonal() * information * s.asDiagonal();
+  // In normalised coordinates the scale direction is S^-1 theta_hat.
+  Vector16d u = theta_hat.cwiseQuotient(s);
+  u.normalize();
+  const Matrix16d proj = Matrix16d::Identity() - u * u.transpose();
+  const Eigen::SelfAdjointEigenSolver<Matrix16d> eig(proj * normalised * proj);
+  // Eigenvalue 0 belongs to u itself; the complement's smallest is the second smallest.
+  const Vector16d values = eig.eigenvalues();
+  return std::max(0.0, values[1]) / values[15];
+}
+
+}  // namespace calibench

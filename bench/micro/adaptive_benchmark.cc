@@ -1,0 +1,58 @@
+// Micro-benchmarks of the hot paths: projection, one thesis run of the adaptive estimator.
+// Run: build/bench/calibench_micro_benchmarks  (report medians: --benchmark_repetitions=5
+// --benchmark_report_aggregates_only=true).
+#include <benchmark/benchmark.h>
+
+#include <string>
+
+#include "adaptive/estimator.h"
+#include "bench/config_io.h"
+#include "core/camera.h"
+#include "core/measurements.h"
+
+namespace calibench {
+namespace {
+
+void BM_Project(benchmark::State& state) {
+  CameraIntrinsics k;
+  k.phi_deg = 87;
+  k.k1 = -0.1;
+  const auto params = k.Params();
+  const Eigen::Vector3d point(0.3, -0.2, 4.0);
+  Eigen::Vector2d pixel;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(PinholeSkewCamera::Project(params.data(), point.data(), pixel.data()));
+    benchmark::DoNotOptimize(pixel);
+  }
+}
+BENCHMARK(BM_Project);
+
+// One full 240 s thesis run (sim 3: moving camera, n = 10, alpha = 1000, continuous source), or
+// sim 3 with 30 frames/s held frames (arg 30).
+void BM_AdaptiveThesisRun(benchmark::State& state) {
+  RunConfig config;
+  std::string why;
+  if (!LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/thesis/sim03.yaml", &config,
+                     &why)) {
+    state.SkipWithError(why.c_str());
+    return;
+  }
+  ScenarioConfig s = config.scenarios[0];
+  s.measurements.sample_rate_hz = static_cast<double>(state.range(0));
+  const auto source = OracleSource::Create(s.MakeScene(), s.measurements, 1, &why);
+  const CameraSpec& init = s.adaptive.initial;
+  const Vector16d theta0 = ThetaFromCamera(init.intrinsics, init.ParentFromCam().Inverse());
+  long steps = 0;
+  for (auto _ : state) {
+    const AdaptiveSummary summary = RunAdaptiveEstimator(*source, theta0, s.adaptive.options);
+    steps = summary.iterations;
+    benchmark::DoNotOptimize(summary.theta_hat);
+  }
+  state.counters["steps"] = static_cast<double>(steps);
+}
+BENCHMARK(BM_AdaptiveThesisRun)->Arg(0)->Arg(30)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace calibench
+
+BENCHMARK_MAIN();

@@ -1,0 +1,73 @@
+#include "bench/scenario.h"
+
+#include <cmath>
+
+namespace calibench {
+
+CameraSpec AdaptiveMethodConfig::ThesisInitialGuess() {
+  CameraSpec c;
+  c.intrinsics.fku_px = 820;
+  c.intrinsics.fkv_px = 810;
+  c.intrinsics.phi_deg = 90;
+  c.intrinsics.u0_px = 320;
+  c.intrinsics.v0_px = 240;
+  c.r_c << -1, 0, 0, 0, 0, 1, 0, 1, 0;
+  c.x_c = Eigen::Vector3d(0, -2, 0.5);
+  return c;
+}
+
+bool Reference::Any() const {
+  return std::isfinite(fku_px) || std::isfinite(fkv_px) || std::isfinite(phi_deg) ||
+         std::isfinite(u0_px) || std::isfinite(v0_px) || x_c.allFinite() ||
+         std::isfinite(theta_err_below);
+}
+
+SceneTruth ScenarioConfig::MakeScene() const {
+  SceneTruth scene;
+  scene.calibration_case = calibration_case;
+  scene.intrinsics = truth.intrinsics;
+  scene.parent_from_cam = truth.ParentFromCam();
+  scene.allow_improper_rotation = truth.allow_improper_rotation;
+  scene.points = points;
+  scene.duration_s = duration_s;
+  Motion::Options motion_options;
+  motion_options.duration_s = duration_s;
+  scene.motion = Motion(motion, motion_options);
+  return scene;
+}
+
+bool ScenarioConfig::Check(std::string* why) const {
+  std::string reason;
+  auto fail = [&](const std::string& field, const std::string& r) {
+    if (why) *why = field + ": " + r;
+    return false;
+  };
+  if (trials < 1) return fail("trials", "must be >= 1, got " + std::to_string(trials));
+  if (!(duration_s > 0 && std::isfinite(duration_s))) return fail("duration_s", "must be > 0");
+  if (!truth.intrinsics.Check(&reason)) return fail("truth.intrinsics", reason);
+  if (!CheckRotation(truth.r_c, 1e-9, truth.allow_improper_rotation, &reason)) {
+    return fail("truth.R_C", reason);
+  }
+  if (points.empty()) return fail("points", "at least one feature point is needed");
+  if (!motion.Check(&reason)) return fail("motion", reason);
+  if (detections != "oracle") {
+    return fail("measurements.detections", "only 'oracle' is available, got '" + detections + "'");
+  }
+  if (!measurements.Check(&reason)) return fail("measurements", reason);
+  if (adaptive.enabled) {
+    if (!adaptive.options.Check(&reason)) return fail("methods.adaptive", reason);
+    if (!adaptive.initial.intrinsics.Check(&reason)) {
+      return fail("methods.adaptive.initial.intrinsics", reason);
+    }
+    if (!CheckRotation(adaptive.initial.r_c, 1e-9, adaptive.initial.allow_improper_rotation,
+                       &reason)) {
+      return fail("methods.adaptive.initial.R_C", reason);
+    }
+    if (!(adaptive.convergence_tol > 0)) {
+      return fail("methods.adaptive.convergence_tol", "must be > 0");
+    }
+  }
+  return true;
+}
+
+}  // namespace calibench

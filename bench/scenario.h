@@ -1,0 +1,76 @@
+// The scenario model: what one YAML scenario describes, as plain structs (no YAML here; see
+// config_io.h for the file format). A scenario = ground truth (camera, points, motion), a
+// measurement source (oracle now; rendered frames later), noise, the methods to run with their
+// settings, Monte Carlo trials and a seed, and optionally a published reference to compare with.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "adaptive/estimator.h"
+#include "core/measurements.h"
+#include "core/scene.h"
+
+namespace calibench {
+
+constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
+
+// A camera: intrinsics plus its pose in the parent frame, (R_C, x_C) as the thesis writes them.
+struct CameraSpec {
+  CameraIntrinsics intrinsics;
+  Eigen::Matrix3d r_c = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d x_c = Eigen::Vector3d::Zero();
+  bool allow_improper_rotation = false;
+  Rigid3 ParentFromCam() const { return {r_c, x_c}; }
+};
+
+struct AdaptiveMethodConfig {
+  bool enabled = true;
+  AdaptiveOptions options;
+  // Initial estimate theta_hat(0) (thesis appendix B.1 by default).
+  CameraSpec initial = ThesisInitialGuess();
+  double convergence_tol = 1e-4;  // converge_time_s: first t after which ||theta~|| < this.
+  static CameraSpec ThesisInitialGuess();
+};
+
+// Published figures to print beside ours (all optional: NaN / empty when absent).
+struct Reference {
+  std::string source;  // e.g. "thesis sim 7".
+  double fku_px = kUnset, fkv_px = kUnset, phi_deg = kUnset, u0_px = kUnset, v0_px = kUnset;
+  Eigen::Vector3d x_c = Eigen::Vector3d::Constant(kUnset);
+  double theta_err_below = kUnset;  // "exact": the thesis reports ||theta~|| below this.
+  bool Any() const;
+};
+
+struct ScenarioConfig {
+  std::string name;
+  std::string description;
+  std::string source_file;  // The YAML file it came from (for messages).
+  CalibrationCase calibration_case = CalibrationCase::kMovingCamera;
+  double duration_s = 240.0;
+  uint64_t seed = 1;
+  int trials = 1;
+
+  CameraSpec truth;
+  std::string points_preset;  // "thesis" or empty (explicit list).
+  int points_count = 10;      // With a preset: how many of its points (the first ones).
+  std::vector<Eigen::Vector3d> points;
+  std::string motion_preset;  // A ThesisMotionPreset name or empty (explicit twist).
+  TwistProfile motion;        // Frame already resolved from the case.
+
+  std::string detections = "oracle";  // oracle (rendered: issue #4).
+  OracleOptions measurements;         // sample rate, eval rate and noise.
+
+  AdaptiveMethodConfig adaptive;
+  Reference reference;
+
+  // The ground truth scene (motion integrated over duration_s).
+  SceneTruth MakeScene() const;
+  bool Check(std::string* why) const;
+};
+
+}  // namespace calibench

@@ -1,0 +1,33 @@
+# Helpers shared by every module's CMakeLists.txt.
+
+# Warnings for our own targets (never for third-party headers, which come in as SYSTEM).
+function(calibench_set_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
+                                           -Wno-unused-parameter)
+endfunction()
+
+# calibench_add_library(<module> SOURCES ... PUBLIC_DEPS ... PRIVATE_DEPS ...)
+# Adds target calibench_<module> with alias calibench::<module>; headers are included as
+# "<module>/<file>.h" from the project root.
+function(calibench_add_library module)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  set(target calibench_${module})
+  add_library(${target} STATIC ${ARG_SOURCES})
+  add_library(calibench::${module} ALIAS ${target})
+  target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>)
+  target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  calibench_set_warnings(${target})
+endfunction()
+
+# calibench_add_test(<module> <name> SOURCES ... DEPS ... [LABELS ...])
+# Adds the GoogleTest executable calibench_<module>_<name>_test and registers its tests with CTest.
+function(calibench_add_test module name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS" ${ARGN})
+  set(target calibench_${module}_${name}_test)
+  add_executable(${target} ${ARG_SOURCES})
+  target_link_libraries(${target} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
+  target_compile_definitions(${target} PRIVATE
+      CALIBENCH_SOURCE_DIR="${PROJECT_SOURCE_DIR}" CALIBENCH_DATA_DIR="${CALIBENCH_DATA_DIR}")
+  calibench_set_warnings(${target})
+  gtest_discover_tests(${target} PROPERTIES LABELS "${module};${ARG_LABELS}" DISCOVERY_TIMEOUT 60)
+endfunction()

@@ -1,0 +1,58 @@
+#include "core/camera.h"
+
+#include <sstream>
+
+namespace calibench {
+namespace {
+constexpr double kDegToRad = M_PI / 180.0;
+}  // namespace
+
+bool CameraIntrinsics::Check(std::string* why) const {
+  std::ostringstream msg;
+  if (!(std::isfinite(fku_px) && fku_px > 0)) {
+    msg << "fku_px must be a positive focal length in pixels, got " << fku_px;
+  } else if (!(std::isfinite(fkv_px) && fkv_px > 0)) {
+    msg << "fkv_px must be a positive focal length in pixels, got " << fkv_px;
+  } else if (!(phi_deg > 0 && phi_deg < 180)) {
+    msg << "phi_deg must lie in (0, 180) degrees (90 = no skew), got " << phi_deg;
+  } else if (!std::isfinite(u0_px) || !std::isfinite(v0_px)) {
+    msg << "principal point must be finite, got (" << u0_px << ", " << v0_px << ")";
+  } else if (!std::isfinite(k1) || !std::isfinite(k2)) {
+    msg << "distortion k1, k2 must be finite, got (" << k1 << ", " << k2 << ")";
+  }
+  if (msg.str().empty()) return true;
+  if (why) *why = msg.str();
+  return false;
+}
+
+Eigen::Matrix3d CameraIntrinsics::Matrix() const {
+  const double phi = phi_deg * kDegToRad;
+  Eigen::Matrix3d a;
+  a << fku_px, -fku_px * std::cos(phi) / std::sin(phi), u0_px,  //
+      0, fkv_px / std::sin(phi), v0_px,                         //
+      0, 0, 1;
+  return a;
+}
+
+CameraIntrinsics CameraIntrinsics::FromMatrix(const Eigen::Matrix3d& a) {
+  CameraIntrinsics k;
+  const double phi = std::atan2(a(0, 0), -a(0, 1));  // in (0, pi) for a1 > 0.
+  k.fku_px = a(0, 0);
+  k.phi_deg = phi / kDegToRad;
+  k.fkv_px = a(1, 1) * std::sin(phi);
+  k.u0_px = a(0, 2);
+  k.v0_px = a(1, 2);
+  return k;
+}
+
+std::array<double, 7> CameraIntrinsics::Params() const {
+  return {fku_px, fkv_px, phi_deg * kDegToRad, u0_px, v0_px, k1, k2};
+}
+
+bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& point_in_cam,
+                  Eigen::Vector2d* pixel) {
+  const std::array<double, 7> params = intrinsics.Params();
+  return PinholeSkewCamera::Project(params.data(), point_in_cam.data(), pixel->data());
+}
+
+}  // namespace calibench

@@ -1,0 +1,80 @@
+// The camera model: pinhole with a skew angle phi between the sensor axes, optional radial
+// distortion (k1, k2). A small value type; the algorithms and ceres::Jet both use Project().
+//
+// Intrinsic matrix (thesis eq. 2.5; spec "Camera model"):
+//
+//         [ fku   -fku*cot(phi)   u0 ]   [ a1 a2 a3 ]
+//     A = [ 0      fkv/sin(phi)   v0 ] = [ 0  a4 a5 ]
+//         [ 0      0              1  ]   [ 0  0  1  ]
+//
+// Projection of point_in_cam = (X, Y, Z), Z > 0:
+//     x = X/Z, y = Y/Z;  r2 = x^2 + y^2;  d = 1 + k1*r2 + k2*r2^2   (distortion in normalised
+//     coordinates, after the perspective division and before A — seed 001's model)
+//     [u v 1]^T = A * [d*x  d*y  1]^T
+//
+// Pixel-centre convention (the whole suite's): OpenCV's. The centre of the pixel in column i, row j
+// is at (u, v) = (i, j); the image spans [-0.5, W-0.5] x [-0.5, H-0.5]. Detectors that use another
+// convention (AprilTag 3 behaves as if centres were at (i+0.5, j+0.5)) convert at their boundary.
+//
+// Parameter order of the raw array used by Project() (kNumParams = 7):
+//     [fku_px, fkv_px, phi_rad, u0_px, v0_px, k1, k2]
+// phi is in radians in the raw array (the Jet-friendly form) and in degrees in CameraIntrinsics.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+#include <string>
+
+namespace calibench {
+
+struct CameraIntrinsics {
+  double fku_px = 800.0;  // f * ku: focal length in horizontal pixels.
+  double fkv_px = 800.0;  // f * kv: focal length in vertical pixels.
+  double phi_deg = 90.0;  // Angle between the sensor axes; 90 = no skew. Valid in (0, 180).
+  double u0_px = 320.0;   // Principal point, pixel-centre convention above.
+  double v0_px = 240.0;
+  double k1 = 0.0;  // Radial distortion (normalised coordinates).
+  double k2 = 0.0;
+
+  // Positive finite focal lengths, phi in (0, 180) degrees, finite principal point and k's.
+  bool Check(std::string* why) const;
+
+  // The 3x3 matrix A above (distortion is not part of it).
+  Eigen::Matrix3d Matrix() const;
+  // Inverse of Matrix() for an upper-triangular A with a33 = 1 (a1, a4 > 0); distortion is zero.
+  static CameraIntrinsics FromMatrix(const Eigen::Matrix3d& a);
+
+  std::array<double, 7> Params() const;
+};
+
+struct PinholeSkewCamera {
+  static constexpr int kNumParams = 7;
+  static constexpr const char* kName = "pinhole-skew-k2";
+
+  // Projects point_in_cam (3 values) to pixel (2 values). Returns false, leaving pixel untouched,
+  // when the point is not strictly in front of the camera (Z <= 0). Never throws.
+  template <typename T>
+  static bool Project(const T* params, const T* point_in_cam, T* pixel) {
+    using std::cos;
+    using std::sin;
+    if (!(point_in_cam[2] > T(0))) return false;
+    const T x = point_in_cam[0] / point_in_cam[2];
+    const T y = point_in_cam[1] / point_in_cam[2];
+    const T r2 = x * x + y * y;
+    const T d = T(1) + r2 * (params[5] + params[6] * r2);
+    const T xd = d * x;
+    const T yd = d * y;
+    const T sin_phi = sin(params[2]);
+    const T cos_phi = cos(params[2]);
+    pixel[0] = params[0] * (xd - yd * cos_phi / sin_phi) + params[3];
+    pixel[1] = params[1] * yd / sin_phi + params[4];
+    return true;
+  }
+};
+
+// Convenience for double: projects with `intrinsics`, returns false behind the camera.
+bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& point_in_cam,
+                  Eigen::Vector2d* pixel);
+
+}  // namespace calibench

@@ -1,0 +1,35 @@
+// What every calibench algorithm returns besides its estimate: a status, a message, iteration
+// counts and timings (after Ceres' Solver::Summary). A bad case is a status, never an abort.
+#pragma once
+
+#include <string>
+
+namespace calibench {
+
+enum class MethodStatus {
+  kOk,        // Ran to completion; the estimate is usable.
+  kDiverged,  // Stopped by a divergence guard (non-finite state, a depth <= 0).
+  kFailed,    // Invalid input or a degenerate problem; no estimate.
+};
+
+inline const char* ToString(MethodStatus s) {
+  switch (s) {
+    case MethodStatus::kOk:
+      return "ok";
+    case MethodStatus::kDiverged:
+      return "diverged";
+    case MethodStatus::kFailed:
+      return "failed";
+  }
+  return "failed";
+}
+
+struct MethodSummary {
+  MethodStatus status = MethodStatus::kFailed;
+  std::string message;
+  long iterations = 0;  // Accepted integrator steps (adaptive) or solver iterations (batch).
+  double wall_ms = 0.0;
+  bool IsUsable() const { return status == MethodStatus::kOk; }
+};
+
+}  // namespace calibench

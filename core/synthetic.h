@@ -1,0 +1,47 @@
+// Synthetic ground truth as a library (tests and the bench both use it).
+//
+//  - The thesis's feature points and motion presets (spec "Thesis experiments").
+//  - Random valid cameras and extrinsics for property tests, drawn from a seeded Rng.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/motion.h"
+#include "core/pose.h"
+#include "core/random.h"
+#include "core/scene.h"
+
+namespace calibench {
+
+// The ten feature points of thesis section 2.6 (x_bar at t = 0); the first `count` are used,
+// as the thesis drops the right-hand columns. count must be in [1, 10].
+std::vector<Eigen::Vector3d> ThesisFeaturePoints(int count);
+
+// Thesis motion presets (spec "Motions"), by name: "none", "small", "large", "rotation",
+// "small+rotation". A preset is defined by the moving-camera body twist the thesis prints,
+//   small: v_c = [-.05 cos t, -.003, -.15 sin t];  large: v_c = [-.5 cos t, -.13, -.65 sin t];
+//   rotation: w_c = [.1, .2, -.1]  (feature points then move as d/dt x = -v_c - w_c x x),
+// and resolved per case so that both cases see the same point motion: moving camera -> body
+// twist (v_c, w_c); fixed camera -> spatial twist (-v_c, -w_c) (d/dt x = v + w x x; for "small"
+// this is the thesis's fixed-camera body velocity v = [.05 cos t, .003, .15 sin t]).
+// Returns nullopt for an unknown name.
+std::optional<TwistProfile> ThesisMotionPreset(const std::string& name, CalibrationCase c);
+std::vector<std::string> ThesisMotionPresetNames();
+
+struct RandomCameraOptions {
+  double min_focal_px = 200.0, max_focal_px = 2000.0;
+  double min_phi_deg = 60.0, max_phi_deg = 120.0;
+  double max_principal_offset_px = 400.0;  // |u0|, |v0| drawn in [0, this].
+  double max_translation_m = 10.0;
+};
+
+CameraIntrinsics RandomIntrinsics(const RandomCameraOptions& options, Rng* rng);
+// A uniformly random proper rotation (unit quaternion from four Gaussians).
+Eigen::Matrix3d RandomRotation(Rng* rng);
+Rigid3 RandomPose(double max_translation_m, Rng* rng);
+
+}  // namespace calibench

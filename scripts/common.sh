@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Shared by scripts/bench and scripts/test: install missing Debian packages, configure, build.
+# Idempotent: with everything installed and built it only re-runs the (no-op) incremental build.
+set -euo pipefail
+
+CALIBENCH_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD_DIR="${CALIBENCH_BUILD_DIR:-$CALIBENCH_ROOT/build}"
+PACKAGES=(cmake ninja-build g++ pkg-config libeigen3-dev libceres-dev libopencv-dev
+          libapriltag-dev libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
+          python3 python3-matplotlib python3-scipy python3-pandas)
+
+install_packages() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "calibench: installing ${missing[*]}" >&2
+  local sudo=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "calibench: need root (or sudo) to install: ${missing[*]}" >&2; exit 1; }
+    sudo=sudo
+  fi
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+}
+
+build() {
+  if [ ! -f "$BUILD_DIR/build.ninja" ]; then
+    cmake -S "$CALIBENCH_ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+      -DCALIBENCH_DATA_DIR="${CALIBENCH_DATA_DIR:-$CALIBENCH_ROOT/../shared/data}" >&2
+  fi
+  cmake --build "$BUILD_DIR" -j "${CALIBENCH_JOBS:-2}" >&2
+}

@@ -1,0 +1,152 @@
+#include "bench/config_io.h"
+
+#include <gtest/gtest.h>
+
+namespace calibench {
+namespace {
+
+const std::string kThesisDir = std::string(CALIBENCH_SOURCE_DIR) + "/configs/thesis/";
+
+// A valid minimal scenario; tests splice one faulty line into it.
+// `truth_lines` replaces the R_C and x_C lines of the truth.
+std::string Scenario(const std::string& extra = "",
+                     const std::string& truth_lines =
+                         "    R_C: [[-1, 0, 0], [0, 0, 1], [0, 1, 0]]\n    x_C: [0, -2, 0.5]\n") {
+  return "scenario:\n"
+         "  name: t\n"
+         "  duration_s: 10\n" +
+         extra +
+         "  truth:\n"
+         "    intrinsics: {fku_px: 800, fkv_px: 810, phi_deg: 88, u0_px: 320, v0_px: 240}\n" +
+         truth_lines + "  points: {preset: thesis, count: 10}\n";
+}
+
+std::string LoadError(const std::string& yaml) {
+  RunConfig config;
+  std::string why;
+  EXPECT_FALSE(LoadRunConfigFromString(yaml, "test.yaml", &config, &why)) << yaml;
+  return why;
+}
+
+TEST(Config, MinimalScenarioLoadsWithDefaults) {
+  RunConfig config;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfigFromString(Scenario(), "test.yaml", &config, &why)) << why;
+  const ScenarioConfig& s = config.scenarios.at(0);
+  EXPECT_EQ(s.points.size(), 10u);
+  EXPECT_EQ(s.adaptive.options.alpha, 1000.0);
+  EXPECT_EQ(s.trials, 1);
+  EXPECT_EQ(s.calibration_case, CalibrationCase::kMovingCamera);
+}
+
+TEST(Config, UnknownKeyIsNamedWithLineAndSuggestion) {
+  const std::string why =
+      LoadError(Scenario("  methods: {adaptive: {alhpa: 5}}\n"));
+  EXPECT_NE(why.find("test.yaml:4:"), std::string::npos) << why;
+  EXPECT_NE(why.find("scenario.methods.adaptive.alhpa"), std::string::npos) << why;
+  EXPECT_NE(why.find("did you mean 'alpha'"), std::string::npos) << why;
+}
+
+TEST(Config, WrongTypeIsNamed) {
+  const std::string why = LoadError(Scenario("  trials: many\n"));
+  EXPECT_NE(why.find("test.yaml:4:"), std::string::npos) << why;
+  EXPECT_NE(why.find("scenario.trials: expected an integer, got 'many'"), std::string::npos) << why;
+  const std::string why2 = LoadError(Scenario("", "    x_C: [0, 1]\n"));
+  EXPECT_NE(why2.find("scenario.truth.x_C: expected a list of 3 numbers"), std::string::npos)
+      << why2;
+}
+
+TEST(Config, MissingFieldIsNamed) {
+  const std::string why = LoadError(
+      "scenario:\n  duration_s: 10\n  points: {preset: thesis}\n");
+  EXPECT_NE(why.find("scenario.name: missing"), std::string::npos) << why;
+  const std::string base = LoadError("base: nowhere.yaml\nscenario: {name: x}\n");
+  EXPECT_NE(base.find("test.yaml:1:7: base: cannot open 'nowhere.yaml'"), std::string::npos) << base;
+  EXPECT_NE(LoadError("{}\n").find("scenario: missing"), std::string::npos);
+}
+
+TEST(Config, OutOfRangeValuesAreNamed) {
+  EXPECT_NE(LoadError(Scenario("  trials: 0\n")).find("scenario.trials: must be >= 1"),
+            std::string::npos);
+  EXPECT_NE(LoadError(Scenario("  noise: {pixel_sigma_px: -0.5}\n")).find("pixel_sigma_px must be >= 0"),
+            std::string::npos);
+  const std::string phi = LoadError(
+      "scenario:\n  name: t\n  truth:\n    intrinsics: {phi_deg: 190}\n");
+  EXPECT_NE(phi.find("test.yaml:4:"), std::string::npos) << phi;
+  EXPECT_NE(phi.find("scenario.truth.intrinsics: phi_deg must lie in (0, 180)"), std::string::npos)
+      << phi;
+  EXPECT_NE(LoadError(Scenario("  methods: {adaptive: {alpha: -3}}\n")).find("alpha must be"),
+            std::string::npos);
+}
+
+TEST(Config, ImproperRotationIsRefusedUnlessAllowed) {
+  const std::string improper = "    R_C: [[0, 1, 0], [0, 0, 1], [-1, 0, 0]]\n";
+  const std::string why = LoadError(Scenario("", improper));
+  EXPECT_NE(why.find("scenario.truth.R_C: rotation is improper"), std::string::npos) << why;
+  EXPECT_NE(why.find("test.yaml:"), std::string::npos) << why;
+  RunConfig config;
+  std::string error;
+  ASSERT_TRUE(LoadRunConfigFromString(
+      Scenario("", improper + "    allow_improper_rotation: true\n"), "test.yaml", &config, &error))
+      << error;
+  EXPECT_TRUE(config.scenarios[0].truth.allow_improper_rotation);
+  const std::string skewed = LoadError(Scenario("", "    R_C: [[1, 0.001, 0], [0, 1, 0], [0, 0, 1]]\n"));
+  EXPECT_NE(skewed.find("not orthonormal"), std::string::npos) << skewed;
+}
+
+TEST(Config, MalformedYamlGivesLine) {
+  const std::string why = LoadError("scenario:\n  name: [unclosed\n  trials: 1\n");
+  EXPECT_NE(why.find("malformed YAML"), std::string::npos) << why;
+  EXPECT_NE(why.find("test.yaml:"), std::string::npos) << why;
+}
+
+TEST(Config, ThesisEntryPointLoadsEverySimulationAndVariant) {
+  RunConfig config;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfig(kThesisDir + "all.yaml", &config, &why)) << why;
+  ASSERT_EQ(config.scenarios.size(), 17u + 15u);  // sims 1-17, proper variants of cameras 2, 3.
+  const ScenarioConfig& sim07 = config.scenarios[6];
+  EXPECT_EQ(sim07.name, "sim07");
+  EXPECT_EQ(sim07.points.size(), 5u);
+  EXPECT_TRUE(sim07.truth.allow_improper_rotation);
+  EXPECT_NEAR(sim07.truth.r_c.determinant(), -1, 1e-12);
+  EXPECT_EQ(sim07.reference.fku_px, 868.0);
+  const ScenarioConfig& sim15 = config.scenarios[14];
+  EXPECT_EQ(sim15.trials, 50);
+  EXPECT_NEAR(sim15.measurements.noise.point_sigma_m, std::sqrt(0.001), 1e-15);
+  const ScenarioConfig& sim09 = config.scenarios[8];
+  EXPECT_EQ(sim09.adaptive.options.alpha, 5.0);
+  const ScenarioConfig& proper = config.scenarios[17 + 4];  // sim07-proper (after 02, 04, 05, 06).
+  EXPECT_EQ(proper.name, "sim07-proper");
+  EXPECT_NEAR(proper.truth.r_c.determinant(), 1, 1e-12);
+  EXPECT_FALSE(proper.truth.allow_improper_rotation);
+  EXPECT_EQ(proper.points.size(), 5u);  // Inherited through base:.
+}
+
+TEST(Config, ResolvedYamlRoundTrips) {
+  RunConfig config;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfig(kThesisDir + "all.yaml", &config, &why)) << why;
+  const std::string resolved = ResolvedYaml(config);
+  RunConfig again;
+  ASSERT_TRUE(LoadRunConfigFromString(resolved, "resolved.yaml", &again, &why)) << why;
+  ASSERT_EQ(again.scenarios.size(), config.scenarios.size());
+  EXPECT_EQ(ResolvedYaml(again), resolved);  // A fixed point: nothing lost, nothing added.
+  for (size_t i = 0; i < config.scenarios.size(); ++i) {
+    const ScenarioConfig &a = config.scenarios[i], &b = again.scenarios[i];
+    EXPECT_EQ(a.points, b.points);
+    EXPECT_EQ(a.motion.v_cos, b.motion.v_cos);
+    EXPECT_EQ(a.motion.frame, b.motion.frame);
+    EXPECT_EQ(a.truth.r_c, b.truth.r_c);
+    EXPECT_EQ(a.measurements.noise.point_sigma_m, b.measurements.noise.point_sigma_m);
+  }
+}
+
+TEST(Config, DuplicateScenarioNamesAreRefused) {
+  const std::string inline_scenario = "  - {name: a, points: {preset: thesis}}\n";
+  const std::string why = LoadError("scenarios:\n" + inline_scenario + inline_scenario);
+  EXPECT_NE(why.find("'a' is used by two scenarios"), std::string::npos) << why;
+}
+
+}  // namespace
+}  // namespace calibench

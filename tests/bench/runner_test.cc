@@ -1,0 +1,85 @@
+#include "bench/runner.h"
+
+#include <gtest/gtest.h>
+
+#include "bench/config_io.h"
+#include "bench/csv.h"
+#include "bench/stats.h"
+#include "bench/table.h"
+
+namespace calibench {
+namespace {
+
+TEST(Stats, QuantilesMatchNumpyLinearInterpolation) {
+  // numpy.quantile([3, 1, 4, 1, 5, 9, 2, 6], [0.025, 0.5, 0.975]) = [1.0, 3.5, 8.475]
+  const std::vector<double> v = {3, 1, 4, 1, 5, 9, 2, 6, std::nan("")};
+  EXPECT_DOUBLE_EQ(Quantile(v, 0.025), 1.0);
+  EXPECT_DOUBLE_EQ(Median(v), 3.5);
+  EXPECT_NEAR(Quantile(v, 0.975), 8.475, 1e-12);
+  EXPECT_TRUE(std::isnan(Median({std::nan("")})));
+}
+
+TEST(Csv, QuotesFieldsThatNeedIt) {
+  EXPECT_EQ(CsvLine({"a", "b,c", "say \"hi\"", "1.5"}), "a,\"b,c\",\"say \"\"hi\"\"\",1.5\n");
+}
+
+ScenarioConfig NoisyShortScenario() {
+  RunConfig config;
+  std::string why;
+  EXPECT_TRUE(LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/thesis/sim17.yaml",
+                            &config, &why))
+      << why;
+  ScenarioConfig s = config.scenarios.at(0);
+  s.duration_s = 20;
+  s.trials = 6;
+  return s;
+}
+
+// Every number derives from (seed, trial): the rows are identical for 1 and 2 threads.
+TEST(Runner, RowsDoNotDependOnTheThreadCount) {
+  const std::vector<ScenarioConfig> scenarios = {NoisyShortScenario()};
+  RunOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const std::vector<RunRow> a = RunScenarios(scenarios, one), b = RunScenarios(scenarios, two);
+  ASSERT_EQ(a.size(), 6u);
+  ASSERT_EQ(b.size(), 6u);
+  for (size_t i = 0; i < a.size(); ++i) {
+    std::vector<std::string> fa = RunRowFields(a[i]), fb = RunRowFields(b[i]);
+    const size_t wall = std::find(RunRowHeader().begin(), RunRowHeader().end(), "wall_ms") -
+                        RunRowHeader().begin();
+    fa[wall] = fb[wall] = "";  // Timing is the one column allowed to differ.
+    EXPECT_EQ(fa, fb) << "row " << i;
+  }
+  EXPECT_NE(a[0].fku, a[1].fku);  // Trials really draw different noise.
+}
+
+TEST(Runner, BadScenarioGivesAFailedRowNotACrash) {
+  ScenarioConfig s = NoisyShortScenario();
+  s.trials = 1;
+  s.points.push_back({0, -50, 0});  // Behind the camera.
+  const std::vector<RunRow> rows = RunTrial(s, 0);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].status, "failed");
+  EXPECT_NE(rows[0].message.find("behind the camera"), std::string::npos) << rows[0].message;
+}
+
+TEST(Table, ReferenceCheckComputesWorstDeviation) {
+  ScenarioConfig s;
+  s.name = "x";
+  s.reference.fku_px = 800;
+  s.reference.v0_px = 200;
+  RunRow row;
+  row.scenario = "x";
+  row.method = "adaptive";
+  row.fku = 808;  // 1%
+  row.v0 = 190;   // 5%
+  const ReferenceCheck check = CheckAgainstReference(s, {row});
+  EXPECT_TRUE(check.has_reference);
+  EXPECT_NEAR(check.worst_relative_deviation, 0.05, 1e-12);
+  EXPECT_EQ(check.worst_field, "v0");
+  EXPECT_NE(ThesisTable({s}, {row}).find("worst 5.00% (v0)"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace calibench

@@ -1,0 +1,131 @@
+#include "core/camera.h"
+
+#include <ceres/jet.h>
+#include <gtest/gtest.h>
+
+#include "core/random.h"
+#include "core/synthetic.h"
+
+namespace calibench {
+namespace {
+
+// Round trips through A and A^-1 lose ~1e-16 relative per operation on values up to 2000 px.
+constexpr double kRoundTripTolPx = 1e-9;
+// Central differences with h = 1e-6 have truncation error O(h^2 * |f'''|) ~ 1e-9 relative here.
+constexpr double kNumericJacobianRelTol = 1e-6;
+
+TEST(CameraIntrinsics, MatrixMatchesThesisFormula) {
+  CameraIntrinsics k{822, 813, 87, 321, 239};
+  const Eigen::Matrix3d a = k.Matrix();
+  const double phi = 87 * M_PI / 180;
+  EXPECT_DOUBLE_EQ(a(0, 0), 822);
+  EXPECT_NEAR(a(0, 1), -822 / std::tan(phi), 1e-12);
+  EXPECT_NEAR(a(1, 1), 813 / std::sin(phi), 1e-12);
+  EXPECT_EQ(a(1, 0), 0);
+  EXPECT_EQ(a(2, 2), 1);
+}
+
+TEST(CameraIntrinsics, FromMatrixInvertsMatrixOnRandomCameras) {
+  Rng rng(7);
+  for (int i = 0; i < 1000; ++i) {
+    const CameraIntrinsics k = RandomIntrinsics({}, &rng);
+    const CameraIntrinsics back = CameraIntrinsics::FromMatrix(k.Matrix());
+    EXPECT_NEAR(back.fku_px, k.fku_px, kRoundTripTolPx);
+    EXPECT_NEAR(back.fkv_px, k.fkv_px, kRoundTripTolPx);
+    EXPECT_NEAR(back.phi_deg, k.phi_deg, 1e-11);
+    EXPECT_NEAR(back.u0_px, k.u0_px, kRoundTripTolPx);
+    EXPECT_NEAR(back.v0_px, k.v0_px, kRoundTripTolPx);
+  }
+}
+
+TEST(CameraIntrinsics, CheckRejectsInvalidValuesAndNamesThem) {
+  std::string why;
+  CameraIntrinsics k;
+  EXPECT_TRUE(k.Check(&why));
+  k.fku_px = -1;
+  EXPECT_FALSE(k.Check(&why));
+  EXPECT_NE(why.find("fku_px"), std::string::npos);
+  k = CameraIntrinsics();
+  k.phi_deg = 180;
+  EXPECT_FALSE(k.Check(&why));
+  EXPECT_NE(why.find("phi_deg"), std::string::npos);
+  k.phi_deg = 0;
+  EXPECT_FALSE(k.Check(&why));
+  k = CameraIntrinsics();
+  k.fkv_px = std::nan("");
+  EXPECT_FALSE(k.Check(&why));
+}
+
+// Without distortion, Project(p) == hnormalized(A p): an independent computation.
+TEST(PinholeSkewCamera, ProjectionEqualsMatrixProductOnAGrid) {
+  Rng rng(11);
+  for (int c = 0; c < 50; ++c) {
+    const CameraIntrinsics k = RandomIntrinsics({}, &rng);
+    const auto params = k.Params();
+    for (double x = -2; x <= 2; x += 0.5) {
+      for (double y = -2; y <= 2; y += 0.5) {
+        const Eigen::Vector3d p(x, y, 3.0);
+        Eigen::Vector2d pixel;
+        ASSERT_TRUE(PinholeSkewCamera::Project(params.data(), p.data(), pixel.data()));
+        const Eigen::Vector2d expected = (k.Matrix() * p).hnormalized();
+        EXPECT_NEAR((pixel - expected).norm(), 0.0, kRoundTripTolPx);
+        // And back: A^-1 [u v 1] is the normalised ray.
+        const Eigen::Vector3d ray = k.Matrix().inverse() * pixel.homogeneous();
+        EXPECT_NEAR((ray - p / p.z()).norm(), 0.0, 1e-12);
+      }
+    }
+  }
+}
+
+TEST(PinholeSkewCamera, RadialDistortionScalesNormalisedCoordinates) {
+  CameraIntrinsics k{800, 790, 90, 320, 240, -0.2, 0.05};
+  const Eigen::Vector3d p(0.4, -0.3, 1.0);
+  Eigen::Vector2d pixel;
+  ASSERT_TRUE(ProjectPoint(k, p, &pixel));
+  const double r2 = 0.25;
+  const double d = 1 - 0.2 * r2 + 0.05 * r2 * r2;
+  EXPECT_NEAR(pixel.x(), 800 * 0.4 * d + 320, 1e-12);
+  EXPECT_NEAR(pixel.y(), 790 * -0.3 * d + 240, 1e-12);
+}
+
+TEST(PinholeSkewCamera, ReturnsFalseBehindTheCamera) {
+  const auto params = CameraIntrinsics().Params();
+  Eigen::Vector2d pixel(-7, -7);
+  const Eigen::Vector3d behind(0.1, 0.2, -1.0), on_plane(0.1, 0.2, 0.0);
+  EXPECT_FALSE(PinholeSkewCamera::Project(params.data(), behind.data(), pixel.data()));
+  EXPECT_FALSE(PinholeSkewCamera::Project(params.data(), on_plane.data(), pixel.data()));
+  EXPECT_EQ(pixel, Eigen::Vector2d(-7, -7));  // Untouched.
+}
+
+// Project() instantiated with ceres::Jet: its derivatives equal central differences.
+TEST(PinholeSkewCamera, JetDerivativesMatchNumericDifferentiation) {
+  using Jet = ceres::Jet<double, 10>;  // 7 parameters + 3 point coordinates.
+  CameraIntrinsics k{812, 805, 84, 318, 236, -0.15, 0.03};
+  const auto params = k.Params();
+  const std::array<double, 3> point = {0.35, -0.2, 2.5};
+  Jet jp[7], jx[3], jpix[2];
+  for (int i = 0; i < 7; ++i) jp[i] = Jet(params[i], i);
+  for (int i = 0; i < 3; ++i) jx[i] = Jet(point[i], 7 + i);
+  ASSERT_TRUE(PinholeSkewCamera::Project(jp, jx, jpix));
+
+  auto eval = [&](int var, double delta) {
+    std::array<double, 7> p = params;
+    std::array<double, 3> x = point;
+    if (var < 7) p[var] += delta; else x[var - 7] += delta;
+    Eigen::Vector2d out;
+    PinholeSkewCamera::Project(p.data(), x.data(), out.data());
+    return out;
+  };
+  for (int var = 0; var < 10; ++var) {
+    const double h = 1e-6 * std::max(1.0, var < 7 ? std::abs(params[var]) : std::abs(point[var - 7]));
+    const Eigen::Vector2d numeric = (eval(var, h) - eval(var, -h)) / (2 * h);
+    for (int r = 0; r < 2; ++r) {
+      EXPECT_NEAR(jpix[r].v[var], numeric[r],
+                  kNumericJacobianRelTol * std::max(1.0, std::abs(numeric[r])))
+          << "pixel " << r << " wrt variable " << var;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace calibench
