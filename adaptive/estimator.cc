@@ -24,8 +24,8 @@ constexpr double kA[7][6] = {
     {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656, 0},
     {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
 // Error weights: 5th-order minus embedded 4th-order solution.
-constexpr double kE[7] = {71.0 / 57600,      0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200,
-                          22.0 / 525, -1.0 / 40};
+constexpr double kE[7] = {71.0 / 57600,      0,          -71.0 / 16695, 71.0 / 1920,
+                          -17253.0 / 339200, 22.0 / 525, -1.0 / 40};
 
 class AdaptiveOde {
  public:
@@ -91,8 +91,8 @@ class AdaptiveOde {
 double ErrorNorm(const State& err, const State& y0, const State& y1, double rtol) {
   double worst = 0.0;
   for (int block = 0; block < 4; ++block) {
-    const double block_scale = std::max(y0.col(0).segment<4>(4 * block).norm(),
-                                        y1.col(0).segment<4>(4 * block).norm());
+    const double block_scale =
+        std::max(y0.col(0).segment<4>(4 * block).norm(), y1.col(0).segment<4>(4 * block).norm());
     for (int i = 4 * block; i < 4 * block + 4; ++i) {
       const double sc = rtol * (block_scale + std::max(std::abs(y0(i, 0)), std::abs(y1(i, 0))));
       worst = std::max(worst, std::abs(err(i, 0)) / sc);
@@ -164,8 +164,9 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
     if (!ode.Derivative(t, segment, y, &k[0])) {
       summary.final_time_s = t;
       summary.rhs_evaluations = ode.evaluations();
-      return finish(MethodStatus::kDiverged, "a depth W_z theta_z_hat became <= 0 or non-finite at t = " +
-                                                 std::to_string(t) + " s");
+      return finish(
+          MethodStatus::kDiverged,
+          "a depth W_z theta_z_hat became <= 0 or non-finite at t = " + std::to_string(t) + " s");
     }
     while (t < t_end) {
       if (++attempts > options.max_steps) {

@@ -43,8 +43,8 @@ struct AdaptiveOptions {
 };
 
 struct AdaptiveSummary : MethodSummary {
-  Vector16d theta_hat = Vector16d::Zero();     // Final estimate (unnormalised).
-  Matrix16d information = Matrix16d::Zero();   // Integral of W_bar^T W_bar dt = P(T) - P(0).
+  Vector16d theta_hat = Vector16d::Zero();    // Final estimate (unnormalised).
+  Matrix16d information = Matrix16d::Zero();  // Integral of W_bar^T W_bar dt = P(T) - P(0).
   double final_time_s = 0.0;
   long rejected_steps = 0;
   long rhs_evaluations = 0;

@@ -78,8 +78,8 @@ bool RecoverCamera(const Vector16d& theta_hat, const std::vector<Eigen::Vector3d
   const Eigen::Matrix3d r_c = r.transpose();
   // x_C from the raw R_C, as the thesis computes it; the reported R_C is orthogonalised.
   camera->parent_from_cam.translation = -(r_c * t);
-  camera->parent_from_cam.rotation = camera->improper ? Eigen::Matrix3d(-ProjectToSO3(-r_c))
-                                                      : ProjectToSO3(r_c);
+  camera->parent_from_cam.rotation =
+      camera->improper ? Eigen::Matrix3d(-ProjectToSO3(-r_c)) : ProjectToSO3(r_c);
   return true;
 }
 

@@ -171,12 +171,12 @@ void ParseIntrinsics(const Reader& r, const YAML::Node& node, const std::string&
   if (!k->Check(&why)) r.Fail(node, field, why);
 }
 
-void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& field,
-                 CameraSpec* c) {
+void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& field, CameraSpec* c) {
   r.CheckKeys(node, field, {"intrinsics", "R_C", "x_C", "allow_improper_rotation"});
   r.If(node, "allow_improper_rotation", field,
        [&](auto n, auto f) { c->allow_improper_rotation = r.Bool(n, f); });
-  r.If(node, "intrinsics", field, [&](auto n, auto f) { ParseIntrinsics(r, n, f, &c->intrinsics); });
+  r.If(node, "intrinsics", field,
+       [&](auto n, auto f) { ParseIntrinsics(r, n, f, &c->intrinsics); });
   r.If(node, "x_C", field, [&](auto n, auto f) { c->x_c = r.Vector3(n, f); });
   r.If(node, "R_C", field, [&](auto n, auto f) { c->r_c = r.Matrix3(n, f); });
   // Checked on every file that sets or opts in, so an override can allow a base's matrix.
@@ -202,8 +202,8 @@ void ParsePoints(const Reader& r, const YAML::Node& node, const std::string& fie
     s->points_count = 10;
     r.If(node, "count", field, [&](auto n, auto f) {
       const long count = r.Integer(n, f);
-      if (count < 1 || count > 10) r.Fail(n, f, "the thesis preset has 1 to 10 points, got " +
-                                                    std::to_string(count));
+      if (count < 1 || count > 10)
+        r.Fail(n, f, "the thesis preset has 1 to 10 points, got " + std::to_string(count));
       s->points_count = static_cast<int>(count);
     });
     s->points = ThesisFeaturePoints(s->points_count);
@@ -223,13 +223,14 @@ void ParsePoints(const Reader& r, const YAML::Node& node, const std::string& fie
 
 void ParseMotion(const Reader& r, const YAML::Node& node, const std::string& field,
                  ScenarioConfig* s) {
-  r.CheckKeys(node, field, {"preset", "v_const", "v_cos", "v_sin", "w_const", "w_cos", "w_sin",
-                            "frequency_rad_s", "frame"});
+  r.CheckKeys(node, field,
+              {"preset", "v_const", "v_cos", "v_sin", "w_const", "w_cos", "w_sin",
+               "frequency_rad_s", "frame"});
   s->motion = TwistProfile();
   s->motion_preset.clear();
   if (node["preset"].IsDefined()) {
-    for (const char* key : {"v_const", "v_cos", "v_sin", "w_const", "w_cos", "w_sin",
-                            "frequency_rad_s", "frame"}) {
+    for (const char* key :
+         {"v_const", "v_cos", "v_sin", "w_const", "w_cos", "w_sin", "frequency_rad_s", "frame"}) {
       if (node[key].IsDefined()) {
         r.Fail(node[key], Reader::Join(field, key), "give either a preset or the components");
       }
@@ -248,8 +249,9 @@ void ParseMotion(const Reader& r, const YAML::Node& node, const std::string& fie
   r.If(node, "w_sin", field, [&](auto n, auto f) { m.w_sin = r.Vector3(n, f); });
   r.If(node, "frequency_rad_s", field, [&](auto n, auto f) { m.frequency_rad_s = r.Double(n, f); });
   std::string frame = "auto";
-  r.If(node, "frame", field,
-       [&](auto n, auto f) { frame = r.Choice(n, f, {"auto", "body", "world"}); });
+  r.If(node, "frame", field, [&](auto n, auto f) {
+    frame = r.Choice(n, f, {"auto", "body", "world"});
+  });
   const bool fixed = s->calibration_case == CalibrationCase::kFixedCamera;
   m.frame = frame == "world" || (frame == "auto" && fixed) ? TwistProfile::Frame::kWorld
                                                            : TwistProfile::Frame::kBody;
@@ -259,8 +261,9 @@ void ParseMotion(const Reader& r, const YAML::Node& node, const std::string& fie
 
 void ParseAdaptive(const Reader& r, const YAML::Node& node, const std::string& field,
                    AdaptiveMethodConfig* a) {
-  r.CheckKeys(node, field, {"enabled", "alpha", "gamma0", "rtol", "max_step_s", "initial_step_s",
-                            "max_steps", "convergence_tol", "initial"});
+  r.CheckKeys(node, field,
+              {"enabled", "alpha", "gamma0", "rtol", "max_step_s", "initial_step_s", "max_steps",
+               "convergence_tol", "initial"});
   AdaptiveOptions& o = a->options;
   r.If(node, "enabled", field, [&](auto n, auto f) { a->enabled = r.Bool(n, f); });
   r.If(node, "alpha", field, [&](auto n, auto f) { o.alpha = r.Double(n, f); });
@@ -274,13 +277,15 @@ void ParseAdaptive(const Reader& r, const YAML::Node& node, const std::string& f
   r.If(node, "initial", field, [&](auto n, auto f) { ParseCamera(r, n, f, &a->initial); });
   std::string why;
   if (!o.Check(&why)) r.Fail(node, field, why);
-  if (!(a->convergence_tol > 0)) r.Fail(node, Reader::Join(field, "convergence_tol"), "must be > 0");
+  if (!(a->convergence_tol > 0))
+    r.Fail(node, Reader::Join(field, "convergence_tol"), "must be > 0");
 }
 
 void ParseReference(const Reader& r, const YAML::Node& node, const std::string& field,
                     Reference* ref) {
-  r.CheckKeys(node, field, {"source", "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "x_C",
-                            "theta_err_below"});
+  r.CheckKeys(
+      node, field,
+      {"source", "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "x_C", "theta_err_below"});
   *ref = Reference();
   r.If(node, "source", field, [&](auto n, auto f) { ref->source = r.String(n, f); });
   r.If(node, "fku_px", field, [&](auto n, auto f) { ref->fku_px = r.Double(n, f); });
@@ -296,8 +301,9 @@ void ParseReference(const Reader& r, const YAML::Node& node, const std::string& 
 // Applies the scenario mapping `node` onto *s (fields absent from `node` keep their values).
 void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& field,
                    ScenarioConfig* s) {
-  r.CheckKeys(node, field, {"name", "description", "case", "duration_s", "seed", "trials", "truth",
-                            "points", "motion", "measurements", "noise", "methods", "reference"});
+  r.CheckKeys(node, field,
+              {"name", "description", "case", "duration_s", "seed", "trials", "truth", "points",
+               "motion", "measurements", "noise", "methods", "reference"});
   r.If(node, "name", field, [&](auto n, auto f) { s->name = r.String(n, f); });
   r.If(node, "description", field, [&](auto n, auto f) { s->description = r.String(n, f); });
   r.If(node, "case", field, [&](auto n, auto f) {
@@ -400,8 +406,8 @@ void LoadScenarioFile(const YAML::Node& root, const std::string& path, int depth
 void Finish(const Reader& r, const YAML::Node& at, const std::string& field, ScenarioConfig* s) {
   if (s->name.empty()) r.Fail(at, field + ".name", "missing: every scenario needs a name");
   std::string why;
-  if (!s->Check(&why)) r.Fail(at, field + "." + why.substr(0, why.find(':')),
-                              why.substr(why.find(':') + 2));
+  if (!s->Check(&why))
+    r.Fail(at, field + "." + why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
 }
 
 void LoadNode(const YAML::Node& root, const std::string& path, int depth, RunConfig* config) {

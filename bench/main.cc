@@ -33,8 +33,8 @@ int Run(const std::string& config_path, const std::string& out_dir, int threads,
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) {
-    std::cerr << "calibench: " << out_dir << ": cannot create the output directory: "
-              << ec.message() << "\n";
+    std::cerr << "calibench: " << out_dir
+              << ": cannot create the output directory: " << ec.message() << "\n";
     return 3;
   }
   for (const calibench::ScenarioConfig& s : config.scenarios) {
@@ -81,7 +81,8 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   run->add_option("--out", out_dir, "Output directory (runs.csv, config.resolved.yaml, table.md)")
       ->required();
-  run->add_option("--threads", threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  run->add_option("--threads", threads, "Worker threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
   run->add_flag("--quiet", quiet, "No table on stdout, no progress bar");
   CLI11_PARSE(app, argc, argv);
   if (run->parsed()) return Run(config_path, out_dir, threads, quiet);

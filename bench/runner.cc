@@ -68,7 +68,8 @@ void FillCameraErrors(const ScenarioConfig& s, const RecoveredCamera& cam, RunRo
 
 RunRow RunAdaptive(const ScenarioConfig& s, const MeasurementSource& source, RunRow row) {
   row.method = "adaptive";
-  const Vector16d theta_true = ThetaFromCamera(s.truth.intrinsics, s.truth.ParentFromCam().Inverse());
+  const Vector16d theta_true =
+      ThetaFromCamera(s.truth.intrinsics, s.truth.ParentFromCam().Inverse());
   const CameraSpec& init = s.adaptive.initial;
   const Vector16d theta0 = ThetaFromCamera(init.intrinsics, init.ParentFromCam().Inverse());
   // Convergence time: the first recorded t after the last one with ||theta~|| >= tol.
@@ -116,24 +117,74 @@ RunRow RunAdaptive(const ScenarioConfig& s, const MeasurementSource& source, Run
 }  // namespace
 
 const std::vector<std::string>& RunRowHeader() {
-  static const std::vector<std::string> header = {
-      "scenario", "trial", "seed", "method", "status", "fku", "fkv", "phi_deg", "u0", "v0",
-      "rc_roll_deg", "rc_pitch_deg", "rc_yaw_deg", "xc_x", "xc_y", "xc_z", "err_fku", "err_fkv",
-      "err_phi_deg", "err_u0", "err_v0", "rot_err_deg", "err_xc_norm", "theta_err_norm",
-      "rms_reproj_px", "converge_time_s", "pe_min_eig", "ortho_defect", "improper", "steps",
-      "wall_ms", "message"};
+  static const std::vector<std::string> header = {"scenario",
+                                                  "trial",
+                                                  "seed",
+                                                  "method",
+                                                  "status",
+                                                  "fku",
+                                                  "fkv",
+                                                  "phi_deg",
+                                                  "u0",
+                                                  "v0",
+                                                  "rc_roll_deg",
+                                                  "rc_pitch_deg",
+                                                  "rc_yaw_deg",
+                                                  "xc_x",
+                                                  "xc_y",
+                                                  "xc_z",
+                                                  "err_fku",
+                                                  "err_fkv",
+                                                  "err_phi_deg",
+                                                  "err_u0",
+                                                  "err_v0",
+                                                  "rot_err_deg",
+                                                  "err_xc_norm",
+                                                  "theta_err_norm",
+                                                  "rms_reproj_px",
+                                                  "converge_time_s",
+                                                  "pe_min_eig",
+                                                  "ortho_defect",
+                                                  "improper",
+                                                  "steps",
+                                                  "wall_ms",
+                                                  "message"};
   return header;
 }
 
 std::vector<std::string> RunRowFields(const RunRow& r) {
-  return {r.scenario, std::to_string(r.trial), std::to_string(r.seed), r.method, r.status,
-          Format(r.fku), Format(r.fkv), Format(r.phi_deg), Format(r.u0), Format(r.v0),
-          Format(r.rc_roll_deg), Format(r.rc_pitch_deg), Format(r.rc_yaw_deg), Format(r.xc_x),
-          Format(r.xc_y), Format(r.xc_z), Format(r.err_fku), Format(r.err_fkv),
-          Format(r.err_phi_deg), Format(r.err_u0), Format(r.err_v0), Format(r.rot_err_deg),
-          Format(r.err_xc_norm), Format(r.theta_err_norm), Format(r.rms_reproj_px),
-          Format(r.converge_time_s), Format(r.pe_min_eig), Format(r.ortho_defect),
-          std::to_string(r.improper), std::to_string(r.steps), Format(r.wall_ms), r.message};
+  return {r.scenario,
+          std::to_string(r.trial),
+          std::to_string(r.seed),
+          r.method,
+          r.status,
+          Format(r.fku),
+          Format(r.fkv),
+          Format(r.phi_deg),
+          Format(r.u0),
+          Format(r.v0),
+          Format(r.rc_roll_deg),
+          Format(r.rc_pitch_deg),
+          Format(r.rc_yaw_deg),
+          Format(r.xc_x),
+          Format(r.xc_y),
+          Format(r.xc_z),
+          Format(r.err_fku),
+          Format(r.err_fkv),
+          Format(r.err_phi_deg),
+          Format(r.err_u0),
+          Format(r.err_v0),
+          Format(r.rot_err_deg),
+          Format(r.err_xc_norm),
+          Format(r.theta_err_norm),
+          Format(r.rms_reproj_px),
+          Format(r.converge_time_s),
+          Format(r.pe_min_eig),
+          Format(r.ortho_defect),
+          std::to_string(r.improper),
+          std::to_string(r.steps),
+          Format(r.wall_ms),
+          r.message};
 }
 
 std::vector<RunRow> RunTrial(const ScenarioConfig& s, int trial) {
@@ -179,8 +230,8 @@ std::vector<RunRow> RunScenarios(const std::vector<ScenarioConfig>& scenarios,
       }
     }
   };
-  int threads = options.threads > 0 ? options.threads
-                                    : static_cast<int>(std::thread::hardware_concurrency());
+  int threads =
+      options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::max(1, std::min<int>(threads, static_cast<int>(tasks.size())));
   std::vector<std::thread> pool;
   for (int i = 1; i < threads; ++i) pool.emplace_back(worker);

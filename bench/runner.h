@@ -25,16 +25,15 @@ struct RunRow {
   double fku = kUnset, fkv = kUnset, phi_deg = kUnset, u0 = kUnset, v0 = kUnset;
   double rc_roll_deg = kUnset, rc_pitch_deg = kUnset, rc_yaw_deg = kUnset;
   double xc_x = kUnset, xc_y = kUnset, xc_z = kUnset;
-  double err_fku = kUnset, err_fkv = kUnset, err_phi_deg = kUnset, err_u0 = kUnset,
-         err_v0 = kUnset;
+  double err_fku = kUnset, err_fkv = kUnset, err_phi_deg = kUnset, err_u0 = kUnset, err_v0 = kUnset;
   double rot_err_deg = kUnset, err_xc_norm = kUnset;
   double theta_err_norm = kUnset;
-  double rms_reproj_px = kUnset;     // Per-point RMS (Euclidean), over all frames.
-  double converge_time_s = kUnset;   // NaN: never stayed below the tolerance.
-  double pe_min_eig = kUnset;        // PersistentExcitationIndex (adaptive only).
-  double ortho_defect = kUnset;      // ||R^T R - I||_F of the recovered R before projection.
-  int improper = 0;                  // 1 when the recovered rotation is a reflection.
-  long steps = 0;                    // Integrator steps / solver iterations.
+  double rms_reproj_px = kUnset;    // Per-point RMS (Euclidean), over all frames.
+  double converge_time_s = kUnset;  // NaN: never stayed below the tolerance.
+  double pe_min_eig = kUnset;       // PersistentExcitationIndex (adaptive only).
+  double ortho_defect = kUnset;     // ||R^T R - I||_F of the recovered R before projection.
+  int improper = 0;                 // 1 when the recovered rotation is a reflection.
+  long steps = 0;                   // Integrator steps / solver iterations.
   double wall_ms = kUnset;
 };
 

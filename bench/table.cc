@@ -45,10 +45,11 @@ struct Figure {
 };
 
 std::vector<Figure> Figures(const Reference& ref) {
-  std::vector<Figure> f = {{"fku", &RunRow::fku, ref.fku_px},    {"fkv", &RunRow::fkv, ref.fkv_px},
-                           {"phi", &RunRow::phi_deg, ref.phi_deg}, {"u0", &RunRow::u0, ref.u0_px},
-                           {"v0", &RunRow::v0, ref.v0_px},       {"xc_x", &RunRow::xc_x, ref.x_c[0]},
-                           {"xc_y", &RunRow::xc_y, ref.x_c[1]},  {"xc_z", &RunRow::xc_z, ref.x_c[2]}};
+  std::vector<Figure> f = {
+      {"fku", &RunRow::fku, ref.fku_px},      {"fkv", &RunRow::fkv, ref.fkv_px},
+      {"phi", &RunRow::phi_deg, ref.phi_deg}, {"u0", &RunRow::u0, ref.u0_px},
+      {"v0", &RunRow::v0, ref.v0_px},         {"xc_x", &RunRow::xc_x, ref.x_c[0]},
+      {"xc_y", &RunRow::xc_y, ref.x_c[1]},    {"xc_z", &RunRow::xc_z, ref.x_c[2]}};
   std::vector<Figure> present;
   for (const Figure& x : f) {
     if (std::isfinite(x.reference)) present.push_back(x);
@@ -117,13 +118,13 @@ std::string ThesisTable(const std::vector<ScenarioConfig>& scenarios,
     if (rows.empty()) continue;
     int ok = 0;
     for (const RunRow& r : rows) ok += r.status == "ok";
-    const std::string status =
-        ok == static_cast<int>(rows.size()) ? "ok" : std::to_string(ok) + "/" +
-                                                         std::to_string(rows.size()) + " ok";
-    const std::string xc = rows.size() == 1
-                               ? "[" + Num(rows[0].xc_x, "%.4f") + ", " + Num(rows[0].xc_y, "%.4f") +
-                                     ", " + Num(rows[0].xc_z, "%.4f") + "]"
-                               : "x " + Cell(rows, &RunRow::xc_x, "%.3f");
+    const std::string status = ok == static_cast<int>(rows.size())
+                                   ? "ok"
+                                   : std::to_string(ok) + "/" + std::to_string(rows.size()) + " ok";
+    const std::string xc = rows.size() == 1 ? "[" + Num(rows[0].xc_x, "%.4f") + ", " +
+                                                  Num(rows[0].xc_y, "%.4f") + ", " +
+                                                  Num(rows[0].xc_z, "%.4f") + "]"
+                                            : "x " + Cell(rows, &RunRow::xc_x, "%.3f");
     const ReferenceCheck check = CheckAgainstReference(s, all_rows);
     std::string verdict;
     if (check.exact_expected) verdict = check.exact_met ? "exact ✓" : "not exact ✗";

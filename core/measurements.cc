@@ -62,8 +62,8 @@ std::unique_ptr<OracleSource> OracleSource::Create(const SceneTruth& scene,
     source->breakpoints_ = Grid(options.sample_rate_hz, duration);
     source->frame_times_ = source->breakpoints_;
   } else {
-    source->breakpoints_ =
-        options.noise.Active() ? Grid(1.0 / options.noise.hold_s, duration) : std::vector<double>{0};
+    source->breakpoints_ = options.noise.Active() ? Grid(1.0 / options.noise.hold_s, duration)
+                                                  : std::vector<double>{0};
     source->frame_times_ = Grid(options.eval_rate_hz, duration);
   }
   source->breakpoints_.push_back(duration);

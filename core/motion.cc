@@ -98,12 +98,12 @@ Rigid3 Motion::ClosedForm(double t) const {
   const double sigma = p.frame == TwistProfile::Frame::kBody ? 1.0 : -1.0;
   const Eigen::Matrix3d k = Hat(p.w_const / theta);
   // Integral of sin(theta s) v(s) and of cos(theta s) v(s).
-  const Eigen::Vector3d int_sin_v =
-      a * IntSin(theta, t) + b * 0.5 * (IntSin(theta + f, t) + IntSin(theta - f, t)) +
-      c * 0.5 * (IntCos(theta - f, t) - IntCos(theta + f, t));
-  const Eigen::Vector3d int_cos_v =
-      a * IntCos(theta, t) + b * 0.5 * (IntCos(theta - f, t) + IntCos(theta + f, t)) +
-      c * 0.5 * (IntSin(theta + f, t) - IntSin(theta - f, t));
+  const Eigen::Vector3d int_sin_v = a * IntSin(theta, t) +
+                                    b * 0.5 * (IntSin(theta + f, t) + IntSin(theta - f, t)) +
+                                    c * 0.5 * (IntCos(theta - f, t) - IntCos(theta + f, t));
+  const Eigen::Vector3d int_cos_v = a * IntCos(theta, t) +
+                                    b * 0.5 * (IntCos(theta - f, t) + IntCos(theta + f, t)) +
+                                    c * 0.5 * (IntSin(theta + f, t) - IntSin(theta - f, t));
   const Eigen::Vector3d integral = int_v + sigma * (k * int_sin_v) + k * k * (int_v - int_cos_v);
   const Eigen::Matrix3d rotation = ExpSO3(p.w_const * t);
   if (sigma > 0) return {rotation, integral};
@@ -113,8 +113,8 @@ Rigid3 Motion::ClosedForm(double t) const {
 Rigid3 Motion::WorldFromBody(double t) const {
   t = std::clamp(t, 0.0, options_.duration_s);
   if (exact_) return ClosedForm(t);
-  const int k = std::min(static_cast<int>(t / kCheckpointPeriod),
-                         static_cast<int>(checkpoints_.size()) - 1);
+  const int k =
+      std::min(static_cast<int>(t / kCheckpointPeriod), static_cast<int>(checkpoints_.size()) - 1);
   State s = checkpoints_[k];
   double time = k * kCheckpointPeriod;
   while (time < t) {

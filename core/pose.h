@@ -6,8 +6,8 @@
 //     point_in_b = b_from_a.rotation * point_in_a + b_from_a.translation
 //
 // Composition reads right to left: c_from_a = c_from_b * b_from_a. The inverse of b_from_a is
-// a_from_b. `rotation` is a proper rotation (SO(3), det = +1) unless a caller explicitly opted in to
-// an improper one (the thesis's printed matrices for cameras 2 and 3 have det = -1).
+// a_from_b. `rotation` is a proper rotation (SO(3), det = +1) unless a caller explicitly opted in
+// to an improper one (the thesis's printed matrices for cameras 2 and 3 have det = -1).
 //
 // Frames used across calibench: W world, B moving body, C camera. The thesis writes the camera
 // extrinsic as (R_C, x_C) = the camera's orientation and position in its parent frame P (W for a

@@ -31,8 +31,8 @@ bool SceneTruth::Observe(double t, std::vector<Eigen::Vector3d>* points_in_paren
     if (!PinholeSkewCamera::Project(params.data(), point_in_cam.data(), (*pixels)[i].data())) {
       if (why) {
         std::ostringstream msg;
-        msg << "feature point " << i << " is behind the camera at t = " << t
-            << " s (depth " << point_in_cam.z() << " m)";
+        msg << "feature point " << i << " is behind the camera at t = " << t << " s (depth "
+            << point_in_cam.z() << " m)";
         *why = msg.str();
       }
       return false;

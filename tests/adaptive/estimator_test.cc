@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "bench/config_io.h"
 #include "bench/runner.h"
 
@@ -74,38 +76,46 @@ TEST(AdaptiveEstimator, SmallGainConvergesMoreSlowly) {
   EXPECT_GT(slow.theta_err_norm, 1e3 * fast.theta_err_norm);
 }
 
-void ExpectSameFigures(const RunRow& a, const RunRow& b) {
-  const double pairs[][2] = {{a.fku, b.fku},       {a.fkv, b.fkv},   {a.phi_deg, b.phi_deg},
-                             {a.u0, b.u0},         {a.v0, b.v0},     {a.xc_x, b.xc_x},
-                             {a.xc_y, b.xc_y},     {a.xc_z, b.xc_z}, {a.theta_err_norm, b.theta_err_norm},
-                             {a.rot_err_deg, b.rot_err_deg}};
+// Largest relative change between two runs' reported figures (floor 1 for values near zero).
+double MaxRelativeChange(const RunRow& a, const RunRow& b) {
+  const double pairs[][2] = {{a.fku, b.fku},     {a.fkv, b.fkv},     {a.phi_deg, b.phi_deg},
+                             {a.u0, b.u0},       {a.v0, b.v0},       {a.xc_x, b.xc_x},
+                             {a.xc_y, b.xc_y},   {a.xc_z, b.xc_z},   {a.rot_err_deg, b.rot_err_deg},
+                             {a.theta_err_norm, b.theta_err_norm}, {a.rms_reproj_px, b.rms_reproj_px}};
+  double worst = 0.0;
   for (const auto& p : pairs) {
-    EXPECT_LE(std::abs(p[0] - p[1]), kIntegratorRelTol * std::max(1.0, std::abs(p[0])))
-        << p[0] << " vs " << p[1];
+    worst = std::max(worst, std::abs(p[0] - p[1]) / std::max(1.0, std::abs(p[0])));
   }
+  return worst;
 }
 
-// The integration is converged: halving its tolerance or its maximum step moves nothing.
-class IntegratorConvergence : public ::testing::TestWithParam<const char*> {};
+// The integration is converged: halving its tolerance or its maximum step moves no figure by more
+// than 1e-6 relative, on every thesis simulation (noisy ones: trial 0).
+class IntegratorConvergence : public ::testing::TestWithParam<int> {};
 
 TEST_P(IntegratorConvergence, HalvingToleranceOrStepChangesNoFigure) {
-  ScenarioConfig s = LoadThesis(GetParam());
-  s.trials = 1;
+  char file[16];
+  std::snprintf(file, sizeof(file), "sim%02d.yaml", GetParam());
+  const ScenarioConfig s = LoadThesis(file);
   const RunRow base = RunOnce(s);
+  ASSERT_EQ(base.status, "ok") << base.message;
   ScenarioConfig tighter = s;
   tighter.adaptive.options.rtol /= 2;
-  ExpectSameFigures(base, RunOnce(tighter));
   ScenarioConfig shorter = s;
   shorter.adaptive.options.max_step_s /= 2;
-  ExpectSameFigures(base, RunOnce(shorter));
+  const double rtol_change = MaxRelativeChange(base, RunOnce(tighter));
+  const double step_change = MaxRelativeChange(base, RunOnce(shorter));
+  EXPECT_LE(rtol_change, kIntegratorRelTol);
+  EXPECT_LE(step_change, kIntegratorRelTol);
+  std::printf("%s: max relative change, rtol/2: %.2e, max_step/2: %.2e\n", file, rtol_change,
+              step_change);
 }
 
-INSTANTIATE_TEST_SUITE_P(Thesis, IntegratorConvergence,
-                         ::testing::Values("sim03.yaml", "sim07.yaml", "sim11.yaml", "sim14.yaml",
-                                           "sim16.yaml"));
+INSTANTIATE_TEST_SUITE_P(Thesis, IntegratorConvergence, ::testing::Range(1, 18));
 
 // The information form integrates exactly eqs. 2.16-2.17: compare with a literal fixed-step RK4
-// integration of (theta_hat, Gamma) on a non-stiff version of sim 3 (gamma0 = 1e-9, alpha = 100: rates ~3 /s).
+// integration of (theta_hat, Gamma) on a non-stiff version of sim 3 (gamma0 = 1e-9, alpha = 100:
+// rates ~3 /s).
 TEST(AdaptiveEstimator, InformationFormMatchesLiteralGammaEquations) {
   ScenarioConfig s = LoadThesis("sim03.yaml");
   s.duration_s = 2.0;
@@ -120,8 +130,8 @@ TEST(AdaptiveEstimator, InformationFormMatchesLiteralGammaEquations) {
   ASSERT_TRUE(ours.IsUsable()) << ours.message;
 
   // Literal equations, W_bar built row by row as the spec writes it.
-  auto derivative = [&](double t, const Vector16d& theta, const Matrix16d& gamma,
-                        Vector16d* dtheta, Matrix16d* dgamma) {
+  auto derivative = [&](double t, const Vector16d& theta, const Matrix16d& gamma, Vector16d* dtheta,
+                        Matrix16d* dgamma) {
     Frame f;
     source->Measure(t, 0, &f);
     const int n = static_cast<int>(f.pixels.size());

@@ -55,7 +55,8 @@ TEST(Theta, RecoveryIsExactOnRandomValidCameras) {
     EXPECT_LT(cam.orthogonality_defect, 1e-9);
     EXPECT_FALSE(cam.improper);
     EXPECT_NEAR(cam.lambda, scale, 1e-9 * std::abs(scale));  // Cheirality picked the sign.
-    EXPECT_LT(ThetaError(ThetaFromCamera(k, cam_from_parent), scale * ThetaFromCamera(k, cam_from_parent)),
+    EXPECT_LT(ThetaError(ThetaFromCamera(k, cam_from_parent),
+                         scale * ThetaFromCamera(k, cam_from_parent)),
               1e-9);
   }
 }

@@ -1,6 +1,6 @@
-#include "bench/config_io.h"
-
 #include <gtest/gtest.h>
+
+#include "bench/config_io.h"
 
 namespace calibench {
 namespace {
@@ -40,8 +40,7 @@ TEST(Config, MinimalScenarioLoadsWithDefaults) {
 }
 
 TEST(Config, UnknownKeyIsNamedWithLineAndSuggestion) {
-  const std::string why =
-      LoadError(Scenario("  methods: {adaptive: {alhpa: 5}}\n"));
+  const std::string why = LoadError(Scenario("  methods: {adaptive: {alhpa: 5}}\n"));
   EXPECT_NE(why.find("test.yaml:4:"), std::string::npos) << why;
   EXPECT_NE(why.find("scenario.methods.adaptive.alhpa"), std::string::npos) << why;
   EXPECT_NE(why.find("did you mean 'alpha'"), std::string::npos) << why;
@@ -57,21 +56,22 @@ TEST(Config, WrongTypeIsNamed) {
 }
 
 TEST(Config, MissingFieldIsNamed) {
-  const std::string why = LoadError(
-      "scenario:\n  duration_s: 10\n  points: {preset: thesis}\n");
+  const std::string why = LoadError("scenario:\n  duration_s: 10\n  points: {preset: thesis}\n");
   EXPECT_NE(why.find("scenario.name: missing"), std::string::npos) << why;
   const std::string base = LoadError("base: nowhere.yaml\nscenario: {name: x}\n");
-  EXPECT_NE(base.find("test.yaml:1:7: base: cannot open 'nowhere.yaml'"), std::string::npos) << base;
+  EXPECT_NE(base.find("test.yaml:1:7: base: cannot open 'nowhere.yaml'"), std::string::npos)
+      << base;
   EXPECT_NE(LoadError("{}\n").find("scenario: missing"), std::string::npos);
 }
 
 TEST(Config, OutOfRangeValuesAreNamed) {
   EXPECT_NE(LoadError(Scenario("  trials: 0\n")).find("scenario.trials: must be >= 1"),
             std::string::npos);
-  EXPECT_NE(LoadError(Scenario("  noise: {pixel_sigma_px: -0.5}\n")).find("pixel_sigma_px must be >= 0"),
-            std::string::npos);
-  const std::string phi = LoadError(
-      "scenario:\n  name: t\n  truth:\n    intrinsics: {phi_deg: 190}\n");
+  EXPECT_NE(
+      LoadError(Scenario("  noise: {pixel_sigma_px: -0.5}\n")).find("pixel_sigma_px must be >= 0"),
+      std::string::npos);
+  const std::string phi =
+      LoadError("scenario:\n  name: t\n  truth:\n    intrinsics: {phi_deg: 190}\n");
   EXPECT_NE(phi.find("test.yaml:4:"), std::string::npos) << phi;
   EXPECT_NE(phi.find("scenario.truth.intrinsics: phi_deg must lie in (0, 180)"), std::string::npos)
       << phi;
@@ -90,7 +90,8 @@ TEST(Config, ImproperRotationIsRefusedUnlessAllowed) {
       Scenario("", improper + "    allow_improper_rotation: true\n"), "test.yaml", &config, &error))
       << error;
   EXPECT_TRUE(config.scenarios[0].truth.allow_improper_rotation);
-  const std::string skewed = LoadError(Scenario("", "    R_C: [[1, 0.001, 0], [0, 1, 0], [0, 0, 1]]\n"));
+  const std::string skewed =
+      LoadError(Scenario("", "    R_C: [[1, 0.001, 0], [0, 1, 0], [0, 0, 1]]\n"));
   EXPECT_NE(skewed.find("not orthonormal"), std::string::npos) << skewed;
 }
 

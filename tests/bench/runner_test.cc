@@ -46,8 +46,8 @@ TEST(Runner, RowsDoNotDependOnTheThreadCount) {
   ASSERT_EQ(b.size(), 6u);
   for (size_t i = 0; i < a.size(); ++i) {
     std::vector<std::string> fa = RunRowFields(a[i]), fb = RunRowFields(b[i]);
-    const size_t wall = std::find(RunRowHeader().begin(), RunRowHeader().end(), "wall_ms") -
-                        RunRowHeader().begin();
+    const size_t wall =
+        std::find(RunRowHeader().begin(), RunRowHeader().end(), "wall_ms") - RunRowHeader().begin();
     fa[wall] = fb[wall] = "";  // Timing is the one column allowed to differ.
     EXPECT_EQ(fa, fb) << "row " << i;
   }

@@ -111,13 +111,17 @@ TEST(PinholeSkewCamera, JetDerivativesMatchNumericDifferentiation) {
   auto eval = [&](int var, double delta) {
     std::array<double, 7> p = params;
     std::array<double, 3> x = point;
-    if (var < 7) p[var] += delta; else x[var - 7] += delta;
+    if (var < 7)
+      p[var] += delta;
+    else
+      x[var - 7] += delta;
     Eigen::Vector2d out;
     PinholeSkewCamera::Project(p.data(), x.data(), out.data());
     return out;
   };
   for (int var = 0; var < 10; ++var) {
-    const double h = 1e-6 * std::max(1.0, var < 7 ? std::abs(params[var]) : std::abs(point[var - 7]));
+    const double h =
+        1e-6 * std::max(1.0, var < 7 ? std::abs(params[var]) : std::abs(point[var - 7]));
     const Eigen::Vector2d numeric = (eval(var, h) - eval(var, -h)) / (2 * h);
     for (int r = 0; r < 2; ++r) {
       EXPECT_NEAR(jpix[r].v[var], numeric[r],

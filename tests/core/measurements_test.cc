@@ -102,9 +102,9 @@ TEST(OracleSource, RefusesInvalidOptions) {
   OracleOptions options;
   options.noise.pixel_sigma_px = -1;
   std::string why;
-  EXPECT_EQ(OracleSource::Create(ThesisCamera1Scene(CalibrationCase::kMovingCamera), options, 1,
-                                 &why),
-            nullptr);
+  EXPECT_EQ(
+      OracleSource::Create(ThesisCamera1Scene(CalibrationCase::kMovingCamera), options, 1, &why),
+      nullptr);
   EXPECT_NE(why.find("pixel_sigma_px"), std::string::npos);
 }
 

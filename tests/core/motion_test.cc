@@ -89,7 +89,8 @@ TEST_P(MotionFrameTest, PointVelocityLawsHold) {
 }
 
 INSTANTIATE_TEST_SUITE_P(BothFrames, MotionFrameTest,
-                         ::testing::Values(TwistProfile::Frame::kBody, TwistProfile::Frame::kWorld));
+                         ::testing::Values(TwistProfile::Frame::kBody,
+                                           TwistProfile::Frame::kWorld));
 
 // Time-varying angular velocity (numeric path only): rotation stays orthonormal and obeys
 // dR/dt = R [w]x to finite-difference accuracy.
@@ -107,7 +108,8 @@ TEST(Motion, TimeVaryingRotationIsIntegratedAccurately) {
         (motion.WorldFromBody(t + h).rotation - motion.WorldFromBody(t - h).rotation) / (2 * h);
     EXPECT_LT((rdot - pose.rotation * Hat(p.AngularVelocity(t))).norm(), 1e-7);
     const Eigen::Vector3d pdot =
-        (motion.WorldFromBody(t + h).translation - motion.WorldFromBody(t - h).translation) / (2 * h);
+        (motion.WorldFromBody(t + h).translation - motion.WorldFromBody(t - h).translation) /
+        (2 * h);
     EXPECT_LT((pdot - pose.rotation * p.LinearVelocity(t)).norm(), 1e-7);
   }
 }
