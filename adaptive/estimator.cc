@@ -234,7 +234,7 @@ double PersistentExcitationIndex(const Matrix16d& information, const Vector16d& 
   const Matrix16d proj = Matrix16d::Identity() - u * u.transpose();
   const Eigen::SelfAdjointEigenSolver<Matrix16d> eig(proj * normalised * proj);
   // Eigenvalue 0 belongs to u itself; the complement's smallest is the second smallest.
-  const Vector16d values = eig.eigenvalues();
+  const Vector16d& values = eig.eigenvalues();
   return std::max(0.0, values[1]) / values[15];
 }
 

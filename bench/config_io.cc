@@ -73,9 +73,11 @@ class Reader {
       }
       std::string list;
       for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      Fail(kv.first, Join(field, key),
-           "unknown key" + (best.empty() ? "" : " (did you mean '" + best + "'?)") +
-               "; allowed: " + list);
+      std::string reason = "unknown key";
+      if (!best.empty()) reason += " (did you mean '" + best + "'?)";
+      reason += "; allowed: ";
+      reason += list;
+      Fail(kv.first, Join(field, key), reason);
     }
   }
 
@@ -83,39 +85,31 @@ class Reader {
     return field.empty() ? key : field + "." + key;
   }
 
-  double Double(const YAML::Node& node, const std::string& field) const {
-    if (!node.IsScalar()) Fail(node, field, "expected a number");
+  // A scalar converted to T; `expected` names the type in the error ("a number").
+  template <typename T>
+  T Scalar(const YAML::Node& node, const std::string& field, const std::string& expected) const {
+    if (!node.IsScalar()) Fail(node, field, "expected " + expected);
     try {
-      return node.as<double>();
+      return node.as<T>();
     } catch (const YAML::Exception&) {
-      Fail(node, field, "expected a number, got '" + node.Scalar() + "'");
+      Fail(node, field, "expected " + expected + ", got '" + node.Scalar() + "'");
     }
+  }
+  double Double(const YAML::Node& node, const std::string& field) const {
+    return Scalar<double>(node, field, "a number");
   }
   long Integer(const YAML::Node& node, const std::string& field) const {
-    if (!node.IsScalar()) Fail(node, field, "expected an integer");
-    try {
-      return node.as<long>();
-    } catch (const YAML::Exception&) {
-      Fail(node, field, "expected an integer, got '" + node.Scalar() + "'");
-    }
+    return Scalar<long>(node, field, "an integer");
   }
   uint64_t Unsigned(const YAML::Node& node, const std::string& field) const {
-    if (!node.IsScalar() || node.Scalar().find('-') != std::string::npos) {
-      Fail(node, field, "expected a non-negative integer");
-    }
-    try {
-      return node.as<uint64_t>();
-    } catch (const YAML::Exception&) {
+    // yaml-cpp wraps "-1" to a huge unsigned value: refuse a sign outright.
+    if (node.IsScalar() && node.Scalar().find('-') != std::string::npos) {
       Fail(node, field, "expected a non-negative integer, got '" + node.Scalar() + "'");
     }
+    return Scalar<uint64_t>(node, field, "a non-negative integer");
   }
   bool Bool(const YAML::Node& node, const std::string& field) const {
-    if (!node.IsScalar()) Fail(node, field, "expected true or false");
-    try {
-      return node.as<bool>();
-    } catch (const YAML::Exception&) {
-      Fail(node, field, "expected true or false, got '" + node.Scalar() + "'");
-    }
+    return Scalar<bool>(node, field, "true or false");
   }
   std::string String(const YAML::Node& node, const std::string& field) const {
     if (!node.IsScalar()) Fail(node, field, "expected a string");
@@ -123,7 +117,7 @@ class Reader {
   }
   std::string Choice(const YAML::Node& node, const std::string& field,
                      const std::vector<std::string>& choices) const {
-    const std::string value = String(node, field);
+    std::string value = String(node, field);
     if (std::find(choices.begin(), choices.end(), value) != choices.end()) return value;
     std::string list;
     for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
@@ -539,10 +533,14 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
 
 }  // namespace
 
-bool LoadRunConfig(const std::string& path, RunConfig* config, std::string* why) {
+namespace {
+
+// Runs `load` into a fresh RunConfig; *config changes only on success.
+bool Guarded(const std::string& path, RunConfig* config, std::string* why,
+             const std::function<void(RunConfig*)>& load) {
   try {
     RunConfig loaded;
-    LoadFile(path, 0, &loaded);
+    load(&loaded);
     CheckUniqueNames(loaded);
     *config = std::move(loaded);
     return true;
@@ -554,20 +552,16 @@ bool LoadRunConfig(const std::string& path, RunConfig* config, std::string* why)
   return false;
 }
 
+}  // namespace
+
+bool LoadRunConfig(const std::string& path, RunConfig* config, std::string* why) {
+  return Guarded(path, config, why, [&](RunConfig* c) { LoadFile(path, 0, c); });
+}
+
 bool LoadRunConfigFromString(const std::string& yaml, const std::string& virtual_path,
                              RunConfig* config, std::string* why) {
-  try {
-    RunConfig loaded;
-    LoadNode(LoadYaml(yaml, virtual_path), virtual_path, 0, &loaded);
-    CheckUniqueNames(loaded);
-    *config = std::move(loaded);
-    return true;
-  } catch (const ConfigError& e) {
-    if (why) *why = e.what();
-  } catch (const YAML::Exception& e) {
-    if (why) *why = virtual_path + ": (yaml): " + e.what();
-  }
-  return false;
+  return Guarded(virtual_path, config, why,
+                 [&](RunConfig* c) { LoadNode(LoadYaml(yaml, virtual_path), virtual_path, 0, c); });
 }
 
 std::string ResolvedYaml(const RunConfig& config) {

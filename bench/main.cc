@@ -69,7 +69,8 @@ int Run(const std::string& config_path, const std::string& out_dir, int threads,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+// CLI11 throws from setup only on a programming error (a duplicate option name).
+int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   CLI::App app{"calibench: adaptive vs batch camera calibration, on identical data"};
   app.require_subcommand(1);
   std::string config_path, out_dir;
@@ -85,6 +86,11 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   run->add_flag("--quiet", quiet, "No table on stdout, no progress bar");
   CLI11_PARSE(app, argc, argv);
-  if (run->parsed()) return Run(config_path, out_dir, threads, quiet);
+  try {
+    if (run->parsed()) return Run(config_path, out_dir, threads, quiet);
+  } catch (const std::exception& e) {  // A bug, not bad data: say so instead of aborting.
+    std::cerr << "calibench: internal error: " << e.what() << "\n";
+    return 70;
+  }
   return 1;
 }

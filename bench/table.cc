@@ -19,6 +19,7 @@ std::vector<RunRow> AdaptiveRows(const std::string& scenario, const std::vector<
 
 std::vector<double> Column(const std::vector<RunRow>& rows, double RunRow::*field) {
   std::vector<double> v;
+  v.reserve(rows.size());
   for (const RunRow& r : rows) v.push_back(r.*field);
   return v;
 }

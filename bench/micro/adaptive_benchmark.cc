@@ -20,7 +20,7 @@ void BM_Project(benchmark::State& state) {
   const auto params = k.Params();
   const Eigen::Vector3d point(0.3, -0.2, 4.0);
   Eigen::Vector2d pixel;
-  for (auto _ : state) {
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
     benchmark::DoNotOptimize(PinholeSkewCamera::Project(params.data(), point.data(), pixel.data()));
     benchmark::DoNotOptimize(pixel);
   }
@@ -43,7 +43,7 @@ void BM_AdaptiveThesisRun(benchmark::State& state) {
   const CameraSpec& init = s.adaptive.initial;
   const Vector16d theta0 = ThetaFromCamera(init.intrinsics, init.ParentFromCam().Inverse());
   long steps = 0;
-  for (auto _ : state) {
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
     const AdaptiveSummary summary = RunAdaptiveEstimator(*source, theta0, s.adaptive.options);
     steps = summary.iterations;
     benchmark::DoNotOptimize(summary.theta_hat);

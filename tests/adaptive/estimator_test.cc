@@ -78,10 +78,17 @@ TEST(AdaptiveEstimator, SmallGainConvergesMoreSlowly) {
 
 // Largest relative change between two runs' reported figures (floor 1 for values near zero).
 double MaxRelativeChange(const RunRow& a, const RunRow& b) {
-  const double pairs[][2] = {{a.fku, b.fku},     {a.fkv, b.fkv},     {a.phi_deg, b.phi_deg},
-                             {a.u0, b.u0},       {a.v0, b.v0},       {a.xc_x, b.xc_x},
-                             {a.xc_y, b.xc_y},   {a.xc_z, b.xc_z},   {a.rot_err_deg, b.rot_err_deg},
-                             {a.theta_err_norm, b.theta_err_norm}, {a.rms_reproj_px, b.rms_reproj_px}};
+  const double pairs[][2] = {{a.fku, b.fku},
+                             {a.fkv, b.fkv},
+                             {a.phi_deg, b.phi_deg},
+                             {a.u0, b.u0},
+                             {a.v0, b.v0},
+                             {a.xc_x, b.xc_x},
+                             {a.xc_y, b.xc_y},
+                             {a.xc_z, b.xc_z},
+                             {a.rot_err_deg, b.rot_err_deg},
+                             {a.theta_err_norm, b.theta_err_norm},
+                             {a.rms_reproj_px, b.rms_reproj_px}};
   double worst = 0.0;
   for (const auto& p : pairs) {
     worst = std::max(worst, std::abs(p[0] - p[1]) / std::max(1.0, std::abs(p[0])));
