@@ -153,7 +153,8 @@ class Reader {
 
 void ParseIntrinsics(const Reader& r, const YAML::Node& node, const std::string& field,
                      CameraIntrinsics* k) {
-  r.CheckKeys(node, field, {"fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "k1", "k2"});
+  r.CheckKeys(node, field,
+              {"fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "k1", "k2", "p1", "p2", "k3"});
   r.If(node, "fku_px", field, [&](auto n, auto f) { k->fku_px = r.Double(n, f); });
   r.If(node, "fkv_px", field, [&](auto n, auto f) { k->fkv_px = r.Double(n, f); });
   r.If(node, "phi_deg", field, [&](auto n, auto f) { k->phi_deg = r.Double(n, f); });
@@ -161,6 +162,9 @@ void ParseIntrinsics(const Reader& r, const YAML::Node& node, const std::string&
   r.If(node, "v0_px", field, [&](auto n, auto f) { k->v0_px = r.Double(n, f); });
   r.If(node, "k1", field, [&](auto n, auto f) { k->k1 = r.Double(n, f); });
   r.If(node, "k2", field, [&](auto n, auto f) { k->k2 = r.Double(n, f); });
+  r.If(node, "p1", field, [&](auto n, auto f) { k->p1 = r.Double(n, f); });
+  r.If(node, "p2", field, [&](auto n, auto f) { k->p2 = r.Double(n, f); });
+  r.If(node, "k3", field, [&](auto n, auto f) { k->k3 = r.Double(n, f); });
   std::string why;
   if (!k->Check(&why)) r.Fail(node, field, why);
 }
@@ -455,7 +459,9 @@ void EmitCamera(YAML::Emitter& out, const CameraSpec& c) {
       << YAML::Key << "fku_px" << YAML::Value << k.fku_px << YAML::Key << "fkv_px" << YAML::Value
       << k.fkv_px << YAML::Key << "phi_deg" << YAML::Value << k.phi_deg << YAML::Key << "u0_px"
       << YAML::Value << k.u0_px << YAML::Key << "v0_px" << YAML::Value << k.v0_px << YAML::Key
-      << "k1" << YAML::Value << k.k1 << YAML::Key << "k2" << YAML::Value << k.k2 << YAML::EndMap;
+      << "k1" << YAML::Value << k.k1 << YAML::Key << "k2" << YAML::Value << k.k2 << YAML::Key
+      << "p1" << YAML::Value << k.p1 << YAML::Key << "p2" << YAML::Value << k.p2 << YAML::Key
+      << "k3" << YAML::Value << k.k3 << YAML::EndMap;
   out << YAML::Key << "R_C" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (int r = 0; r < 3; ++r) EmitVector(out, c.r_c.row(r).transpose());
   out << YAML::EndSeq << YAML::Key << "x_C" << YAML::Value;

@@ -17,8 +17,10 @@ bool CameraIntrinsics::Check(std::string* why) const {
     msg << "phi_deg must lie in (0, 180) degrees (90 = no skew), got " << phi_deg;
   } else if (!std::isfinite(u0_px) || !std::isfinite(v0_px)) {
     msg << "principal point must be finite, got (" << u0_px << ", " << v0_px << ")";
-  } else if (!std::isfinite(k1) || !std::isfinite(k2)) {
-    msg << "distortion k1, k2 must be finite, got (" << k1 << ", " << k2 << ")";
+  } else if (!std::isfinite(k1) || !std::isfinite(k2) || !std::isfinite(k3) || !std::isfinite(p1) ||
+             !std::isfinite(p2)) {
+    msg << "distortion coefficients must be finite, got k1 " << k1 << ", k2 " << k2 << ", p1 " << p1
+        << ", p2 " << p2 << ", k3 " << k3;
   }
   if (msg.str().empty()) return true;
   if (why) *why = msg.str();
@@ -45,13 +47,28 @@ CameraIntrinsics CameraIntrinsics::FromMatrix(const Eigen::Matrix3d& a) {
   return k;
 }
 
-std::array<double, 7> CameraIntrinsics::Params() const {
-  return {fku_px, fkv_px, phi_deg * kDegToRad, u0_px, v0_px, k1, k2};
+std::array<double, 10> CameraIntrinsics::Params() const {
+  return {fku_px, fkv_px, phi_deg * kDegToRad, u0_px, v0_px, k1, k2, p1, p2, k3};
+}
+
+CameraIntrinsics CameraIntrinsics::FromParams(const double* params) {
+  CameraIntrinsics k;
+  k.fku_px = params[0];
+  k.fkv_px = params[1];
+  k.phi_deg = params[2] / kDegToRad;
+  k.u0_px = params[3];
+  k.v0_px = params[4];
+  k.k1 = params[5];
+  k.k2 = params[6];
+  k.p1 = params[7];
+  k.p2 = params[8];
+  k.k3 = params[9];
+  return k;
 }
 
 bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& point_in_cam,
                   Eigen::Vector2d* pixel) {
-  const std::array<double, 7> params = intrinsics.Params();
+  const std::array<double, 10> params = intrinsics.Params();
   return PinholeSkewCamera::Project(params.data(), point_in_cam.data(), pixel->data());
 }
 

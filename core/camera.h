@@ -1,5 +1,6 @@
-// The camera model: pinhole with a skew angle phi between the sensor axes, optional radial
-// distortion (k1, k2). A small value type; the algorithms and ceres::Jet both use Project().
+// The camera model: pinhole with a skew angle phi between the sensor axes and optional
+// distortion (radial k1, k2, k3; tangential p1, p2 — OpenCV's 5-coefficient model). A small value
+// type; the algorithms and ceres::Jet both use Project().
 //
 // Intrinsic matrix (thesis eq. 2.5; spec "Camera model"):
 //
@@ -8,16 +9,18 @@
 //         [ 0      0              1  ]   [ 0  0  1  ]
 //
 // Projection of point_in_cam = (X, Y, Z), Z > 0:
-//     x = X/Z, y = Y/Z;  r2 = x^2 + y^2;  d = 1 + k1*r2 + k2*r2^2   (distortion in normalised
-//     coordinates, after the perspective division and before A — seed 001's model)
-//     [u v 1]^T = A * [d*x  d*y  1]^T
+//     x = X/Z, y = Y/Z;  r2 = x^2 + y^2;  d = 1 + k1*r2 + k2*r2^2 + k3*r2^3
+//     xd = d*x + 2*p1*x*y + p2*(r2 + 2x^2);  yd = d*y + p1*(r2 + 2y^2) + 2*p2*x*y
+//     [u v 1]^T = A * [xd  yd  1]^T
+// Distortion acts in normalised coordinates, after the perspective division and before A (seed
+// 001's model; OpenCV's and Zhang's too, so A doubles as OpenCV's camera_matrix).
 //
 // Pixel-centre convention (the whole suite's): OpenCV's. The centre of the pixel in column i, row j
 // is at (u, v) = (i, j); the image spans [-0.5, W-0.5] x [-0.5, H-0.5]. Detectors that use another
 // convention (AprilTag 3 behaves as if centres were at (i+0.5, j+0.5)) convert at their boundary.
 //
-// Parameter order of the raw array used by Project() (kNumParams = 7):
-//     [fku_px, fkv_px, phi_rad, u0_px, v0_px, k1, k2]
+// Parameter order of the raw array used by Project() (kNumParams = 10):
+//     [fku_px, fkv_px, phi_rad, u0_px, v0_px, k1, k2, p1, p2, k3]
 // phi is in radians in the raw array (the Jet-friendly form) and in degrees in CameraIntrinsics.
 #pragma once
 
@@ -36,8 +39,12 @@ struct CameraIntrinsics {
   double v0_px = 240.0;
   double k1 = 0.0;  // Radial distortion (normalised coordinates).
   double k2 = 0.0;
+  double p1 = 0.0;  // Tangential distortion.
+  double p2 = 0.0;
+  double k3 = 0.0;  // Sixth-order radial term.
 
-  // Positive finite focal lengths, phi in (0, 180) degrees, finite principal point and k's.
+  // Positive finite focal lengths, phi in (0, 180) degrees, finite principal point and
+  // distortion.
   bool Check(std::string* why) const;
 
   // The 3x3 matrix A above (distortion is not part of it).
@@ -45,12 +52,13 @@ struct CameraIntrinsics {
   // Inverse of Matrix() for an upper-triangular A with a33 = 1 (a1, a4 > 0); distortion is zero.
   static CameraIntrinsics FromMatrix(const Eigen::Matrix3d& a);
 
-  std::array<double, 7> Params() const;
+  std::array<double, 10> Params() const;
+  static CameraIntrinsics FromParams(const double* params);
 };
 
 struct PinholeSkewCamera {
-  static constexpr int kNumParams = 7;
-  static constexpr const char* kName = "pinhole-skew-k2";
+  static constexpr int kNumParams = 10;
+  static constexpr const char* kName = "pinhole-skew-radtan5";
 
   // Projects point_in_cam (3 values) to pixel (2 values). Returns false, leaving pixel untouched,
   // when the point is not strictly in front of the camera (Z <= 0). Never throws.
@@ -62,9 +70,10 @@ struct PinholeSkewCamera {
     const T x = point_in_cam[0] / point_in_cam[2];
     const T y = point_in_cam[1] / point_in_cam[2];
     const T r2 = x * x + y * y;
-    const T d = T(1) + r2 * (params[5] + params[6] * r2);
-    const T xd = d * x;
-    const T yd = d * y;
+    const T d = T(1) + r2 * (params[5] + r2 * (params[6] + r2 * params[9]));
+    const T xy = x * y;
+    const T xd = d * x + T(2) * params[7] * xy + params[8] * (r2 + T(2) * x * x);
+    const T yd = d * y + params[7] * (r2 + T(2) * y * y) + T(2) * params[8] * xy;
     const T sin_phi = sin(params[2]);
     const T cos_phi = cos(params[2]);
     pixel[0] = params[0] * (xd - yd * cos_phi / sin_phi) + params[3];

@@ -22,7 +22,7 @@ bool SceneTruth::Observe(double t, std::vector<Eigen::Vector3d>* points_in_paren
                                         ? world_from_body
                                         : world_from_body.Inverse();
   const Rigid3 cam_from_parent = CamFromParent();
-  const std::array<double, 7> params = intrinsics.Params();
+  const std::array<double, 10> params = intrinsics.Params();
   points_in_parent->resize(points.size());
   pixels->resize(points.size());
   for (size_t i = 0; i < points.size(); ++i) {

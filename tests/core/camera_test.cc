@@ -88,6 +88,19 @@ TEST(PinholeSkewCamera, RadialDistortionScalesNormalisedCoordinates) {
   EXPECT_NEAR(pixel.y(), 790 * -0.3 * d + 240, 1e-12);
 }
 
+// OpenCV's tangential and k3 terms, written out by hand.
+TEST(PinholeSkewCamera, TangentialDistortionFollowsOpenCv) {
+  CameraIntrinsics k{800, 790, 90, 320, 240, -0.2, 0.05, 1e-3, -2e-3, 0.02};
+  const double x = 0.4, y = -0.3, r2 = x * x + y * y;
+  const double d = 1 - 0.2 * r2 + 0.05 * r2 * r2 + 0.02 * r2 * r2 * r2;
+  const double xd = x * d + 2 * 1e-3 * x * y + -2e-3 * (r2 + 2 * x * x);
+  const double yd = y * d + 1e-3 * (r2 + 2 * y * y) + 2 * -2e-3 * x * y;
+  Eigen::Vector2d pixel;
+  ASSERT_TRUE(ProjectPoint(k, Eigen::Vector3d(x, y, 1), &pixel));
+  EXPECT_NEAR(pixel.x(), 800 * xd + 320, 1e-12);
+  EXPECT_NEAR(pixel.y(), 790 * yd + 240, 1e-12);
+}
+
 TEST(PinholeSkewCamera, ReturnsFalseBehindTheCamera) {
   const auto params = CameraIntrinsics().Params();
   Eigen::Vector2d pixel(-7, -7);
@@ -99,29 +112,29 @@ TEST(PinholeSkewCamera, ReturnsFalseBehindTheCamera) {
 
 // Project() instantiated with ceres::Jet: its derivatives equal central differences.
 TEST(PinholeSkewCamera, JetDerivativesMatchNumericDifferentiation) {
-  using Jet = ceres::Jet<double, 10>;  // 7 parameters + 3 point coordinates.
-  CameraIntrinsics k{812, 805, 84, 318, 236, -0.15, 0.03};
+  using Jet = ceres::Jet<double, 13>;  // 10 parameters + 3 point coordinates.
+  CameraIntrinsics k{812, 805, 84, 318, 236, -0.15, 0.03, 1e-3, -2e-3, 0.01};
   const auto params = k.Params();
   const std::array<double, 3> point = {0.35, -0.2, 2.5};
-  Jet jp[7], jx[3], jpix[2];
-  for (int i = 0; i < 7; ++i) jp[i] = Jet(params[i], i);
-  for (int i = 0; i < 3; ++i) jx[i] = Jet(point[i], 7 + i);
+  Jet jp[10], jx[3], jpix[2];
+  for (int i = 0; i < 10; ++i) jp[i] = Jet(params[i], i);
+  for (int i = 0; i < 3; ++i) jx[i] = Jet(point[i], 10 + i);
   ASSERT_TRUE(PinholeSkewCamera::Project(jp, jx, jpix));
 
   auto eval = [&](int var, double delta) {
-    std::array<double, 7> p = params;
+    std::array<double, 10> p = params;
     std::array<double, 3> x = point;
-    if (var < 7)
+    if (var < 10)
       p[var] += delta;
     else
-      x[var - 7] += delta;
+      x[var - 10] += delta;
     Eigen::Vector2d out;
     PinholeSkewCamera::Project(p.data(), x.data(), out.data());
     return out;
   };
-  for (int var = 0; var < 10; ++var) {
+  for (int var = 0; var < 13; ++var) {
     const double h =
-        1e-6 * std::max(1.0, var < 7 ? std::abs(params[var]) : std::abs(point[var - 7]));
+        1e-6 * std::max(1.0, var < 10 ? std::abs(params[var]) : std::abs(point[var - 10]));
     const Eigen::Vector2d numeric = (eval(var, h) - eval(var, -h)) / (2 * h);
     for (int r = 0; r < 2; ++r) {
       EXPECT_NEAR(jpix[r].v[var], numeric[r],
