@@ -7,6 +7,7 @@
 #include <iostream>
 #include <string>
 
+#include "bench/calibrate.h"
 #include "bench/config_io.h"
 #include "bench/csv.h"
 #include "bench/runner.h"
@@ -67,6 +68,32 @@ int Run(const std::string& config_path, const std::string& out_dir, int threads,
   return 0;
 }
 
+int Calibrate(const std::string& points_path, const std::string& out_path,
+              const std::string& model_name, bool skew) {
+  calibench::CalibrateOptions options;
+  if (!calibench::ParseLensModel(model_name, &options.model)) {
+    std::cerr << "calibench: --model: unknown lens model '" << model_name
+              << "' (pinhole, pinhole-k2, pinhole-radtan4, pinhole-radtan5)\n";
+    return 2;
+  }
+  options.estimate_skew = skew;
+  calibench::PointData data;
+  std::string why;
+  if (!calibench::LoadPointData(points_path, &data, &why)) {
+    std::cerr << "calibench: --points: " << why << "\n";
+    return 2;
+  }
+  const calibench::CalibrateReport report = calibench::CalibrateFromPoints(data, options);
+  std::cout << calibench::FormatCalibrateReport(report, data);
+  if (!report.IsUsable()) return 4;
+  if (!calibench::WriteCameraYaml(out_path, report.camera, &why)) {
+    std::cerr << "calibench: " << why << "\n";
+    return 3;
+  }
+  std::cerr << "calibench: wrote " << out_path << "\n";
+  return 0;
+}
+
 }  // namespace
 
 // CLI11 throws from setup only on a programming error (a duplicate option name).
@@ -85,9 +112,20 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   run->add_option("--threads", threads, "Worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
   run->add_flag("--quiet", quiet, "No table on stdout, no progress bar");
+  std::string points_path, camera_out = "camera.yaml", model = "pinhole-k2";
+  bool skew = false;
+  CLI::App* calibrate = app.add_subcommand("calibrate", "Calibrate a camera from point files");
+  calibrate
+      ->add_option("--points", points_path, "Zhang folder (Model.txt, data*.txt) or OpenCV .dat")
+      ->required();
+  calibrate->add_option("--out", camera_out, "Output camera.yaml (OpenCV FileStorage)");
+  calibrate->add_option("--model", model,
+                        "Lens model: pinhole, pinhole-k2, pinhole-radtan4, pinhole-radtan5");
+  calibrate->add_flag("--skew", skew, "Estimate the skew angle phi too");
   CLI11_PARSE(app, argc, argv);
   try {
     if (run->parsed()) return Run(config_path, out_dir, threads, quiet);
+    if (calibrate->parsed()) return Calibrate(points_path, camera_out, model, skew);
   } catch (const std::exception& e) {  // A bug, not bad data: say so instead of aborting.
     std::cerr << "calibench: internal error: " << e.what() << "\n";
     return 70;

@@ -64,4 +64,50 @@ Rigid3 RandomPose(double max_translation_m, Rng* rng) {
   return pose;
 }
 
+std::vector<Eigen::Vector3d> BoardPoints(int rows, int cols, double spacing_m) {
+  std::vector<Eigen::Vector3d> points;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) points.emplace_back(c * spacing_m, r * spacing_m, 0.0);
+  }
+  return points;
+}
+
+SyntheticBoardViews MakeBoardViews(const CameraIntrinsics& intrinsics,
+                                   const SyntheticBoardOptions& o, Rng* rng) {
+  SyntheticBoardViews out;
+  const std::vector<Eigen::Vector3d> board = BoardPoints(o.rows, o.cols, o.spacing_m);
+  const Eigen::Vector3d centre((o.cols - 1) * o.spacing_m / 2, (o.rows - 1) * o.spacing_m / 2, 0);
+  int attempts = 0;
+  while (static_cast<int>(out.views.size()) < o.num_views && attempts++ < 100 * o.num_views) {
+    // Board tilted about a random in-plane axis, centred in front of the camera, slightly offset.
+    const double axis_angle = rng->Uniform(0, 2 * M_PI);
+    const double tilt = rng->Uniform(-o.max_tilt_deg, o.max_tilt_deg) * M_PI / 180;
+    const Eigen::Vector3d axis(std::cos(axis_angle), std::sin(axis_angle), 0);
+    const double distance = o.distance_m * rng->Uniform(0.8, 1.2);
+    Rigid3 cam_from_board;
+    cam_from_board.rotation =
+        ExpSO3(tilt * axis) * ExpSO3(Eigen::Vector3d(0, 0, rng->Uniform(-0.3, 0.3)));
+    const Eigen::Vector3d offset(rng->Uniform(-0.1, 0.1) * distance,
+                                 rng->Uniform(-0.1, 0.1) * distance, distance);
+    cam_from_board.translation = offset - cam_from_board.rotation * centre;
+    View view;
+    bool inside = true;
+    for (const Eigen::Vector3d& p : board) {
+      Eigen::Vector2d pixel;
+      if (!ProjectPoint(intrinsics, cam_from_board * p, &pixel) || pixel.x() < -0.5 ||
+          pixel.y() < -0.5 || pixel.x() > o.image_width - 0.5 || pixel.y() > o.image_height - 0.5) {
+        inside = false;
+        break;
+      }
+      pixel += o.pixel_sigma_px * Eigen::Vector2d(rng->Normal(), rng->Normal());
+      view.points.push_back(p);
+      view.pixels.push_back(pixel);
+    }
+    if (!inside) continue;
+    out.views.push_back(std::move(view));
+    out.cam_from_board.push_back(cam_from_board);
+  }
+  return out;
+}
+
 }  // namespace calibench

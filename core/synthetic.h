@@ -14,6 +14,7 @@
 #include "core/pose.h"
 #include "core/random.h"
 #include "core/scene.h"
+#include "core/view.h"
 
 namespace calibench {
 
@@ -43,5 +44,24 @@ CameraIntrinsics RandomIntrinsics(const RandomCameraOptions& options, Rng* rng);
 // A uniformly random proper rotation (unit quaternion from four Gaussians).
 Eigen::Matrix3d RandomRotation(Rng* rng);
 Rigid3 RandomPose(double max_translation_m, Rng* rng);
+
+// A planar calibration board seen from random viewpoints (classic camera calibration data).
+struct SyntheticBoardOptions {
+  int rows = 8, cols = 11;  // Corners.
+  double spacing_m = 0.03;  // Corner pitch.
+  int num_views = 20;
+  double distance_m = 0.5;                    // Camera to board centre, +-20%.
+  double max_tilt_deg = 40.0;                 // Board tilt about a random in-plane axis.
+  double pixel_sigma_px = 0.0;                // Gaussian noise on u and v.
+  int image_width = 640, image_height = 480;  // Views with a corner outside are redrawn.
+};
+struct SyntheticBoardViews {
+  std::vector<View> views;             // Board frame points (z = 0) and pixels.
+  std::vector<Rigid3> cam_from_board;  // Ground truth per view.
+};
+// Corners row by row: (c * spacing, r * spacing, 0).
+std::vector<Eigen::Vector3d> BoardPoints(int rows, int cols, double spacing_m);
+SyntheticBoardViews MakeBoardViews(const CameraIntrinsics& intrinsics,
+                                   const SyntheticBoardOptions& options, Rng* rng);
 
 }  // namespace calibench

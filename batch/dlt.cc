@@ -1,0 +1,102 @@
+#include "batch/dlt.h"
+
+#include <Eigen/SVD>
+#include <chrono>
+#include <cmath>
+
+namespace calibench {
+
+bool DltOptions::Check(std::string* why) const {
+  if (min_planarity_ratio >= 0 && min_planarity_ratio < 1) return true;
+  if (why) *why = "min_planarity_ratio must lie in [0, 1)";
+  return false;
+}
+
+DltResult EstimateDlt(const std::vector<Eigen::Vector3d>& points,
+                      const std::vector<Eigen::Vector2d>& pixels, const DltOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  DltResult result;
+  auto finish = [&](MethodStatus status, const std::string& message) {
+    result.status = status;
+    result.message = message;
+    result.wall_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  };
+  std::string why;
+  if (!options.Check(&why)) return finish(MethodStatus::kFailed, "dlt options: " + why);
+  const int n = static_cast<int>(points.size());
+  if (n != static_cast<int>(pixels.size())) {
+    return finish(MethodStatus::kFailed, "points and pixels differ in number");
+  }
+  if (n < 6) {
+    return finish(MethodStatus::kFailed,
+                  "the DLT needs at least 6 correspondences, got " + std::to_string(n));
+  }
+
+  // Normalisation.
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Vector2d pixel_centroid = Eigen::Vector2d::Zero();
+  for (int i = 0; i < n; ++i) centroid += points[i], pixel_centroid += pixels[i];
+  centroid /= n;
+  pixel_centroid /= n;
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  double mean_dist = 0.0, pixel_mean_dist = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d d = points[i] - centroid;
+    scatter += d * d.transpose();
+    mean_dist += d.norm();
+    pixel_mean_dist += (pixels[i] - pixel_centroid).norm();
+  }
+  mean_dist /= n;
+  pixel_mean_dist /= n;
+  const Eigen::Vector3d spread = Eigen::JacobiSVD<Eigen::Matrix3d>(scatter).singularValues();
+  if (!(spread[0] > 0) || std::sqrt(spread[2] / spread[0]) < options.min_planarity_ratio) {
+    return finish(MethodStatus::kFailed,
+                  "pooled points are coplanar or collinear: the DLT of a 3x4 matrix needs "
+                  "non-coplanar points (use zhang for a planar target)");
+  }
+  if (!(pixel_mean_dist > 0)) return finish(MethodStatus::kFailed, "all pixels coincide");
+  const double s3 = std::sqrt(3.0) / mean_dist, s2 = std::sqrt(2.0) / pixel_mean_dist;
+  Eigen::Matrix4d t3 = Eigen::Matrix4d::Identity();
+  t3.topLeftCorner<3, 3>() *= s3;
+  t3.topRightCorner<3, 1>() = -s3 * centroid;
+  Eigen::Matrix3d t2 = Eigen::Matrix3d::Identity();
+  t2.topLeftCorner<2, 2>() *= s2;
+  t2.topRightCorner<2, 1>() = -s2 * pixel_centroid;
+
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 12);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::RowVector4d x = (s3 * (points[i] - centroid)).homogeneous().transpose();
+    const Eigen::Vector2d p = s2 * (pixels[i] - pixel_centroid);
+    a.block<1, 4>(2 * i, 0) = x;
+    a.block<1, 4>(2 * i, 8) = -p.x() * x;
+    a.block<1, 4>(2 * i + 1, 4) = x;
+    a.block<1, 4>(2 * i + 1, 8) = -p.y() * x;
+  }
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinV);
+  const Eigen::VectorXd sv = svd.singularValues();
+  if (!(sv[10] > 1e-12 * sv[0])) {
+    return finish(MethodStatus::kFailed, "degenerate configuration: the DLT null space is not 1-D");
+  }
+  const Eigen::VectorXd m_vec = svd.matrixV().col(11);
+  Matrix34d m_norm;
+  m_norm << m_vec.segment<4>(0).transpose(), m_vec.segment<4>(4).transpose(),
+      m_vec.segment<4>(8).transpose();
+  Matrix34d m = t2.inverse() * m_norm * t3;
+  m /= m.block<1, 3>(2, 0).norm();
+  result.m = m;
+  if (!DecomposeProjectionMatrix(m, points, &result.camera, &why)) {
+    return finish(MethodStatus::kFailed, "decomposition: " + why);
+  }
+  if (result.camera.lambda < 0) result.m = -m;
+  double sum_sq = 0.0;
+  for (int i = 0; i < n; ++i) {
+    sum_sq += ((result.m * points[i].homogeneous()).hnormalized() - pixels[i]).squaredNorm();
+  }
+  result.rms_reproj_px = std::sqrt(sum_sq / n);
+  result.iterations = 1;
+  return finish(MethodStatus::kOk, "");
+}
+
+}  // namespace calibench

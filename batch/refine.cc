@@ -1,0 +1,195 @@
+#include "batch/refine.h"
+
+#include <ceres/ceres.h>
+#include <ceres/manifold.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include "batch/reprojection_error.h"
+
+namespace calibench {
+namespace {
+
+constexpr int kN = PinholeSkewCamera::kNumParams;
+
+// Parameter storage for one problem: intrinsics and poses (quaternion x, y, z, w; translation).
+struct Parameters {
+  IntrinsicsArray intrinsics{};
+  std::vector<std::array<double, 4>> rotations;
+  std::vector<std::array<double, 3>> translations;
+
+  Parameters(const CameraIntrinsics& k, const std::vector<Rigid3>& poses) {
+    intrinsics = k.Params();
+    for (const Rigid3& pose : poses) {
+      const Eigen::Quaterniond q(pose.rotation);
+      rotations.push_back({q.x(), q.y(), q.z(), q.w()});
+      translations.push_back({pose.translation.x(), pose.translation.y(), pose.translation.z()});
+    }
+  }
+  Rigid3 Pose(size_t i) const {
+    const Eigen::Quaterniond q(rotations[i][3], rotations[i][0], rotations[i][1], rotations[i][2]);
+    return {q.normalized().toRotationMatrix(),
+            Eigen::Vector3d(translations[i][0], translations[i][1], translations[i][2])};
+  }
+};
+
+ceres::LossFunction* MakeLoss(const RefineOptions& o) {
+  if (o.loss == "huber") return new ceres::HuberLoss(o.loss_scale_px);
+  if (o.loss == "cauchy") return new ceres::CauchyLoss(o.loss_scale_px);
+  return nullptr;
+}
+
+// Builds the problem over `params`; returns the number of residual blocks (points).
+int BuildProblem(const std::vector<View>& views, const RefineOptions& options, Parameters* params,
+                 ceres::Problem* problem) {
+  int points = 0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const size_t pose = options.shared_pose ? 0 : v;
+    for (size_t i = 0; i < views[v].points.size(); ++i) {
+      problem->AddResidualBlock(ReprojectionError::Create(views[v].pixels[i], views[v].points[i]),
+                                MakeLoss(options), params->intrinsics.data(),
+                                params->rotations[pose].data(), params->translations[pose].data());
+      ++points;
+    }
+  }
+  const std::vector<int> fixed = FixedIntrinsics(options.model, options.estimate_skew);
+  if (!fixed.empty()) {
+    problem->SetManifold(params->intrinsics.data(), new ceres::SubsetManifold(kN, fixed));
+  }
+  for (auto& q : params->rotations)
+    problem->SetManifold(q.data(), new ceres::EigenQuaternionManifold);
+  return points;
+}
+
+bool CovarianceOfIntrinsics(ceres::Problem* problem, Parameters* params, double scale,
+                            IntrinsicsCovariance* covariance, std::string* why) {
+  ceres::Covariance::Options cov_options;
+  cov_options.algorithm_type = ceres::DENSE_SVD;
+  cov_options.null_space_rank = 0;
+  cov_options.min_reciprocal_condition_number = 1e-14;
+  ceres::Covariance cov(cov_options);
+  const double* block = params->intrinsics.data();
+  std::vector<std::pair<const double*, const double*>> blocks = {{block, block}};
+  if (!cov.Compute(blocks, problem)) {
+    if (why) *why = "covariance: the Jacobian is rank deficient (parameters not observable)";
+    return false;
+  }
+  Eigen::Matrix<double, kN, kN, Eigen::RowMajor> c;
+  cov.GetCovarianceBlock(block, block, c.data());
+  *covariance = c * scale;
+  return true;
+}
+
+}  // namespace
+
+bool RefineOptions::Check(std::string* why) const {
+  std::string msg;
+  if (loss != "none" && loss != "huber" && loss != "cauchy") {
+    msg = "loss must be none, huber or cauchy, got '" + loss + "'";
+  } else if (!(loss_scale_px > 0)) {
+    msg = "loss_scale_px must be > 0";
+  } else if (max_iterations < 1) {
+    msg = "max_iterations must be >= 1";
+  } else if (!(known_pixel_sigma_px >= 0)) {
+    msg = "known_pixel_sigma_px must be >= 0";
+  }
+  if (msg.empty()) return true;
+  if (why) *why = msg;
+  return false;
+}
+
+RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntrinsics& initial,
+                               const std::vector<Rigid3>& initial_poses,
+                               const RefineOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  RefineResult result;
+  result.intrinsics_std.fill(std::numeric_limits<double>::quiet_NaN());
+  auto finish = [&](MethodStatus status, const std::string& message) {
+    result.status = status;
+    result.message = message;
+    result.wall_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  };
+  std::string why;
+  if (!options.Check(&why)) return finish(MethodStatus::kFailed, "ceres options: " + why);
+  const size_t expected_poses = options.shared_pose ? 1 : views.size();
+  if (views.empty() || initial_poses.size() != expected_poses) {
+    return finish(MethodStatus::kFailed, "need one initial pose per view (or one if shared)");
+  }
+  if (!initial.Check(&why)) return finish(MethodStatus::kFailed, "initial intrinsics: " + why);
+
+  Parameters params(initial, initial_poses);
+  ceres::Problem problem;
+  result.num_points = BuildProblem(views, options, &params, &problem);
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = options.shared_pose ? ceres::DENSE_QR : ceres::DENSE_SCHUR;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-14;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  result.iterations = static_cast<long>(summary.iterations.size());
+  if (!summary.IsSolutionUsable() || summary.termination_type == ceres::NO_CONVERGENCE) {
+    return finish(MethodStatus::kFailed, "ceres: " + summary.message);
+  }
+
+  result.intrinsics = CameraIntrinsics::FromParams(params.intrinsics.data());
+  for (size_t p = 0; p < params.rotations.size(); ++p)
+    result.cam_from_object.push_back(params.Pose(p));
+  double sum_sq = 0.0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const Rigid3& pose = result.cam_from_object[options.shared_pose ? 0 : v];
+    double view_sq = 0.0;
+    for (size_t i = 0; i < views[v].points.size(); ++i) {
+      Eigen::Vector2d pixel;
+      ProjectPoint(result.intrinsics, pose * views[v].points[i], &pixel);
+      view_sq += (pixel - views[v].pixels[i]).squaredNorm();
+    }
+    sum_sq += view_sq;
+    result.view_rms_px.push_back(std::sqrt(view_sq / std::max<size_t>(1, views[v].points.size())));
+  }
+  result.rms_reproj_px = std::sqrt(sum_sq / result.num_points);
+  const int free_params =
+      kN - static_cast<int>(FixedIntrinsics(options.model, options.estimate_skew).size()) +
+      6 * static_cast<int>(expected_poses);
+  const int dof = 2 * result.num_points - free_params;
+  if (dof <= 0) return finish(MethodStatus::kFailed, "fewer residuals than free parameters");
+  result.sigma_hat_px = std::sqrt(sum_sq / dof);
+
+  if (options.compute_covariance) {
+    const double sigma =
+        options.known_pixel_sigma_px > 0 ? options.known_pixel_sigma_px : result.sigma_hat_px;
+    if (!CovarianceOfIntrinsics(&problem, &params, sigma * sigma, &result.covariance, &why)) {
+      return finish(MethodStatus::kFailed, why);
+    }
+    const std::vector<int> fixed = FixedIntrinsics(options.model, options.estimate_skew);
+    for (int i = 0; i < kN; ++i) {
+      const bool is_fixed = std::find(fixed.begin(), fixed.end(), i) != fixed.end();
+      if (!is_fixed) result.intrinsics_std[i] = std::sqrt(result.covariance(i, i));
+    }
+  }
+  return finish(MethodStatus::kOk, "");
+}
+
+bool IntrinsicsCovarianceAt(const std::vector<View>& views, const CameraIntrinsics& intrinsics,
+                            const std::vector<Rigid3>& poses, const RefineOptions& options,
+                            double pixel_sigma_px, IntrinsicsCovariance* covariance,
+                            std::string* why) {
+  Parameters params(intrinsics, poses);
+  ceres::Problem::Options problem_options;
+  ceres::Problem problem(problem_options);
+  RefineOptions plain = options;
+  plain.loss = "none";
+  BuildProblem(views, plain, &params, &problem);
+  return CovarianceOfIntrinsics(&problem, &params, pixel_sigma_px * pixel_sigma_px, covariance,
+                                why);
+}
+
+}  // namespace calibench

@@ -1,0 +1,68 @@
+// Maximum-likelihood calibration refinement with Ceres (the `ceres` method), and the covariance /
+// Cramer-Rao machinery that goes with it.
+//
+// Minimises sum over views v and points i of rho(|Project(A, cam_from_object_v * X_vi) - p_vi|^2)
+// over the free intrinsics (lens model and skew choose them) and the poses. Two pose layouts:
+//   per-view poses (shared_pose = false): classic camera calibration from a planar target;
+//   one shared pose (shared_pose = true): a scenario's constant extrinsic, the points already
+//       expressed in the parent frame P (x_bar) through the known body motion.
+//
+// Covariance of the intrinsics: ceres::Covariance (dense SVD) of the final Jacobian, scaled by
+// sigma^2, where sigma is the known pixel noise if given, else sigma_hat^2 = 2 cost / (m - p)
+// (m residuals, p free parameters). Evaluated at the true parameters with the true sigma, the same
+// computation is the Cramer-Rao lower bound sigma^2 (J^T J)^-1 (IntrinsicsCovarianceAt).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "batch/views.h"
+#include "core/camera.h"
+#include "core/pose.h"
+#include "core/status.h"
+
+namespace calibench {
+
+using IntrinsicsArray = std::array<double, PinholeSkewCamera::kNumParams>;
+using IntrinsicsCovariance =
+    Eigen::Matrix<double, PinholeSkewCamera::kNumParams, PinholeSkewCamera::kNumParams>;
+
+struct RefineOptions {
+  LensModel model = LensModel::kPinhole;
+  bool estimate_skew = true;   // Estimate phi; false fixes phi = 90 degrees.
+  bool shared_pose = false;    // One cam_from_object for every view (see header comment).
+  std::string loss = "none";   // none | huber | cauchy.
+  double loss_scale_px = 1.0;  // Scale of the robust loss.
+  int max_iterations = 200;
+  bool compute_covariance = true;
+  double known_pixel_sigma_px =
+      0.0;  // > 0: scale the covariance by it; 0: estimate from residuals.
+  bool Check(std::string* why) const;
+};
+
+struct RefineResult : MethodSummary {
+  CameraIntrinsics intrinsics;
+  std::vector<Rigid3> cam_from_object;  // One per view, or one when shared_pose.
+  IntrinsicsArray intrinsics_std{};     // NaN where fixed or not computed; phi in radians.
+  IntrinsicsCovariance covariance = IntrinsicsCovariance::Zero();
+  double rms_reproj_px = 0.0;  // Per-point Euclidean RMS.
+  std::vector<double> view_rms_px;
+  double sigma_hat_px = 0.0;  // Residual-based noise estimate (per coordinate).
+  int num_points = 0;
+};
+
+// `initial_poses` holds one pose per view, or one pose when options.shared_pose.
+RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntrinsics& initial,
+                               const std::vector<Rigid3>& initial_poses,
+                               const RefineOptions& options);
+
+// sigma^2 (J^T J)^-1 for the free intrinsics at the given parameters (poses are nuisance
+// parameters, marginalised). At the truth this is the CRLB. Returns false if J is rank deficient.
+bool IntrinsicsCovarianceAt(const std::vector<View>& views, const CameraIntrinsics& intrinsics,
+                            const std::vector<Rigid3>& poses, const RefineOptions& options,
+                            double pixel_sigma_px, IntrinsicsCovariance* covariance,
+                            std::string* why);
+
+}  // namespace calibench

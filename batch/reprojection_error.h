@@ -1,0 +1,50 @@
+// The reprojection residual of every Ceres-based estimator (after Ceres'
+// examples/snavely_reprojection_error.h):
+//
+//     residual = Project(intrinsics, q * point_in_object + t) - pixel        [px]
+//
+// Parameter blocks:
+//   0: intrinsics[10]  PinholeSkewCamera order: fku, fkv, phi_rad, u0, v0, k1, k2, p1, p2, k3
+//   1: rotation[4]     cam_from_object quaternion, Eigen order (x, y, z, w);
+//   EigenQuaternionManifold 2: translation[3]  cam_from_object translation
+// A point behind the camera makes the evaluation fail (Ceres then shortens the step) instead of
+// producing a silent zero.
+#pragma once
+
+#include <ceres/autodiff_cost_function.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/camera.h"
+
+namespace calibench {
+
+struct ReprojectionError {
+  ReprojectionError(const Eigen::Vector2d& measured_pixel, const Eigen::Vector3d& point)
+      : pixel(measured_pixel), point_in_object(point) {}
+
+  template <typename T>
+  bool operator()(const T* intrinsics, const T* rotation, const T* translation, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> cam_from_object_q(rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> cam_from_object_t(translation);
+    const Eigen::Matrix<T, 3, 1> point_in_cam =
+        cam_from_object_q * point_in_object.cast<T>() + cam_from_object_t;
+    T projected[2];
+    if (!PinholeSkewCamera::Project(intrinsics, point_in_cam.data(), projected)) return false;
+    residual[0] = projected[0] - T(pixel.x());
+    residual[1] = projected[1] - T(pixel.y());
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Vector2d& pixel,
+                                     const Eigen::Vector3d& point_in_object) {
+    return new ceres::AutoDiffCostFunction<ReprojectionError, 2, PinholeSkewCamera::kNumParams, 4,
+                                           3>(new ReprojectionError(pixel, point_in_object));
+  }
+
+  Eigen::Vector2d pixel;
+  Eigen::Vector3d point_in_object;
+};
+
+}  // namespace calibench

@@ -1,0 +1,116 @@
+#include "batch/zhang.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+namespace calibench {
+
+bool ZhangOptions::Check(std::string* why) const {
+  std::string msg;
+  if (image_width <= 0 || image_height <= 0) msg = "image size must be positive";
+  if (view_stride < 1) msg = "view_stride must be >= 1";
+  if (msg.empty()) return true;
+  if (why) *why = msg;
+  return false;
+}
+
+ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  ZhangResult result;
+  result.intrinsics_std.fill(std::numeric_limits<double>::quiet_NaN());
+  auto finish = [&](MethodStatus status, const std::string& message) {
+    result.status = status;
+    result.message = message;
+    result.wall_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  };
+  std::string why;
+  if (!options.Check(&why)) return finish(MethodStatus::kFailed, "zhang options: " + why);
+
+  std::vector<std::vector<cv::Point3f>> object_points;
+  std::vector<std::vector<cv::Point2f>> image_points;
+  for (size_t v = 0; v < planar_views.size(); v += options.view_stride) {
+    const View& view = planar_views[v];
+    if (view.points.size() < 4) continue;
+    std::vector<cv::Point3f> obj;
+    std::vector<cv::Point2f> img;
+    for (size_t i = 0; i < view.points.size(); ++i) {
+      if (std::abs(view.points[i].z()) > 1e-9) {
+        return finish(MethodStatus::kFailed, "zhang needs planar targets: view " +
+                                                 std::to_string(v) + " has a point off z = 0");
+      }
+      obj.emplace_back(view.points[i].x(), view.points[i].y(), 0.f);
+      img.emplace_back(view.pixels[i].x(), view.pixels[i].y());
+    }
+    object_points.push_back(std::move(obj));
+    image_points.push_back(std::move(img));
+    result.used_views.push_back(static_cast<int>(v));
+  }
+  if (object_points.size() < 2) {
+    return finish(MethodStatus::kFailed, "zhang needs at least 2 views of the board");
+  }
+  int flags = 0;
+  switch (options.model) {
+    case LensModel::kPinhole:
+      flags = cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
+      break;
+    case LensModel::kPinholeK2:
+      flags = cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
+      break;
+    case LensModel::kPinholeRadTan4:
+      flags = cv::CALIB_FIX_K3;
+      break;
+    case LensModel::kPinholeRadTan5:
+      break;
+  }
+  cv::Mat camera_matrix = cv::Mat::eye(3, 3, CV_64F), dist = cv::Mat::zeros(5, 1, CV_64F);
+  std::vector<cv::Mat> rvecs, tvecs;
+  cv::Mat std_intrinsics, std_extrinsics, per_view_errors;
+  try {
+    cv::calibrateCamera(object_points, image_points,
+                        cv::Size(options.image_width, options.image_height), camera_matrix, dist,
+                        rvecs, tvecs, std_intrinsics, std_extrinsics, per_view_errors, flags);
+  } catch (const cv::Exception& e) {
+    return finish(MethodStatus::kFailed, std::string("cv::calibrateCamera: ") + e.what());
+  }
+  CameraIntrinsics& k = result.intrinsics;
+  k.fku_px = camera_matrix.at<double>(0, 0);
+  k.fkv_px = camera_matrix.at<double>(1, 1);
+  k.u0_px = camera_matrix.at<double>(0, 2);
+  k.v0_px = camera_matrix.at<double>(1, 2);
+  k.phi_deg = 90.0;
+  k.k1 = dist.at<double>(0);
+  k.k2 = dist.at<double>(1);
+  k.p1 = dist.at<double>(2);
+  k.p2 = dist.at<double>(3);
+  k.k3 = dist.at<double>(4);
+  // OpenCV's order: fx, fy, cx, cy, k1, k2, p1, p2, k3, ... -> ours (phi at 2 stays NaN).
+  const int map[9] = {0, 1, 3, 4, 5, 6, 7, 8, 9};
+  const std::vector<int> fixed = FixedIntrinsics(options.model, false);
+  for (int i = 0; i < 9; ++i) {
+    if (std::find(fixed.begin(), fixed.end(), map[i]) == fixed.end()) {
+      result.intrinsics_std[map[i]] = std_intrinsics.at<double>(i);
+    }
+  }
+  double sum_sq = 0.0;
+  long count = 0;
+  for (size_t v = 0; v < rvecs.size(); ++v) {
+    cv::Mat r;
+    cv::Rodrigues(rvecs[v], r);
+    Rigid3 pose;
+    cv::cv2eigen(r, pose.rotation);
+    for (int i = 0; i < 3; ++i) pose.translation[i] = tvecs[v].at<double>(i);
+    result.cam_from_board.push_back(pose);
+    const double e = per_view_errors.at<double>(static_cast<int>(v));
+    sum_sq += e * e * static_cast<double>(object_points[v].size());
+    count += static_cast<long>(object_points[v].size());
+  }
+  result.rms_reproj_px = std::sqrt(sum_sq / count);
+  return finish(MethodStatus::kOk, "OpenCV fixes the skew: phi reported as 90 deg");
+}
+
+}  // namespace calibench

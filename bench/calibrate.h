@@ -1,0 +1,31 @@
+// Calibrating a camera from point files: zhang (cv::calibrateCamera) initialises, ceres refines
+// (per-view board poses, the chosen lens model, optional skew) and reports standard deviations
+// from its covariance (sigma estimated from the residuals).
+#pragma once
+
+#include <string>
+
+#include "batch/refine.h"
+#include "batch/zhang.h"
+#include "bench/points_io.h"
+
+namespace calibench {
+
+struct CalibrateOptions {
+  LensModel model = LensModel::kPinholeK2;
+  bool estimate_skew = false;
+};
+
+struct CalibrateReport {
+  ZhangResult zhang;
+  RefineResult ceres;
+  CameraFile camera;  // What camera.yaml holds (the ceres result).
+  bool IsUsable() const { return ceres.IsUsable(); }
+};
+
+CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOptions& options);
+
+// Human-readable report: intrinsics +- std for ceres beside zhang, RMS, per-view RMS.
+std::string FormatCalibrateReport(const CalibrateReport& report, const PointData& data);
+
+}  // namespace calibench

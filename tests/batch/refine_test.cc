@@ -1,0 +1,179 @@
+#include "batch/refine.h"
+
+#include <ceres/jet.h>
+#include <gtest/gtest.h>
+
+#include "batch/reprojection_error.h"
+#include "batch/zhang.h"
+#include "core/random.h"
+#include "core/synthetic.h"
+
+namespace calibench {
+namespace {
+
+// Noise-free data: both solvers stop at ~1e-10 relative; the bar is 1e-6.
+constexpr double kNoiseFreeRelTol = 1e-6;
+
+const CameraIntrinsics kTruth{812.0, 805.0, 89.5, 322.0, 236.0, -0.21, 0.08};
+
+void ExpectIntrinsicsNear(const CameraIntrinsics& a, const CameraIntrinsics& b, double rel) {
+  EXPECT_NEAR(a.fku_px, b.fku_px, rel * b.fku_px);
+  EXPECT_NEAR(a.fkv_px, b.fkv_px, rel * b.fkv_px);
+  EXPECT_NEAR(a.phi_deg, b.phi_deg, rel * 90);
+  EXPECT_NEAR(a.u0_px, b.u0_px, rel * b.fku_px);
+  EXPECT_NEAR(a.v0_px, b.v0_px, rel * b.fkv_px);
+  EXPECT_NEAR(a.k1, b.k1, rel);
+  EXPECT_NEAR(a.k2, b.k2, rel);
+}
+
+TEST(Refine, NoiseFreePlanarViewsRecoverTheTruth) {
+  Rng rng(5);
+  SyntheticBoardOptions board;
+  const SyntheticBoardViews data = MakeBoardViews(kTruth, board, &rng);
+  ASSERT_EQ(data.views.size(), 20u);
+  // Start away from the truth: 3% focal error, 10 px principal point, no distortion, pose noise.
+  CameraIntrinsics start = kTruth;
+  start.fku_px *= 1.03;
+  start.fkv_px *= 0.97;
+  start.u0_px += 10;
+  start.phi_deg = 90;
+  start.k1 = start.k2 = 0;
+  std::vector<Rigid3> poses = data.cam_from_board;
+  for (Rigid3& p : poses) p.rotation = p.rotation * ExpSO3(Eigen::Vector3d(0.02, -0.01, 0.015));
+  RefineOptions options;
+  options.model = LensModel::kPinholeK2;
+  const RefineResult r = RefineCalibration(data.views, start, poses, options);
+  ASSERT_TRUE(r.IsUsable()) << r.message;
+  ExpectIntrinsicsNear(r.intrinsics, kTruth, kNoiseFreeRelTol);
+  EXPECT_LT(r.rms_reproj_px, 1e-6);
+  for (size_t v = 0; v < poses.size(); ++v) {
+    EXPECT_LT(RotationAngleDeg(r.cam_from_object[v].rotation, data.cam_from_board[v].rotation),
+              1e-6);
+  }
+}
+
+TEST(Zhang, NoiseFreePlanarViewsRecoverTheTruthWithoutSkew) {
+  Rng rng(6);
+  CameraIntrinsics truth = kTruth;
+  truth.phi_deg = 90;  // OpenCV cannot estimate a skew.
+  const SyntheticBoardViews data = MakeBoardViews(truth, {}, &rng);
+  ZhangOptions options;
+  options.model = LensModel::kPinholeK2;
+  const ZhangResult r = CalibrateZhang(data.views, options);
+  ASSERT_TRUE(r.IsUsable()) << r.message;
+  ExpectIntrinsicsNear(r.intrinsics, truth, kNoiseFreeRelTol);
+  EXPECT_NE(r.message.find("skew"), std::string::npos);
+}
+
+TEST(Zhang, NonPlanarOrTooFewViewsFail) {
+  Rng rng(7);
+  SyntheticBoardViews data = MakeBoardViews(kTruth, {}, &rng);
+  data.views[3].points[5].z() = 0.01;
+  EXPECT_EQ(CalibrateZhang(data.views, {}).status, MethodStatus::kFailed);
+  EXPECT_EQ(CalibrateZhang({data.views[0]}, {}).status, MethodStatus::kFailed);
+}
+
+TEST(Refine, BadInputFailsCleanly) {
+  Rng rng(8);
+  const SyntheticBoardViews data = MakeBoardViews(kTruth, {}, &rng);
+  RefineOptions options;
+  EXPECT_EQ(RefineCalibration(data.views, kTruth, {}, options).status, MethodStatus::kFailed);
+  options.loss = "tukey-ish";
+  EXPECT_EQ(RefineCalibration(data.views, kTruth, data.cam_from_board, options).status,
+            MethodStatus::kFailed);
+}
+
+// The autodiff Jacobian of the residual equals central differences of the same functor.
+TEST(ReprojectionError, JacobianMatchesNumericDifferentiation) {
+  const Eigen::Vector2d pixel(300, 200);
+  const Eigen::Vector3d point(0.05, -0.02, 0.01);
+  ReprojectionError functor(pixel, point);
+  std::unique_ptr<ceres::CostFunction> cost(ReprojectionError::Create(pixel, point));
+  CameraIntrinsics k = kTruth;
+  k.p1 = 1e-3;
+  k.p2 = -5e-4;
+  k.k3 = 0.02;
+  std::array<double, 10> intr = k.Params();
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()));
+  std::array<double, 4> rot = {q.x(), q.y(), q.z(), q.w()};
+  std::array<double, 3> trans = {0.02, -0.01, 0.6};
+  double* params[3] = {intr.data(), rot.data(), trans.data()};
+  double residual[2];
+  std::array<double, 20> j_intr;
+  std::array<double, 8> j_rot;
+  std::array<double, 6> j_trans;
+  double* jacobians[3] = {j_intr.data(), j_rot.data(), j_trans.data()};
+  ASSERT_TRUE(cost->Evaluate(params, residual, jacobians));
+  const int sizes[3] = {10, 4, 3};
+  for (int block = 0; block < 3; ++block) {
+    for (int j = 0; j < sizes[block]; ++j) {
+      const double h = 1e-6 * std::max(1.0, std::abs(params[block][j]));
+      const double saved = params[block][j];
+      double plus[2], minus[2];
+      params[block][j] = saved + h;
+      functor(params[0], params[1], params[2], plus);
+      params[block][j] = saved - h;
+      functor(params[0], params[1], params[2], minus);
+      params[block][j] = saved;
+      for (int r = 0; r < 2; ++r) {
+        const double numeric = (plus[r] - minus[r]) / (2 * h);
+        EXPECT_NEAR(jacobians[block][r * sizes[block] + j], numeric,
+                    1e-6 * std::max(1.0, std::abs(numeric)))
+            << "block " << block << " param " << j << " residual " << r;
+      }
+    }
+  }
+}
+
+// The reported standard deviations agree with the Monte Carlo spread and with the CRLB.
+TEST(Refine, CovarianceMatchesMonteCarloSpread) {
+  const double sigma = 0.5;
+  SyntheticBoardOptions board;
+  board.num_views = 10;
+  Rng scene_rng(11);
+  const SyntheticBoardViews clean = MakeBoardViews(kTruth, board, &scene_rng);
+  RefineOptions options;
+  options.model = LensModel::kPinholeK2;
+  IntrinsicsCovariance crlb;
+  std::string why;
+  ASSERT_TRUE(IntrinsicsCovarianceAt(clean.views, kTruth, clean.cam_from_board, options, sigma,
+                                     &crlb, &why))
+      << why;
+  const int trials = 150;
+  std::vector<double> fku, u0, reported_fku, reported_u0;
+  for (int t = 0; t < trials; ++t) {
+    Rng noise(TrialSeed(99, t), RngStream::kPixelNoise);
+    std::vector<View> views = clean.views;
+    for (View& v : views) {
+      for (Eigen::Vector2d& p : v.pixels)
+        p += sigma * Eigen::Vector2d(noise.Normal(), noise.Normal());
+    }
+    const RefineResult r = RefineCalibration(views, kTruth, clean.cam_from_board, options);
+    ASSERT_TRUE(r.IsUsable()) << r.message;
+    fku.push_back(r.intrinsics.fku_px);
+    u0.push_back(r.intrinsics.u0_px);
+    reported_fku.push_back(r.intrinsics_std[0]);
+    reported_u0.push_back(r.intrinsics_std[3]);
+  }
+  auto rms_about = [](const std::vector<double>& v, double truth) {
+    double s = 0;
+    for (double x : v) s += (x - truth) * (x - truth);
+    return std::sqrt(s / v.size());
+  };
+  auto mean = [](const std::vector<double>& v) {
+    double s = 0;
+    for (double x : v) s += x;
+    return s / v.size();
+  };
+  // With 150 trials the empirical RMSE has a relative standard error of 1/sqrt(2*150) = 5.8%:
+  // 20% is 3.4 standard errors.
+  constexpr double kMonteCarloRelTol = 0.20;
+  const double rmse_fku = rms_about(fku, kTruth.fku_px), rmse_u0 = rms_about(u0, kTruth.u0_px);
+  EXPECT_NEAR(rmse_fku / std::sqrt(crlb(0, 0)), 1.0, kMonteCarloRelTol);
+  EXPECT_NEAR(rmse_u0 / std::sqrt(crlb(3, 3)), 1.0, kMonteCarloRelTol);
+  EXPECT_NEAR(mean(reported_fku) / rmse_fku, 1.0, kMonteCarloRelTol);
+  EXPECT_NEAR(mean(reported_u0) / rmse_u0, 1.0, kMonteCarloRelTol);
+}
+
+}  // namespace
+}  // namespace calibench

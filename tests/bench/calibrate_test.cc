@@ -1,0 +1,113 @@
+// Regression on published calibration data (../shared/data, CTest label "data").
+#include "bench/calibrate.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <opencv2/core.hpp>
+
+namespace calibench {
+namespace {
+
+const std::string kDataDir = CALIBENCH_DATA_DIR;
+
+#define REQUIRE_DATA(sub)                                     \
+  if (!std::filesystem::exists(kDataDir + "/" + sub))         \
+  GTEST_SKIP() << "data directory " << kDataDir << "/" << sub \
+               << " is absent (set CALIBENCH_DATA_DIR); CI always has it"
+
+// Zhang (MSR-TR-98-71), complete calibration with skew and k1, k2, as published:
+// alpha 832.5010, beta 832.5309, gamma 0.2046, u0 303.9584, v0 206.5879, k1 -0.228601,
+// k2 0.190353. The issue asks for 0.1% on intrinsics and 1% on k1, k2.
+TEST(CalibrateFromPoints, ZhangDataMatchesPublishedResults) {
+  REQUIRE_DATA("zhang");
+  PointData data;
+  std::string why;
+  ASSERT_TRUE(LoadPointData(kDataDir + "/zhang", &data, &why)) << why;
+  ASSERT_EQ(data.views.size(), 5u);
+  ASSERT_EQ(data.views[0].points.size(), 256u);
+  CalibrateOptions options;
+  options.model = LensModel::kPinholeK2;
+  options.estimate_skew = true;
+  const CalibrateReport report = CalibrateFromPoints(data, options);
+  ASSERT_TRUE(report.IsUsable()) << report.ceres.message;
+  const CameraIntrinsics& k = report.ceres.intrinsics;
+  constexpr double kIntrinsicsRelTol = 1e-3, kDistortionRelTol = 1e-2;
+  EXPECT_NEAR(k.fku_px, 832.5010, kIntrinsicsRelTol * 832.5010);
+  EXPECT_NEAR(k.fkv_px, 832.5309, kIntrinsicsRelTol * 832.5309);
+  EXPECT_NEAR(k.u0_px, 303.9584, kIntrinsicsRelTol * 303.9584);
+  EXPECT_NEAR(k.v0_px, 206.5879, kIntrinsicsRelTol * 206.5879);
+  const double gamma = k.Matrix()(0, 1);  // Zhang's skew term.
+  EXPECT_NEAR(gamma, 0.2046, 0.01);
+  EXPECT_NEAR(k.k1, -0.228601, kDistortionRelTol * 0.228601);
+  EXPECT_NEAR(k.k2, 0.190353, kDistortionRelTol * 0.190353);
+  // SOURCE.md: the published calibration reprojects with 0.3364 px RMS per point.
+  EXPECT_NEAR(report.ceres.rms_reproj_px, 0.3364, 0.001);
+  EXPECT_TRUE(std::isfinite(report.ceres.intrinsics_std[0]));
+}
+
+// OpenCV's regression file carries Bouguet's toolbox results (k1 k2 p1 p2 model).
+TEST(CalibrateFromPoints, OpenCvCalib1MatchesItsReference) {
+  REQUIRE_DATA("opencv-calib1/calib1.dat");
+  PointData data;
+  std::string why;
+  ASSERT_TRUE(LoadPointData(kDataDir + "/opencv-calib1/calib1.dat", &data, &why)) << why;
+  ASSERT_EQ(data.views.size(), 7u);
+  ASSERT_TRUE(data.reference.has_value());
+  CalibrateOptions options;
+  options.model = LensModel::kPinholeRadTan4;
+  const CalibrateReport report = CalibrateFromPoints(data, options);
+  ASSERT_TRUE(report.IsUsable()) << report.ceres.message;
+  const CameraIntrinsics &k = report.ceres.intrinsics, &ref = *data.reference;
+  // The file prints 8 significant digits for A and 5 decimals for distortion.
+  EXPECT_NEAR(k.fku_px, ref.fku_px, 1e-5 * ref.fku_px);
+  EXPECT_NEAR(k.fkv_px, ref.fkv_px, 1e-5 * ref.fkv_px);
+  EXPECT_NEAR(k.u0_px, ref.u0_px, 1e-5 * ref.u0_px);
+  EXPECT_NEAR(k.v0_px, ref.v0_px, 1e-5 * ref.v0_px);
+  for (const auto& [ours, theirs] :
+       {std::pair{k.k1, ref.k1}, {k.k2, ref.k2}, {k.p1, ref.p1}, {k.p2, ref.p2}}) {
+    EXPECT_NEAR(ours, theirs, 1e-4);
+  }
+  // Ceres and OpenCV minimise the same cost: the same optimum.
+  EXPECT_NEAR(k.fku_px, report.zhang.intrinsics.fku_px, 1e-3);
+}
+
+TEST(CalibrateFromPoints, CameraYamlIsReadableByOpenCv) {
+  CameraFile camera;
+  camera.intrinsics = {800, 790, 89, 320, 240, -0.1, 0.02, 1e-3, -1e-3, 0.0};
+  camera.intrinsics_std.fill(std::nan(""));
+  camera.intrinsics_std[0] = 1.5;
+  camera.image_width = 640;
+  camera.image_height = 480;
+  camera.rms_reproj_px = 0.25;
+  camera.model = "pinhole-radtan4+skew";
+  const std::string path = ::testing::TempDir() + "/camera.yaml";
+  std::string why;
+  ASSERT_TRUE(WriteCameraYaml(path, camera, &why)) << why;
+  cv::FileStorage fs(path, cv::FileStorage::READ);
+  ASSERT_TRUE(fs.isOpened());
+  cv::Mat a, d;
+  fs["camera_matrix"] >> a;
+  fs["distortion_coefficients"] >> d;
+  EXPECT_NEAR(a.at<double>(0, 0), 800, 1e-9);
+  EXPECT_NEAR(a.at<double>(0, 1), camera.intrinsics.Matrix()(0, 1), 1e-9);
+  EXPECT_NEAR(d.at<double>(2), 1e-3, 1e-15);
+  EXPECT_EQ(static_cast<int>(fs["image_width"]), 640);
+  EXPECT_EQ(static_cast<double>(fs["rms_reproj_px"]), 0.25);
+  EXPECT_EQ(static_cast<double>(fs["std_fku_px"]), 1.5);
+  EXPECT_TRUE(fs["std_fkv_px"].empty());  // Not estimated: not written.
+}
+
+TEST(LoadPointData, BadPathsAreNamed) {
+  PointData data;
+  std::string why;
+  EXPECT_FALSE(LoadPointData("/nonexistent/points", &data, &why));
+  EXPECT_NE(why.find("/nonexistent/points"), std::string::npos);
+  const std::string empty_dir = ::testing::TempDir() + "/empty_points";
+  std::filesystem::create_directories(empty_dir);
+  EXPECT_FALSE(LoadPointData(empty_dir, &data, &why));
+  EXPECT_NE(why.find("Model.txt"), std::string::npos) << why;
+}
+
+}  // namespace
+}  // namespace calibench
