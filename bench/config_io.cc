@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/random.h"
 #include "core/synthetic.h"
 
 namespace calibench {
@@ -189,12 +190,33 @@ void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& fie
 
 void ParsePoints(const Reader& r, const YAML::Node& node, const std::string& field,
                  ScenarioConfig* s) {
-  r.CheckKeys(node, field, {"preset", "count", "list"});
+  r.CheckKeys(node, field, {"preset", "count", "list", "random"});
   const bool has_preset = node["preset"].IsDefined();
   const bool has_list = node["list"].IsDefined();
-  if (has_preset == has_list) r.Fail(node, field, "give exactly one of 'preset' or 'list'");
+  const bool has_random = node["random"].IsDefined();
+  if (has_preset + has_list + has_random != 1) {
+    r.Fail(node, field, "give exactly one of 'preset', 'list' or 'random'");
+  }
   s->points.clear();
   s->points_preset.clear();
+  if (has_random) {
+    const YAML::Node rnd = node["random"];
+    const std::string f = Reader::Join(field, "random");
+    r.CheckKeys(rnd, f, {"count", "min", "max"});
+    for (const char* key : {"count", "min", "max"}) {
+      if (!rnd[key].IsDefined()) r.Fail(rnd, Reader::Join(f, key), "missing");
+    }
+    const long count = r.Integer(rnd["count"], f + ".count");
+    if (count < 1 || count > 100000) r.Fail(rnd["count"], f + ".count", "must lie in [1, 100000]");
+    s->points_preset = "random";
+    s->points_count = static_cast<int>(count);
+    s->random_min = r.Vector3(rnd["min"], f + ".min");
+    s->random_max = r.Vector3(rnd["max"], f + ".max");
+    if (!(s->random_min.array() < s->random_max.array()).all()) {
+      r.Fail(rnd, f, "min must be below max in every coordinate");
+    }
+    return;  // Drawn from the seed once the whole scenario is read (see Finish).
+  }
   if (has_preset) {
     s->points_preset = r.Choice(node["preset"], Reader::Join(field, "preset"), {"thesis"});
     s->points_count = 10;
@@ -279,6 +301,39 @@ void ParseAdaptive(const Reader& r, const YAML::Node& node, const std::string& f
     r.Fail(node, Reader::Join(field, "convergence_tol"), "must be > 0");
 }
 
+void ParseDlt(const Reader& r, const YAML::Node& node, const std::string& field,
+              DltMethodConfig* d) {
+  r.CheckKeys(node, field, {"enabled", "min_planarity_ratio"});
+  r.If(node, "enabled", field, [&](auto n, auto f) { d->enabled = r.Bool(n, f); });
+  r.If(node, "min_planarity_ratio", field,
+       [&](auto n, auto f) { d->options.min_planarity_ratio = r.Double(n, f); });
+  std::string why;
+  if (!d->options.Check(&why)) r.Fail(node, field, why);
+}
+
+void ParseCeres(const Reader& r, const YAML::Node& node, const std::string& field,
+                CeresMethodConfig* c) {
+  r.CheckKeys(
+      node, field,
+      {"enabled", "init", "model", "estimate_skew", "loss", "loss_scale_px", "max_iterations"});
+  RefineOptions& o = c->options;
+  r.If(node, "enabled", field, [&](auto n, auto f) { c->enabled = r.Bool(n, f); });
+  r.If(node, "init", field, [&](auto n, auto f) { c->init = r.Choice(n, f, {"dlt"}); });
+  r.If(node, "model", field, [&](auto n, auto f) {
+    ParseLensModel(r.Choice(n, f, {"pinhole", "pinhole-k2", "pinhole-radtan4", "pinhole-radtan5"}),
+                   &o.model);
+  });
+  r.If(node, "estimate_skew", field, [&](auto n, auto f) { o.estimate_skew = r.Bool(n, f); });
+  r.If(node, "loss", field, [&](auto n, auto f) {
+    o.loss = r.Choice(n, f, {"none", "huber", "cauchy"});
+  });
+  r.If(node, "loss_scale_px", field, [&](auto n, auto f) { o.loss_scale_px = r.Double(n, f); });
+  r.If(node, "max_iterations", field,
+       [&](auto n, auto f) { o.max_iterations = static_cast<int>(r.Integer(n, f)); });
+  std::string why;
+  if (!o.Check(&why)) r.Fail(node, field, why);
+}
+
 void ParseReference(const Reader& r, const YAML::Node& node, const std::string& field,
                     Reference* ref) {
   r.CheckKeys(
@@ -348,8 +403,10 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     if (!noise.Check(&why)) r.Fail(n, f, why);
   });
   r.If(node, "methods", field, [&](auto n, auto f) {
-    r.CheckKeys(n, f, {"adaptive"});
+    r.CheckKeys(n, f, {"adaptive", "dlt", "ceres"});
     r.If(n, "adaptive", f, [&](auto m, auto g) { ParseAdaptive(r, m, g, &s->adaptive); });
+    r.If(n, "dlt", f, [&](auto m, auto g) { ParseDlt(r, m, g, &s->dlt); });
+    r.If(n, "ceres", f, [&](auto m, auto g) { ParseCeres(r, m, g, &s->ceres); });
   });
   r.If(node, "reference", field, [&](auto n, auto f) { ParseReference(r, n, f, &s->reference); });
 }
@@ -403,6 +460,16 @@ void LoadScenarioFile(const YAML::Node& root, const std::string& path, int depth
 
 void Finish(const Reader& r, const YAML::Node& at, const std::string& field, ScenarioConfig* s) {
   if (s->name.empty()) r.Fail(at, field + ".name", "missing: every scenario needs a name");
+  if (s->points_preset == "random") {
+    // The geometry belongs to the scenario: the same points in every trial.
+    Rng rng(s->seed, RngStream::kScene);
+    s->points.clear();
+    for (int i = 0; i < s->points_count; ++i) {
+      Eigen::Vector3d p;
+      for (int c = 0; c < 3; ++c) p[c] = rng.Uniform(s->random_min[c], s->random_max[c]);
+      s->points.push_back(p);
+    }
+  }
   std::string why;
   if (!s->Check(&why))
     r.Fail(at, field + "." + why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
@@ -517,6 +584,19 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
   out << YAML::Key << "convergence_tol" << YAML::Value << a.convergence_tol;
   out << YAML::Key << "initial" << YAML::Value;
   EmitCamera(out, a.initial);
+  out << YAML::EndMap;
+  out << YAML::Key << "dlt" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled"
+      << YAML::Value << s.dlt.enabled << YAML::Key << "min_planarity_ratio" << YAML::Value
+      << s.dlt.options.min_planarity_ratio << YAML::EndMap;
+  const RefineOptions& c = s.ceres.options;
+  out << YAML::Key << "ceres" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "enabled" << YAML::Value << s.ceres.enabled;
+  out << YAML::Key << "init" << YAML::Value << s.ceres.init;
+  out << YAML::Key << "model" << YAML::Value << ToString(c.model);
+  out << YAML::Key << "estimate_skew" << YAML::Value << c.estimate_skew;
+  out << YAML::Key << "loss" << YAML::Value << c.loss;
+  out << YAML::Key << "loss_scale_px" << YAML::Value << c.loss_scale_px;
+  out << YAML::Key << "max_iterations" << YAML::Value << c.max_iterations;
   out << YAML::EndMap << YAML::EndMap;
   const Reference& ref = s.reference;
   if (ref.Any() || !ref.source.empty()) {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <mutex>
 #include <thread>
 
@@ -66,10 +67,13 @@ void FillCameraErrors(const ScenarioConfig& s, const RecoveredCamera& cam, RunRo
   row->improper = cam.improper ? 1 : 0;
 }
 
+Vector16d TrueTheta(const ScenarioConfig& s) {
+  return ThetaFromCamera(s.truth.intrinsics, s.truth.ParentFromCam().Inverse());
+}
+
 RunRow RunAdaptive(const ScenarioConfig& s, const MeasurementSource& source, RunRow row) {
   row.method = "adaptive";
-  const Vector16d theta_true =
-      ThetaFromCamera(s.truth.intrinsics, s.truth.ParentFromCam().Inverse());
+  const Vector16d theta_true = TrueTheta(s);
   const CameraSpec& init = s.adaptive.initial;
   const Vector16d theta0 = ThetaFromCamera(init.intrinsics, init.ParentFromCam().Inverse());
   // Convergence time: the first recorded t after the last one with ||theta~|| >= tol.
@@ -114,77 +118,165 @@ RunRow RunAdaptive(const ScenarioConfig& s, const MeasurementSource& source, Run
   return row;
 }
 
+// The source's frames as views of the parent frame (what the batch methods see).
+std::vector<View> FramesAsViews(const MeasurementSource& source) {
+  std::vector<View> views(source.NumFrames());
+  Frame frame;
+  for (int k = 0; k < source.NumFrames(); ++k) {
+    source.GetFrame(k, &frame);
+    views[k].points = frame.points_in_parent;
+    views[k].pixels = frame.pixels;
+  }
+  return views;
+}
+
+RunRow RunDlt(const ScenarioConfig& s, const std::vector<View>& views, RunRow row,
+              DltResult* result) {
+  row.method = "dlt";
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> pixels;
+  for (const View& v : views) {
+    points.insert(points.end(), v.points.begin(), v.points.end());
+    pixels.insert(pixels.end(), v.pixels.begin(), v.pixels.end());
+  }
+  *result = EstimateDlt(points, pixels, s.dlt.options);
+  row.status = ToString(result->status);
+  row.message = result->message;
+  row.wall_ms = result->wall_ms;
+  row.steps = result->iterations;
+  if (!result->IsUsable()) return row;
+  row.theta_err_norm = ThetaError(TrueTheta(s), ThetaFromM(result->m));
+  row.rms_reproj_px = result->rms_reproj_px;
+  FillCameraErrors(s, result->camera, &row);
+  return row;
+}
+
+// Cramer-Rao bound of the scenario's intrinsics for its pixel noise (NaN without pixel noise, or
+// with noise on the 3D points, which the bound does not model).
+void FillCrlb(const ScenarioConfig& s, const std::vector<View>& views, RunRow* row) {
+  const NoiseOptions& noise = s.measurements.noise;
+  if (!(noise.pixel_sigma_px > 0) || noise.point_sigma_m > 0) return;
+  IntrinsicsCovariance cov;
+  if (!IntrinsicsCovarianceAt(views, s.truth.intrinsics, {s.truth.ParentFromCam().Inverse()},
+                              s.ceres.options, noise.pixel_sigma_px, &cov, nullptr)) {
+    return;
+  }
+  const double deg = 180.0 / M_PI;
+  row->crlb_fku = std::sqrt(cov(0, 0));
+  row->crlb_fkv = std::sqrt(cov(1, 1));
+  if (s.ceres.options.estimate_skew) row->crlb_phi_deg = std::sqrt(cov(2, 2)) * deg;
+  row->crlb_u0 = std::sqrt(cov(3, 3));
+  row->crlb_v0 = std::sqrt(cov(4, 4));
+}
+
+RunRow RunCeres(const ScenarioConfig& s, const std::vector<View>& views, const DltResult& dlt,
+                RunRow row) {
+  row.method = "ceres";
+  if (!dlt.IsUsable()) {
+    row.status = "failed";
+    row.message = "initialisation (dlt) failed: " + dlt.message;
+    return row;
+  }
+  const RefineResult r = RefineCalibration(views, dlt.camera.intrinsics,
+                                           {dlt.camera.parent_from_cam.Inverse()}, s.ceres.options);
+  row.status = ToString(r.status);
+  row.message = r.message;
+  row.wall_ms = r.wall_ms;
+  row.steps = r.iterations;
+  FillCrlb(s, views, &row);
+  if (!r.IsUsable()) return row;
+  DecomposedCamera cam;
+  cam.intrinsics = r.intrinsics;
+  cam.parent_from_cam = r.cam_from_object[0].Inverse();
+  FillCameraErrors(s, cam, &row);
+  CameraIntrinsics pinhole = r.intrinsics;
+  pinhole.k1 = pinhole.k2 = pinhole.p1 = pinhole.p2 = pinhole.k3 = 0;
+  row.theta_err_norm = ThetaError(TrueTheta(s), ThetaFromCamera(pinhole, r.cam_from_object[0]));
+  row.rms_reproj_px = r.rms_reproj_px;
+  const double deg = 180.0 / M_PI;
+  row.std_fku = r.intrinsics_std[0];
+  row.std_fkv = r.intrinsics_std[1];
+  row.std_phi_deg = r.intrinsics_std[2] * deg;
+  row.std_u0 = r.intrinsics_std[3];
+  row.std_v0 = r.intrinsics_std[4];
+  return row;
+}
+
+}  // namespace
+
+namespace {
+
+using Column = std::pair<std::string, std::function<std::string(const RunRow&)>>;
+
+std::function<std::string(const RunRow&)> Num(double RunRow::*field) {
+  return [field](const RunRow& r) { return Format(r.*field); };
+}
+
+// The CSV schema, in order: one entry per column.
+const std::vector<Column>& Columns() {
+  static const std::vector<Column> columns = {
+      {"scenario", [](const RunRow& r) { return r.scenario; }},
+      {"trial", [](const RunRow& r) { return std::to_string(r.trial); }},
+      {"seed", [](const RunRow& r) { return std::to_string(r.seed); }},
+      {"method", [](const RunRow& r) { return r.method; }},
+      {"status", [](const RunRow& r) { return r.status; }},
+      {"fku", Num(&RunRow::fku)},
+      {"fkv", Num(&RunRow::fkv)},
+      {"phi_deg", Num(&RunRow::phi_deg)},
+      {"u0", Num(&RunRow::u0)},
+      {"v0", Num(&RunRow::v0)},
+      {"rc_roll_deg", Num(&RunRow::rc_roll_deg)},
+      {"rc_pitch_deg", Num(&RunRow::rc_pitch_deg)},
+      {"rc_yaw_deg", Num(&RunRow::rc_yaw_deg)},
+      {"xc_x", Num(&RunRow::xc_x)},
+      {"xc_y", Num(&RunRow::xc_y)},
+      {"xc_z", Num(&RunRow::xc_z)},
+      {"err_fku", Num(&RunRow::err_fku)},
+      {"err_fkv", Num(&RunRow::err_fkv)},
+      {"err_phi_deg", Num(&RunRow::err_phi_deg)},
+      {"err_u0", Num(&RunRow::err_u0)},
+      {"err_v0", Num(&RunRow::err_v0)},
+      {"rot_err_deg", Num(&RunRow::rot_err_deg)},
+      {"err_xc_norm", Num(&RunRow::err_xc_norm)},
+      {"theta_err_norm", Num(&RunRow::theta_err_norm)},
+      {"rms_reproj_px", Num(&RunRow::rms_reproj_px)},
+      {"converge_time_s", Num(&RunRow::converge_time_s)},
+      {"pe_min_eig", Num(&RunRow::pe_min_eig)},
+      {"ortho_defect", Num(&RunRow::ortho_defect)},
+      {"std_fku", Num(&RunRow::std_fku)},
+      {"std_fkv", Num(&RunRow::std_fkv)},
+      {"std_phi_deg", Num(&RunRow::std_phi_deg)},
+      {"std_u0", Num(&RunRow::std_u0)},
+      {"std_v0", Num(&RunRow::std_v0)},
+      {"crlb_fku", Num(&RunRow::crlb_fku)},
+      {"crlb_fkv", Num(&RunRow::crlb_fkv)},
+      {"crlb_phi_deg", Num(&RunRow::crlb_phi_deg)},
+      {"crlb_u0", Num(&RunRow::crlb_u0)},
+      {"crlb_v0", Num(&RunRow::crlb_v0)},
+      {"improper", [](const RunRow& r) { return std::to_string(r.improper); }},
+      {"steps", [](const RunRow& r) { return std::to_string(r.steps); }},
+      {"wall_ms", Num(&RunRow::wall_ms)},
+      {"message", [](const RunRow& r) { return r.message; }},
+  };
+  return columns;
+}
+
 }  // namespace
 
 const std::vector<std::string>& RunRowHeader() {
-  static const std::vector<std::string> header = {"scenario",
-                                                  "trial",
-                                                  "seed",
-                                                  "method",
-                                                  "status",
-                                                  "fku",
-                                                  "fkv",
-                                                  "phi_deg",
-                                                  "u0",
-                                                  "v0",
-                                                  "rc_roll_deg",
-                                                  "rc_pitch_deg",
-                                                  "rc_yaw_deg",
-                                                  "xc_x",
-                                                  "xc_y",
-                                                  "xc_z",
-                                                  "err_fku",
-                                                  "err_fkv",
-                                                  "err_phi_deg",
-                                                  "err_u0",
-                                                  "err_v0",
-                                                  "rot_err_deg",
-                                                  "err_xc_norm",
-                                                  "theta_err_norm",
-                                                  "rms_reproj_px",
-                                                  "converge_time_s",
-                                                  "pe_min_eig",
-                                                  "ortho_defect",
-                                                  "improper",
-                                                  "steps",
-                                                  "wall_ms",
-                                                  "message"};
+  static const std::vector<std::string> header = [] {
+    std::vector<std::string> names;
+    for (const Column& c : Columns()) names.push_back(c.first);
+    return names;
+  }();
   return header;
 }
 
 std::vector<std::string> RunRowFields(const RunRow& r) {
-  return {r.scenario,
-          std::to_string(r.trial),
-          std::to_string(r.seed),
-          r.method,
-          r.status,
-          Format(r.fku),
-          Format(r.fkv),
-          Format(r.phi_deg),
-          Format(r.u0),
-          Format(r.v0),
-          Format(r.rc_roll_deg),
-          Format(r.rc_pitch_deg),
-          Format(r.rc_yaw_deg),
-          Format(r.xc_x),
-          Format(r.xc_y),
-          Format(r.xc_z),
-          Format(r.err_fku),
-          Format(r.err_fkv),
-          Format(r.err_phi_deg),
-          Format(r.err_u0),
-          Format(r.err_v0),
-          Format(r.rot_err_deg),
-          Format(r.err_xc_norm),
-          Format(r.theta_err_norm),
-          Format(r.rms_reproj_px),
-          Format(r.converge_time_s),
-          Format(r.pe_min_eig),
-          Format(r.ortho_defect),
-          std::to_string(r.improper),
-          std::to_string(r.steps),
-          Format(r.wall_ms),
-          r.message};
+  std::vector<std::string> fields;
+  fields.reserve(Columns().size());
+  for (const Column& c : Columns()) fields.push_back(c.second(r));
+  return fields;
 }
 
 std::vector<RunRow> RunTrial(const ScenarioConfig& s, int trial) {
@@ -196,16 +288,27 @@ std::vector<RunRow> RunTrial(const ScenarioConfig& s, int trial) {
   std::string why;
   const std::unique_ptr<OracleSource> source =
       OracleSource::Create(s.MakeScene(), s.measurements, base.seed, &why);
-  if (s.adaptive.enabled) {
-    if (!source) {
+  if (!source) {
+    for (const char* method : {"adaptive", "dlt", "ceres"}) {
+      const bool enabled = std::string(method) == "adaptive" ? s.adaptive.enabled
+                           : std::string(method) == "dlt"    ? s.dlt.enabled
+                                                             : s.ceres.enabled;
+      if (!enabled) continue;
       RunRow failed = base;
-      failed.method = "adaptive";
+      failed.method = method;
       failed.status = "failed";
       failed.message = "measurements: " + why;
       rows.push_back(failed);
-    } else {
-      rows.push_back(RunAdaptive(s, *source, base));
     }
+    return rows;
+  }
+  if (s.adaptive.enabled) rows.push_back(RunAdaptive(s, *source, base));
+  if (s.dlt.enabled || s.ceres.enabled) {
+    const std::vector<View> views = FramesAsViews(*source);
+    DltResult dlt;
+    RunRow dlt_row = RunDlt(s, views, base, &dlt);
+    if (s.dlt.enabled) rows.push_back(dlt_row);
+    if (s.ceres.enabled) rows.push_back(RunCeres(s, views, dlt, base));
   }
   return rows;
 }

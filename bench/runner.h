@@ -32,8 +32,13 @@ struct RunRow {
   double converge_time_s = kUnset;  // NaN: never stayed below the tolerance.
   double pe_min_eig = kUnset;       // PersistentExcitationIndex (adaptive only).
   double ortho_defect = kUnset;     // ||R^T R - I||_F of the recovered R before projection.
-  int improper = 0;                 // 1 when the recovered rotation is a reflection.
-  long steps = 0;                   // Integrator steps / solver iterations.
+  // Reported standard deviations (ceres covariance) and the Cramer-Rao bound (sigma^2 (J^T J)^-1
+  // at the truth; only with pixel noise alone, which is what it models).
+  double std_fku = kUnset, std_fkv = kUnset, std_phi_deg = kUnset, std_u0 = kUnset, std_v0 = kUnset;
+  double crlb_fku = kUnset, crlb_fkv = kUnset, crlb_phi_deg = kUnset, crlb_u0 = kUnset,
+         crlb_v0 = kUnset;
+  int improper = 0;  // 1 when the recovered rotation is a reflection.
+  long steps = 0;    // Integrator steps / solver iterations.
   double wall_ms = kUnset;
 };
 

@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "adaptive/estimator.h"
+#include "batch/dlt.h"
+#include "batch/refine.h"
 #include "core/measurements.h"
 #include "core/scene.h"
 
@@ -37,6 +39,24 @@ struct AdaptiveMethodConfig {
   static CameraSpec ThesisInitialGuess();
 };
 
+// Batch methods on the scenario's frames (the same source, hence the same noise draw).
+struct DltMethodConfig {
+  bool enabled = false;
+  DltOptions options;
+};
+struct CeresMethodConfig {
+  bool enabled = false;
+  RefineOptions options = DefaultOptions();  // shared_pose: the constant extrinsic.
+  std::string init = "dlt";                  // Initialisation: dlt (the only one for 3D points).
+  static RefineOptions DefaultOptions() {
+    RefineOptions o;
+    o.shared_pose = true;
+    o.model = LensModel::kPinhole;
+    o.estimate_skew = true;
+    return o;
+  }
+};
+
 // Published figures to print beside ours (all optional: NaN / empty when absent).
 struct Reference {
   std::string source;  // e.g. "thesis sim 7".
@@ -56,8 +76,10 @@ struct ScenarioConfig {
   int trials = 1;
 
   CameraSpec truth;
-  std::string points_preset;  // "thesis" or empty (explicit list).
-  int points_count = 10;      // With a preset: how many of its points (the first ones).
+  std::string points_preset;  // "thesis", "random" or empty (explicit list).
+  // points: {random: {count, min, max}}: uniform in the box, drawn once from the config seed.
+  Eigen::Vector3d random_min = Eigen::Vector3d::Zero(), random_max = Eigen::Vector3d::Zero();
+  int points_count = 10;  // With a preset: how many of its points (the first ones).
   std::vector<Eigen::Vector3d> points;
   std::string motion_preset;  // A ThesisMotionPreset name or empty (explicit twist).
   TwistProfile motion;        // Frame already resolved from the case.
@@ -66,6 +88,8 @@ struct ScenarioConfig {
   OracleOptions measurements;         // sample rate, eval rate and noise.
 
   AdaptiveMethodConfig adaptive;
+  DltMethodConfig dlt;
+  CeresMethodConfig ceres;
   Reference reference;
 
   // The ground truth scene (motion integrated over duration_s).
