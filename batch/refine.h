@@ -38,7 +38,8 @@ struct RefineOptions {
   int max_iterations = 200;
   bool compute_covariance = true;
   double known_pixel_sigma_px =
-      0.0;  // > 0: scale the covariance by it; 0: estimate from residuals.
+      0.0;                // > 0: scale the covariance by it; 0: estimate from residuals.
+  bool autodiff = false;  // true: ceres::Jet residual (the reference); false: analytic Jacobians.
   bool Check(std::string* why) const;
 };
 

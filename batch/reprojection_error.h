@@ -12,6 +12,7 @@
 #pragma once
 
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/sized_cost_function.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -45,6 +46,25 @@ struct ReprojectionError {
 
   Eigen::Vector2d pixel;
   Eigen::Vector3d point_in_object;
+};
+
+// The same residual with hand-written Jacobians (the hot path of every batch calibration: 10x
+// faster than Jet<double, 17>). Same parameter blocks as ReprojectionError; its Jacobians are
+// checked against ReprojectionError's ceres::Jet derivatives in tests/batch/refine_test.cc.
+// Chain: pixel <- (xd, yd) <- (x, y) = (X/Z, Y/Z) <- X = q * point + t, with
+//   d(q * p)/dw = 2 (q_v x p),
+//   d(q * p)/dq_v = -2 w [p]x - 2 [q_v x p]x - 2 [q_v]x [p]x     (Eigen's q * p formula, unit q).
+class ReprojectionCostFunction final
+    : public ceres::SizedCostFunction<2, PinholeSkewCamera::kNumParams, 4, 3> {
+ public:
+  ReprojectionCostFunction(const Eigen::Vector2d& measured_pixel, const Eigen::Vector3d& point)
+      : pixel_(measured_pixel), point_in_object_(point) {}
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  Eigen::Vector2d pixel_;
+  Eigen::Vector3d point_in_object_;
 };
 
 }  // namespace calibench

@@ -54,5 +54,3 @@ BENCHMARK(BM_AdaptiveThesisRun)->Arg(0)->Arg(30)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace calibench
-
-BENCHMARK_MAIN();

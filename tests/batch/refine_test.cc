@@ -26,6 +26,23 @@ void ExpectIntrinsicsNear(const CameraIntrinsics& a, const CameraIntrinsics& b, 
   EXPECT_NEAR(a.k2, b.k2, rel);
 }
 
+TEST(Refine, AutodiffAndAnalyticReachTheSameOptimum) {
+  Rng rng(12);
+  SyntheticBoardOptions board;
+  board.pixel_sigma_px = 0.5;
+  const SyntheticBoardViews data = MakeBoardViews(kTruth, board, &rng);
+  RefineOptions options;
+  options.model = LensModel::kPinholeRadTan5;
+  const RefineResult analytic = RefineCalibration(data.views, kTruth, data.cam_from_board, options);
+  options.autodiff = true;
+  const RefineResult autodiff = RefineCalibration(data.views, kTruth, data.cam_from_board, options);
+  ASSERT_TRUE(analytic.IsUsable() && autodiff.IsUsable());
+  EXPECT_NEAR(analytic.intrinsics.fku_px, autodiff.intrinsics.fku_px, 1e-6);
+  EXPECT_NEAR(analytic.intrinsics.v0_px, autodiff.intrinsics.v0_px, 1e-6);
+  EXPECT_NEAR(analytic.intrinsics.k3, autodiff.intrinsics.k3, 1e-9);
+  EXPECT_NEAR(analytic.intrinsics_std[0], autodiff.intrinsics_std[0], 1e-6);
+}
+
 TEST(Refine, NoiseFreePlanarViewsRecoverTheTruth) {
   Rng rng(5);
   SyntheticBoardOptions board;
@@ -122,6 +139,51 @@ TEST(ReprojectionError, JacobianMatchesNumericDifferentiation) {
             << "block " << block << " param " << j << " residual " << r;
       }
     }
+  }
+}
+
+// The analytic Jacobians equal the ceres::Jet ones, over random parameters and points.
+TEST(ReprojectionCostFunction, JacobiansMatchAutodiff) {
+  Rng rng(21);
+  for (int trial = 0; trial < 200; ++trial) {
+    CameraIntrinsics k = RandomIntrinsics({}, &rng);
+    k.k1 = rng.Uniform(-0.3, 0.3);
+    k.k2 = rng.Uniform(-0.1, 0.1);
+    k.p1 = rng.Uniform(-1e-2, 1e-2);
+    k.p2 = rng.Uniform(-1e-2, 1e-2);
+    k.k3 = rng.Uniform(-0.05, 0.05);
+    std::array<double, 10> intr = k.Params();
+    const Eigen::Quaterniond q(RandomRotation(&rng));
+    std::array<double, 4> rot = {q.x(), q.y(), q.z(), q.w()};
+    const Eigen::Vector3d point(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
+    // Translation that puts the point 2-6 m in front of the camera.
+    const Eigen::Vector3d in_cam(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(2, 6));
+    const Eigen::Vector3d t = in_cam - q * point;
+    std::array<double, 3> trans = {t.x(), t.y(), t.z()};
+    const Eigen::Vector2d pixel(rng.Uniform(0, 640), rng.Uniform(0, 480));
+    const double* params[3] = {intr.data(), rot.data(), trans.data()};
+
+    std::unique_ptr<ceres::CostFunction> autodiff(ReprojectionError::Create(pixel, point));
+    ReprojectionCostFunction analytic(pixel, point);
+    double r_auto[2], r_analytic[2];
+    std::array<double, 20> ja0, jb0;
+    std::array<double, 8> ja1, jb1;
+    std::array<double, 6> ja2, jb2;
+    double* ja[3] = {ja0.data(), ja1.data(), ja2.data()};
+    double* jb[3] = {jb0.data(), jb1.data(), jb2.data()};
+    ASSERT_TRUE(autodiff->Evaluate(params, r_auto, ja));
+    ASSERT_TRUE(analytic.Evaluate(params, r_analytic, jb));
+    // Both are exact derivatives of the same expression; they differ by rounding only.
+    constexpr double kRelTol = 1e-9;
+    for (int r = 0; r < 2; ++r) EXPECT_NEAR(r_auto[r], r_analytic[r], 1e-9);
+    auto check = [&](const double* a, const double* b, int n, const char* block) {
+      double scale = 1.0;
+      for (int i = 0; i < n; ++i) scale = std::max(scale, std::abs(a[i]));
+      for (int i = 0; i < n; ++i) EXPECT_NEAR(a[i], b[i], kRelTol * scale) << block << " " << i;
+    };
+    check(ja0.data(), jb0.data(), 20, "intrinsics");
+    check(ja1.data(), jb1.data(), 8, "rotation");
+    check(ja2.data(), jb2.data(), 6, "translation");
   }
 }
 

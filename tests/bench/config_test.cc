@@ -143,6 +143,34 @@ TEST(Config, ResolvedYamlRoundTrips) {
   }
 }
 
+TEST(Config, BatchMethodsAndRandomPointsParse) {
+  RunConfig config;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfigFromString(
+      Scenario("  methods: {dlt: {enabled: true}, ceres: {enabled: true, model: pinhole-k2, "
+               "loss: huber}}\n"),
+      "test.yaml", &config, &why))
+      << why;
+  EXPECT_TRUE(config.scenarios[0].dlt.enabled);
+  EXPECT_EQ(config.scenarios[0].ceres.options.model, LensModel::kPinholeK2);
+  EXPECT_EQ(config.scenarios[0].ceres.options.loss, "huber");
+  EXPECT_NE(
+      LoadError(Scenario("  methods: {ceres: {model: fisheye}}\n")).find("'fisheye' is not one of"),
+      std::string::npos);
+  EXPECT_NE(LoadError(Scenario("  methods: {zhang: {enabled: true}}\n")).find("unknown key"),
+            std::string::npos);
+  ASSERT_TRUE(LoadRunConfig(kThesisDir + "../batch/crlb50.yaml", &config, &why)) << why;
+  const ScenarioConfig& s = config.scenarios[0];
+  ASSERT_EQ(s.points.size(), 150u);
+  for (const Eigen::Vector3d& p : s.points) {
+    EXPECT_GE(p.y(), 15.0);
+    EXPECT_LE(p.y(), 30.0);
+  }
+  RunConfig again;
+  ASSERT_TRUE(LoadRunConfig(kThesisDir + "../batch/crlb50.yaml", &again, &why));
+  EXPECT_EQ(again.scenarios[0].points, s.points);  // Drawn from the seed: reproducible.
+}
+
 TEST(Config, DuplicateScenarioNamesAreRefused) {
   const std::string inline_scenario = "  - {name: a, points: {preset: thesis}}\n";
   const std::string why = LoadError("scenarios:\n" + inline_scenario + inline_scenario);

@@ -54,6 +54,51 @@ TEST(Runner, RowsDoNotDependOnTheThreadCount) {
   EXPECT_NE(a[0].fku, a[1].fku);  // Trials really draw different noise.
 }
 
+ScenarioConfig LoadOne(const std::string& relative) {
+  RunConfig config;
+  std::string why;
+  EXPECT_TRUE(LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/" + relative, &config, &why))
+      << why;
+  return config.scenarios.at(0);
+}
+
+// Noise-free thesis sim 3: adaptive, dlt and ceres all recover the truth (1e-6 relative).
+TEST(Runner, AllMethodsRecoverTheTruthOnNoiseFreeData) {
+  ScenarioConfig s = LoadOne("configs/thesis/sim03.yaml");
+  s.dlt.enabled = true;
+  s.ceres.enabled = true;
+  const std::vector<RunRow> rows = RunTrial(s, 0);
+  ASSERT_EQ(rows.size(), 3u);
+  for (const RunRow& r : rows) {
+    ASSERT_EQ(r.status, "ok") << r.method << ": " << r.message;
+    EXPECT_LT(std::abs(r.err_fku) / 822, 1e-6) << r.method;
+    EXPECT_LT(std::abs(r.err_fkv) / 813, 1e-6) << r.method;
+    EXPECT_LT(std::abs(r.err_phi_deg) / 87, 1e-6) << r.method;
+    EXPECT_LT(std::abs(r.err_u0) / 321, 1e-6) << r.method;
+    EXPECT_LT(std::abs(r.err_v0) / 239, 1e-6) << r.method;
+    EXPECT_LT(r.err_xc_norm, 1e-6) << r.method;
+    EXPECT_LT(r.theta_err_norm, 1e-6) << r.method;
+  }
+  EXPECT_EQ(rows[1].method, "dlt");
+  EXPECT_EQ(rows[2].method, "ceres");
+}
+
+// With pixel noise, ceres reports standard deviations and the CRLB is filled in; they agree.
+TEST(Runner, CeresRowsCarryStdAndCrlb) {
+  ScenarioConfig s = LoadOne("configs/batch/crlb50.yaml");
+  s.trials = 1;
+  s.adaptive.enabled = false;
+  const std::vector<RunRow> rows = RunTrial(s, 0);
+  ASSERT_EQ(rows.size(), 2u);
+  const RunRow& ceres = rows[1];
+  ASSERT_EQ(ceres.status, "ok") << ceres.message;
+  EXPECT_GT(ceres.crlb_fku, 0.0);
+  // Std at the estimate vs CRLB at the truth, sigma estimated vs known: within 20%.
+  EXPECT_NEAR(ceres.std_fku / ceres.crlb_fku, 1.0, 0.2);
+  EXPECT_NEAR(ceres.std_u0 / ceres.crlb_u0, 1.0, 0.2);
+  EXPECT_TRUE(std::isnan(rows[0].std_fku));  // dlt reports no covariance.
+}
+
 TEST(Runner, BadScenarioGivesAFailedRowNotACrash) {
   ScenarioConfig s = NoisyShortScenario();
   s.trials = 1;

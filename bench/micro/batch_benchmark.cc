@@ -1,0 +1,61 @@
+// Batch calibration speed: Ceres refinement vs cv::calibrateCamera on the same data, in one run.
+// 50 views of a 10 x 15 board (150 points per view), sigma = 0.5 px, pinhole + k1, k2 (no skew:
+// the model OpenCV estimates). Both start from the same place: OpenCV from scratch (its own
+// closed-form initialisation), Ceres from OpenCV's result perturbed by 2% in focal length.
+#include <benchmark/benchmark.h>
+
+#include <map>
+
+#include "batch/refine.h"
+#include "batch/zhang.h"
+#include "core/random.h"
+#include "core/synthetic.h"
+
+namespace calibench {
+namespace {
+
+const SyntheticBoardViews& Data(int views) {
+  static std::map<int, SyntheticBoardViews> cache;
+  auto it = cache.find(views);
+  if (it != cache.end()) return it->second;
+  Rng rng(1234);
+  SyntheticBoardOptions o;
+  o.rows = 10;
+  o.cols = 15;
+  o.spacing_m = 0.025;
+  o.num_views = views;
+  o.distance_m = 0.7;
+  o.pixel_sigma_px = 0.5;
+  const CameraIntrinsics truth{812, 805, 90, 322, 236, -0.21, 0.08};
+  return cache[views] = MakeBoardViews(truth, o, &rng);
+}
+
+void BM_OpenCvCalibrateCamera(benchmark::State& state) {
+  const SyntheticBoardViews& data = Data(static_cast<int>(state.range(0)));
+  ZhangOptions options;
+  options.model = LensModel::kPinholeK2;
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
+    const ZhangResult r = CalibrateZhang(data.views, options);
+    benchmark::DoNotOptimize(r.intrinsics);
+  }
+}
+BENCHMARK(BM_OpenCvCalibrateCamera)->Arg(10)->Arg(20)->Arg(50)->Unit(benchmark::kMillisecond);
+
+void BM_CeresCalibration(benchmark::State& state) {
+  const SyntheticBoardViews& data = Data(static_cast<int>(state.range(0)));
+  CameraIntrinsics start{812 * 1.02, 805 * 0.98, 90, 318, 240, 0, 0};
+  RefineOptions options;
+  options.model = LensModel::kPinholeK2;
+  options.estimate_skew = false;
+  options.compute_covariance = false;
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
+    const RefineResult r = RefineCalibration(data.views, start, data.cam_from_board, options);
+    benchmark::DoNotOptimize(r.intrinsics);
+  }
+}
+BENCHMARK(BM_CeresCalibration)->Arg(10)->Arg(20)->Arg(50)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace calibench
+
+BENCHMARK_MAIN();
