@@ -1,0 +1,39 @@
+#!/usr/bin/python3
+"""Per-method RMSE of the intrinsics against the Cramer-Rao bound, from a calibench runs.csv.
+
+Usage: scripts/rmse_vs_crlb.py out/crlb50/runs.csv
+The bound is the median crlb_* of the ceres rows (the same for every trial: it depends on the
+geometry and sigma only). Also prints ceres' mean reported std over its empirical RMSE.
+Run with Debian's /usr/bin/python3 (pandas, numpy).
+"""
+import sys
+
+import numpy as np
+import pandas as pd
+
+PARAMS = ["fku", "fkv", "phi_deg", "u0", "v0"]
+
+
+def main(path):
+    df = pd.read_csv(path)
+    ceres = df[df.method == "ceres"]
+    crlb = {p: ceres["crlb_" + p].median() for p in PARAMS}
+    ok = df[df.status == "ok"]
+    print(f"{path}: trials per method {ok.groupby('method').size().to_dict()}, "
+          f"failed rows {(df.status != 'ok').sum()}")
+    print("| method | " + " | ".join(f"{p} RMSE (×CRLB)" for p in PARAMS) + " | median wall_ms |")
+    print("|---" * (len(PARAMS) + 2) + "|")
+    for method, g in ok.groupby("method"):
+        cells = []
+        for p in PARAMS:
+            rmse = float(np.sqrt(np.nanmean(g["err_" + p].to_numpy() ** 2)))
+            cells.append(f"{rmse:.4f} ({rmse / crlb[p]:.2f})")
+        print(f"| {method} | " + " | ".join(cells) + f" | {g.wall_ms.median():.1f} |")
+    print("| CRLB std | " + " | ".join(f"{crlb[p]:.4f}" for p in PARAMS) + " | |")
+    ratios = {p: ceres["std_" + p].mean() / np.sqrt(np.mean(ceres["err_" + p] ** 2)) for p in PARAMS}
+    print("ceres reported std / empirical RMSE: " +
+          ", ".join(f"{p} {r:.3f}" for p, r in ratios.items()))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1] if len(sys.argv) > 1 else "out/crlb50/runs.csv")
