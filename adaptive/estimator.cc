@@ -132,15 +132,11 @@ bool AdaptiveOptions::Check(std::string* why) const {
 AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vector16d& theta0,
                                      const AdaptiveOptions& options,
                                      const ThetaObserver& observer) {
-  const auto start = std::chrono::steady_clock::now();
+  const SummaryClock clock;
   AdaptiveSummary summary;
   summary.theta_hat = theta0;
   auto finish = [&](MethodStatus status, const std::string& message) {
-    summary.status = status;
-    summary.message = message;
-    summary.wall_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return summary;
+    return clock.Finish(&summary, status, message);
   };
   std::string why;
   if (!options.Check(&why)) return finish(MethodStatus::kFailed, "adaptive options: " + why);

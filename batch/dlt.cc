@@ -14,14 +14,10 @@ bool DltOptions::Check(std::string* why) const {
 
 DltResult EstimateDlt(const std::vector<Eigen::Vector3d>& points,
                       const std::vector<Eigen::Vector2d>& pixels, const DltOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const SummaryClock clock;
   DltResult result;
   auto finish = [&](MethodStatus status, const std::string& message) {
-    result.status = status;
-    result.message = message;
-    result.wall_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return result;
+    return clock.Finish(&result, status, message);
   };
   std::string why;
   if (!options.Check(&why)) return finish(MethodStatus::kFailed, "dlt options: " + why);
@@ -75,7 +71,7 @@ DltResult EstimateDlt(const std::vector<Eigen::Vector3d>& points,
     a.block<1, 4>(2 * i + 1, 8) = -p.y() * x;
   }
   const Eigen::BDCSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinV);
-  const Eigen::VectorXd sv = svd.singularValues();
+  const Eigen::VectorXd& sv = svd.singularValues();
   if (!(sv[10] > 1e-12 * sv[0])) {
     return finish(MethodStatus::kFailed, "degenerate configuration: the DLT null space is not 1-D");
   }

@@ -107,15 +107,11 @@ bool RefineOptions::Check(std::string* why) const {
 RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntrinsics& initial,
                                const std::vector<Rigid3>& initial_poses,
                                const RefineOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const SummaryClock clock;
   RefineResult result;
   result.intrinsics_std.fill(std::numeric_limits<double>::quiet_NaN());
   auto finish = [&](MethodStatus status, const std::string& message) {
-    result.status = status;
-    result.message = message;
-    result.wall_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return result;
+    return clock.Finish(&result, status, message);
   };
   std::string why;
   if (!options.Check(&why)) return finish(MethodStatus::kFailed, "ceres options: " + why);

@@ -18,15 +18,11 @@ bool ZhangOptions::Check(std::string* why) const {
 }
 
 ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const SummaryClock clock;
   ZhangResult result;
   result.intrinsics_std.fill(std::numeric_limits<double>::quiet_NaN());
   auto finish = [&](MethodStatus status, const std::string& message) {
-    result.status = status;
-    result.message = message;
-    result.wall_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return result;
+    return clock.Finish(&result, status, message);
   };
   std::string why;
   if (!options.Check(&why)) return finish(MethodStatus::kFailed, "zhang options: " + why);
