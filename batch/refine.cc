@@ -47,15 +47,25 @@ ceres::LossFunction* MakeLoss(const RefineOptions& o) {
 int BuildProblem(const std::vector<View>& views, const RefineOptions& options, Parameters* params,
                  ceres::Problem* problem) {
   int points = 0;
+  // Per-view blocks for plain least squares (same cost, less overhead); per-point blocks for a
+  // robust loss (it must act on each point) and for the autodiff reference.
+  const bool per_view = options.loss == "none" && !options.autodiff;
   for (size_t v = 0; v < views.size(); ++v) {
     const size_t pose = options.shared_pose ? 0 : v;
+    double* blocks[3] = {params->intrinsics.data(), params->rotations[pose].data(),
+                         params->translations[pose].data()};
+    points += static_cast<int>(views[v].points.size());
+    if (views[v].points.empty()) continue;
+    if (per_view) {
+      problem->AddResidualBlock(new ViewReprojectionCostFunction(views[v].points, views[v].pixels),
+                                nullptr, blocks, 3);
+      continue;
+    }
     for (size_t i = 0; i < views[v].points.size(); ++i) {
       ceres::CostFunction* cost =
           options.autodiff ? ReprojectionError::Create(views[v].pixels[i], views[v].points[i])
                            : new ReprojectionCostFunction(views[v].pixels[i], views[v].points[i]);
-      problem->AddResidualBlock(cost, MakeLoss(options), params->intrinsics.data(),
-                                params->rotations[pose].data(), params->translations[pose].data());
-      ++points;
+      problem->AddResidualBlock(cost, MakeLoss(options), blocks, 3);
     }
   }
   const std::vector<int> fixed = FixedIntrinsics(options.model, options.estimate_skew);
@@ -133,6 +143,9 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
   solver_options.gradient_tolerance = 1e-12;
   solver_options.parameter_tolerance = 1e-10;
   solver_options.num_threads = 1;
+  // Calibration from a closed-form start is well posed: start LM near Gauss-Newton (4 iterations
+  // instead of 7 on the 50-view benchmark, same optimum); rejected steps still shrink the region.
+  solver_options.initial_trust_region_radius = 1e6;
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
   result.iterations = static_cast<long>(summary.iterations.size());

@@ -4,12 +4,47 @@ namespace calibench {
 
 bool ReprojectionCostFunction::Evaluate(double const* const* parameters, double* residuals,
                                         double** jacobians) const {
+  return EvaluatePoint(parameters, std::sin(parameters[0][2]), std::cos(parameters[0][2]),
+                       point_in_object_, pixel_, residuals, jacobians);
+}
+
+ViewReprojectionCostFunction::ViewReprojectionCostFunction(std::vector<Eigen::Vector3d> points,
+                                                           std::vector<Eigen::Vector2d> pixels)
+    : points_(std::move(points)), pixels_(std::move(pixels)) {
+  set_num_residuals(2 * static_cast<int>(points_.size()));
+  *mutable_parameter_block_sizes() = {PinholeSkewCamera::kNumParams, 4, 3};
+}
+
+bool ViewReprojectionCostFunction::Evaluate(double const* const* parameters, double* residuals,
+                                            double** jacobians) const {
+  constexpr int kSizes[3] = {PinholeSkewCamera::kNumParams, 4, 3};
+  double* point_jacobians[3] = {nullptr, nullptr, nullptr};
+  const double sin_phi = std::sin(parameters[0][2]), cos_phi = std::cos(parameters[0][2]);
+  for (size_t i = 0; i < points_.size(); ++i) {
+    if (jacobians != nullptr) {
+      for (int b = 0; b < 3; ++b) {
+        point_jacobians[b] = jacobians[b] ? jacobians[b] + 2 * i * kSizes[b] : nullptr;
+      }
+    }
+    if (!ReprojectionCostFunction::EvaluatePoint(parameters, sin_phi, cos_phi, points_[i],
+                                                 pixels_[i], residuals + 2 * i,
+                                                 jacobians ? point_jacobians : nullptr)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool ReprojectionCostFunction::EvaluatePoint(double const* const* parameters, double sin_phi,
+                                             double cos_phi, const Eigen::Vector3d& point,
+                                             const Eigen::Vector2d& pixel, double* residuals,
+                                             double* const* jacobians) {
   const double* k = parameters[0];
   const double* q = parameters[1];  // x, y, z, w
   const double* t = parameters[2];
   const Eigen::Vector3d q_v(q[0], q[1], q[2]);
   const double w = q[3];
-  const Eigen::Vector3d& p = point_in_object_;
+  const Eigen::Vector3d& p = point;
   // Eigen's unit-quaternion rotation: v + 2w (q_v x v) + 2 q_v x (q_v x v).
   const Eigen::Vector3d qxp = q_v.cross(p);
   const Eigen::Vector3d point_in_cam =
@@ -17,7 +52,7 @@ bool ReprojectionCostFunction::Evaluate(double const* const* parameters, double*
   if (!(point_in_cam.z() > 0)) return false;
   const double inv_z = 1.0 / point_in_cam.z();
   const double x = point_in_cam.x() * inv_z, y = point_in_cam.y() * inv_z;
-  const double fku = k[0], fkv = k[1], sin_phi = std::sin(k[2]), cos_phi = std::cos(k[2]);
+  const double fku = k[0], fkv = k[1];
   const double k1 = k[5], k2 = k[6], p1 = k[7], p2 = k[8], k3 = k[9];
   const double r2 = x * x + y * y;
   const double d = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
@@ -25,8 +60,8 @@ bool ReprojectionCostFunction::Evaluate(double const* const* parameters, double*
   const double xd = d * x + 2.0 * p1 * xy + p2 * (r2 + 2.0 * x * x);
   const double yd = d * y + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * xy;
   const double cot_phi = cos_phi / sin_phi;
-  residuals[0] = fku * (xd - yd * cot_phi) + k[3] - pixel_.x();
-  residuals[1] = fkv * yd / sin_phi + k[4] - pixel_.y();
+  residuals[0] = fku * (xd - yd * cot_phi) + k[3] - pixel.x();
+  residuals[1] = fkv * yd / sin_phi + k[4] - pixel.y();
   if (jacobians == nullptr) return true;
 
   // d(u, v)/d(xd, yd).
