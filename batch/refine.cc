@@ -132,6 +132,11 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
   if (!initial.Check(&why)) return finish(MethodStatus::kFailed, "initial intrinsics: " + why);
 
   Parameters params(initial, initial_poses);
+  // Parameters the model leaves out take their neutral values (an initialisation from a richer
+  // model, e.g. OpenCV's k1, k2, must not stay frozen in): no distortion, phi = 90 degrees.
+  for (int i : FixedIntrinsics(options.model, options.estimate_skew)) {
+    params.intrinsics[i] = i == 2 ? M_PI / 2 : 0.0;
+  }
   ceres::Problem problem;
   result.num_points = BuildProblem(views, options, &params, &problem);
   ceres::Solver::Options solver_options;

@@ -54,7 +54,8 @@ struct RefineResult : MethodSummary {
   int num_points = 0;
 };
 
-// `initial_poses` holds one pose per view, or one pose when options.shared_pose.
+// `initial_poses` holds one pose per view, or one pose when options.shared_pose. Intrinsics the
+// model does not estimate are reset to their neutral values (zero distortion, phi = 90 deg).
 RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntrinsics& initial,
                                const std::vector<Rigid3>& initial_poses,
                                const RefineOptions& options);

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bench/yaml_reader.h"
 #include "core/random.h"
 #include "core/synthetic.h"
 
@@ -17,140 +18,8 @@ namespace calibench {
 namespace {
 
 namespace fs = std::filesystem;
-
-class ConfigError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-size_t EditDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diag = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
-// Parses one file's nodes, naming the file and the dotted field path in every error.
-class Reader {
- public:
-  explicit Reader(std::string file) : file_(std::move(file)) {}
-  const std::string& file() const { return file_; }
-
-  [[noreturn]] void Fail(const YAML::Node& node, const std::string& field,
-                         const std::string& reason) const {
-    std::ostringstream msg;
-    msg << file_;
-    if (node.IsDefined() && node.Mark().line >= 0) {
-      msg << ":" << node.Mark().line + 1 << ":" << node.Mark().column + 1;
-    }
-    msg << ": " << field << ": " << reason;
-    throw ConfigError(msg.str());
-  }
-
-  void ExpectMap(const YAML::Node& node, const std::string& field) const {
-    if (!node.IsMap()) Fail(node, field, "expected a mapping of keys to values");
-  }
-
-  // Every key of `node` must be in `allowed`; suggests the closest for a misspelt one.
-  void CheckKeys(const YAML::Node& node, const std::string& field,
-                 const std::vector<std::string>& allowed) const {
-    ExpectMap(node, field);
-    for (const auto& kv : node) {
-      const std::string key = kv.first.Scalar();
-      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-      std::string best;
-      size_t best_distance = 3;
-      for (const std::string& a : allowed) {
-        const size_t d = EditDistance(key, a);
-        if (d < best_distance) best_distance = d, best = a;
-      }
-      std::string list;
-      for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      std::string reason = "unknown key";
-      if (!best.empty()) reason += " (did you mean '" + best + "'?)";
-      reason += "; allowed: ";
-      reason += list;
-      Fail(kv.first, Join(field, key), reason);
-    }
-  }
-
-  static std::string Join(const std::string& field, const std::string& key) {
-    return field.empty() ? key : field + "." + key;
-  }
-
-  // A scalar converted to T; `expected` names the type in the error ("a number").
-  template <typename T>
-  T Scalar(const YAML::Node& node, const std::string& field, const std::string& expected) const {
-    if (!node.IsScalar()) Fail(node, field, "expected " + expected);
-    try {
-      return node.as<T>();
-    } catch (const YAML::Exception&) {
-      Fail(node, field, "expected " + expected + ", got '" + node.Scalar() + "'");
-    }
-  }
-  double Double(const YAML::Node& node, const std::string& field) const {
-    return Scalar<double>(node, field, "a number");
-  }
-  long Integer(const YAML::Node& node, const std::string& field) const {
-    return Scalar<long>(node, field, "an integer");
-  }
-  uint64_t Unsigned(const YAML::Node& node, const std::string& field) const {
-    // yaml-cpp wraps "-1" to a huge unsigned value: refuse a sign outright.
-    if (node.IsScalar() && node.Scalar().find('-') != std::string::npos) {
-      Fail(node, field, "expected a non-negative integer, got '" + node.Scalar() + "'");
-    }
-    return Scalar<uint64_t>(node, field, "a non-negative integer");
-  }
-  bool Bool(const YAML::Node& node, const std::string& field) const {
-    return Scalar<bool>(node, field, "true or false");
-  }
-  std::string String(const YAML::Node& node, const std::string& field) const {
-    if (!node.IsScalar()) Fail(node, field, "expected a string");
-    return node.Scalar();
-  }
-  std::string Choice(const YAML::Node& node, const std::string& field,
-                     const std::vector<std::string>& choices) const {
-    std::string value = String(node, field);
-    if (std::find(choices.begin(), choices.end(), value) != choices.end()) return value;
-    std::string list;
-    for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
-    Fail(node, field, "'" + value + "' is not one of: " + list);
-  }
-  Eigen::Vector3d Vector3(const YAML::Node& node, const std::string& field) const {
-    if (!node.IsSequence() || node.size() != 3) Fail(node, field, "expected a list of 3 numbers");
-    Eigen::Vector3d v;
-    for (int i = 0; i < 3; ++i) v[i] = Double(node[i], field + "[" + std::to_string(i) + "]");
-    return v;
-  }
-  Eigen::Matrix3d Matrix3(const YAML::Node& node, const std::string& field) const {
-    if (!node.IsSequence() || node.size() != 3) {
-      Fail(node, field, "expected a 3x3 matrix as a list of 3 rows");
-    }
-    Eigen::Matrix3d m;
-    for (int r = 0; r < 3; ++r) {
-      m.row(r) = Vector3(node[r], field + "[" + std::to_string(r) + "]").transpose();
-    }
-    return m;
-  }
-
-  // Calls `apply` when `key` is present in the map `node`.
-  template <typename F>
-  void If(const YAML::Node& node, const char* key, const std::string& field, F apply) const {
-    const YAML::Node child = node[key];
-    if (child.IsDefined() && !child.IsNull()) apply(child, Join(field, key));
-  }
-
- private:
-  std::string file_;
-};
+using config_internal::ConfigError;
+using config_internal::Reader;
 
 void ParseIntrinsics(const Reader& r, const YAML::Node& node, const std::string& field,
                      CameraIntrinsics* k) {
@@ -190,15 +59,44 @@ void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& fie
 
 void ParsePoints(const Reader& r, const YAML::Node& node, const std::string& field,
                  ScenarioConfig* s) {
-  r.CheckKeys(node, field, {"preset", "count", "list", "random"});
+  r.CheckKeys(node, field, {"preset", "count", "list", "random", "boards"});
   const bool has_preset = node["preset"].IsDefined();
   const bool has_list = node["list"].IsDefined();
   const bool has_random = node["random"].IsDefined();
-  if (has_preset + has_list + has_random != 1) {
-    r.Fail(node, field, "give exactly one of 'preset', 'list' or 'random'");
+  const bool has_boards = node["boards"].IsDefined();
+  if (has_preset + has_list + has_random + has_boards != 1) {
+    r.Fail(node, field, "give exactly one of 'preset', 'list', 'random' or 'boards'");
   }
   s->points.clear();
   s->points_preset.clear();
+  s->boards.clear();
+  if (has_boards) {
+    const YAML::Node list = node["boards"];
+    const std::string f = Reader::Join(field, "boards");
+    if (!list.IsSequence() || list.size() == 0) r.Fail(list, f, "expected a non-empty list");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string bf = f + "[" + std::to_string(i) + "]";
+      r.CheckKeys(list[i], bf, {"rows", "cols", "spacing_m", "origin", "rpy_deg"});
+      PlanarBoard b;
+      r.If(list[i], "rows", bf,
+           [&](auto n, auto g) { b.rows = static_cast<int>(r.Integer(n, g)); });
+      r.If(list[i], "cols", bf,
+           [&](auto n, auto g) { b.cols = static_cast<int>(r.Integer(n, g)); });
+      r.If(list[i], "spacing_m", bf, [&](auto n, auto g) { b.spacing_m = r.Double(n, g); });
+      r.If(list[i], "origin", bf,
+           [&](auto n, auto g) { b.points_from_board.translation = r.Vector3(n, g); });
+      r.If(list[i], "rpy_deg", bf, [&](auto n, auto g) {
+        b.points_from_board.rotation = FromRollPitchYawDeg(r.Vector3(n, g));
+      });
+      std::string why;
+      if (!b.Check(&why)) r.Fail(list[i], bf, why);
+      s->boards.push_back(b);
+    }
+    s->points_preset = "boards";
+    s->points = RigCorners(s->boards);
+    s->points_count = static_cast<int>(s->points.size());
+    return;
+  }
   if (has_random) {
     const YAML::Node rnd = node["random"];
     const std::string f = Reader::Join(field, "random");
@@ -311,6 +209,24 @@ void ParseDlt(const Reader& r, const YAML::Node& node, const std::string& field,
   if (!d->options.Check(&why)) r.Fail(node, field, why);
 }
 
+void ParseZhang(const Reader& r, const YAML::Node& node, const std::string& field,
+                ZhangMethodConfig* z) {
+  r.CheckKeys(node, field, {"enabled", "model", "view_stride", "max_views"});
+  r.If(node, "enabled", field, [&](auto n, auto f) { z->enabled = r.Bool(n, f); });
+  r.If(node, "model", field, [&](auto n, auto f) {
+    ParseLensModel(r.Choice(n, f, {"pinhole", "pinhole-k2", "pinhole-radtan4", "pinhole-radtan5"}),
+                   &z->model);
+  });
+  r.If(node, "view_stride", field, [&](auto n, auto f) {
+    z->view_stride = static_cast<int>(r.Integer(n, f));
+    if (z->view_stride < 1) r.Fail(n, f, "must be >= 1");
+  });
+  r.If(node, "max_views", field, [&](auto n, auto f) {
+    z->max_views = static_cast<int>(r.Integer(n, f));
+    if (z->max_views < 0) r.Fail(n, f, "must be >= 0 (0: all)");
+  });
+}
+
 void ParseCeres(const Reader& r, const YAML::Node& node, const std::string& field,
                 CeresMethodConfig* c) {
   r.CheckKeys(
@@ -318,7 +234,7 @@ void ParseCeres(const Reader& r, const YAML::Node& node, const std::string& fiel
       {"enabled", "init", "model", "estimate_skew", "loss", "loss_scale_px", "max_iterations"});
   RefineOptions& o = c->options;
   r.If(node, "enabled", field, [&](auto n, auto f) { c->enabled = r.Bool(n, f); });
-  r.If(node, "init", field, [&](auto n, auto f) { c->init = r.Choice(n, f, {"dlt"}); });
+  r.If(node, "init", field, [&](auto n, auto f) { c->init = r.Choice(n, f, {"dlt", "zhang"}); });
   r.If(node, "model", field, [&](auto n, auto f) {
     ParseLensModel(r.Choice(n, f, {"pinhole", "pinhole-k2", "pinhole-radtan4", "pinhole-radtan5"}),
                    &o.model);
@@ -355,8 +271,14 @@ void ParseReference(const Reader& r, const YAML::Node& node, const std::string& 
 void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& field,
                    ScenarioConfig* s) {
   r.CheckKeys(node, field,
-              {"name", "description", "case", "duration_s", "seed", "trials", "truth", "points",
-               "motion", "measurements", "noise", "methods", "reference"});
+              {"name", "description", "case", "duration_s", "seed", "trials", "truth", "image_size",
+               "points", "motion", "measurements", "noise", "methods", "reference"});
+  r.If(node, "image_size", field, [&](auto n, auto f) {
+    if (!n.IsSequence() || n.size() != 2) r.Fail(n, f, "expected [width, height]");
+    s->image_width = static_cast<int>(r.Integer(n[0], f + "[0]"));
+    s->image_height = static_cast<int>(r.Integer(n[1], f + "[1]"));
+    if (s->image_width < 1 || s->image_height < 1) r.Fail(n, f, "must be positive");
+  });
   r.If(node, "name", field, [&](auto n, auto f) { s->name = r.String(n, f); });
   r.If(node, "description", field, [&](auto n, auto f) { s->description = r.String(n, f); });
   r.If(node, "case", field, [&](auto n, auto f) {
@@ -403,7 +325,8 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     if (!noise.Check(&why)) r.Fail(n, f, why);
   });
   r.If(node, "methods", field, [&](auto n, auto f) {
-    r.CheckKeys(n, f, {"adaptive", "dlt", "ceres"});
+    r.CheckKeys(n, f, {"adaptive", "dlt", "zhang", "ceres"});
+    r.If(n, "zhang", f, [&](auto m, auto g) { ParseZhang(r, m, g, &s->zhang); });
     r.If(n, "adaptive", f, [&](auto m, auto g) { ParseAdaptive(r, m, g, &s->adaptive); });
     r.If(n, "dlt", f, [&](auto m, auto g) { ParseDlt(r, m, g, &s->dlt); });
     r.If(n, "ceres", f, [&](auto m, auto g) { ParseCeres(r, m, g, &s->ceres); });
@@ -514,109 +437,6 @@ void CheckUniqueNames(const RunConfig& config) {
   }
 }
 
-// --- Writing -------------------------------------------------------------------------------
-
-void EmitVector(YAML::Emitter& out, const Eigen::Vector3d& v) {
-  out << YAML::Flow << YAML::BeginSeq << v[0] << v[1] << v[2] << YAML::EndSeq;
-}
-
-void EmitCamera(YAML::Emitter& out, const CameraSpec& c) {
-  const CameraIntrinsics& k = c.intrinsics;
-  out << YAML::BeginMap << YAML::Key << "intrinsics" << YAML::Value << YAML::Flow << YAML::BeginMap
-      << YAML::Key << "fku_px" << YAML::Value << k.fku_px << YAML::Key << "fkv_px" << YAML::Value
-      << k.fkv_px << YAML::Key << "phi_deg" << YAML::Value << k.phi_deg << YAML::Key << "u0_px"
-      << YAML::Value << k.u0_px << YAML::Key << "v0_px" << YAML::Value << k.v0_px << YAML::Key
-      << "k1" << YAML::Value << k.k1 << YAML::Key << "k2" << YAML::Value << k.k2 << YAML::Key
-      << "p1" << YAML::Value << k.p1 << YAML::Key << "p2" << YAML::Value << k.p2 << YAML::Key
-      << "k3" << YAML::Value << k.k3 << YAML::EndMap;
-  out << YAML::Key << "R_C" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  for (int r = 0; r < 3; ++r) EmitVector(out, c.r_c.row(r).transpose());
-  out << YAML::EndSeq << YAML::Key << "x_C" << YAML::Value;
-  EmitVector(out, c.x_c);
-  out << YAML::Key << "allow_improper_rotation" << YAML::Value << c.allow_improper_rotation
-      << YAML::EndMap;
-}
-
-void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
-  out << YAML::BeginMap;
-  out << YAML::Key << "name" << YAML::Value << s.name;
-  out << YAML::Key << "description" << YAML::Value << s.description;
-  out << YAML::Key << "case" << YAML::Value << ToString(s.calibration_case);
-  out << YAML::Key << "duration_s" << YAML::Value << s.duration_s;
-  out << YAML::Key << "seed" << YAML::Value << s.seed;
-  out << YAML::Key << "trials" << YAML::Value << s.trials;
-  out << YAML::Key << "truth" << YAML::Value;
-  EmitCamera(out, s.truth);
-  out << YAML::Key << "points" << YAML::Value << YAML::BeginMap << YAML::Key << "list"
-      << YAML::Value << YAML::BeginSeq;
-  for (const Eigen::Vector3d& p : s.points) EmitVector(out, p);
-  out << YAML::EndSeq << YAML::EndMap;
-  const TwistProfile& m = s.motion;
-  out << YAML::Key << "motion" << YAML::Value << YAML::BeginMap;
-  const std::pair<const char*, const Eigen::Vector3d*> parts[] = {
-      {"v_const", &m.v_const}, {"v_cos", &m.v_cos}, {"v_sin", &m.v_sin},
-      {"w_const", &m.w_const}, {"w_cos", &m.w_cos}, {"w_sin", &m.w_sin}};
-  for (const auto& [key, v] : parts) {
-    out << YAML::Key << key << YAML::Value;
-    EmitVector(out, *v);
-  }
-  out << YAML::Key << "frequency_rad_s" << YAML::Value << m.frequency_rad_s;
-  out << YAML::Key << "frame" << YAML::Value
-      << (m.frame == TwistProfile::Frame::kWorld ? "world" : "body") << YAML::EndMap;
-  out << YAML::Key << "measurements" << YAML::Value << YAML::BeginMap << YAML::Key << "detections"
-      << YAML::Value << s.detections << YAML::Key << "sample_rate_hz" << YAML::Value
-      << s.measurements.sample_rate_hz << YAML::Key << "eval_rate_hz" << YAML::Value
-      << s.measurements.eval_rate_hz << YAML::EndMap;
-  const NoiseOptions& n = s.measurements.noise;
-  out << YAML::Key << "noise" << YAML::Value << YAML::BeginMap << YAML::Key << "point_sigma_m"
-      << YAML::Value << n.point_sigma_m << YAML::Key << "pixel_sigma_px" << YAML::Value
-      << n.pixel_sigma_px << YAML::Key << "hold_s" << YAML::Value << n.hold_s << YAML::EndMap;
-  const AdaptiveMethodConfig& a = s.adaptive;
-  out << YAML::Key << "methods" << YAML::Value << YAML::BeginMap << YAML::Key << "adaptive"
-      << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "enabled" << YAML::Value << a.enabled;
-  out << YAML::Key << "alpha" << YAML::Value << a.options.alpha;
-  out << YAML::Key << "gamma0" << YAML::Value << a.options.gamma0;
-  out << YAML::Key << "rtol" << YAML::Value << a.options.rtol;
-  out << YAML::Key << "max_step_s" << YAML::Value << a.options.max_step_s;
-  out << YAML::Key << "initial_step_s" << YAML::Value << a.options.initial_step_s;
-  out << YAML::Key << "max_steps" << YAML::Value << a.options.max_steps;
-  out << YAML::Key << "convergence_tol" << YAML::Value << a.convergence_tol;
-  out << YAML::Key << "initial" << YAML::Value;
-  EmitCamera(out, a.initial);
-  out << YAML::EndMap;
-  out << YAML::Key << "dlt" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled"
-      << YAML::Value << s.dlt.enabled << YAML::Key << "min_planarity_ratio" << YAML::Value
-      << s.dlt.options.min_planarity_ratio << YAML::EndMap;
-  const RefineOptions& c = s.ceres.options;
-  out << YAML::Key << "ceres" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "enabled" << YAML::Value << s.ceres.enabled;
-  out << YAML::Key << "init" << YAML::Value << s.ceres.init;
-  out << YAML::Key << "model" << YAML::Value << ToString(c.model);
-  out << YAML::Key << "estimate_skew" << YAML::Value << c.estimate_skew;
-  out << YAML::Key << "loss" << YAML::Value << c.loss;
-  out << YAML::Key << "loss_scale_px" << YAML::Value << c.loss_scale_px;
-  out << YAML::Key << "max_iterations" << YAML::Value << c.max_iterations;
-  out << YAML::EndMap << YAML::EndMap;
-  const Reference& ref = s.reference;
-  if (ref.Any() || !ref.source.empty()) {
-    out << YAML::Key << "reference" << YAML::Value << YAML::BeginMap;
-    out << YAML::Key << "source" << YAML::Value << ref.source;
-    const std::pair<const char*, double> values[] = {
-        {"fku_px", ref.fku_px}, {"fkv_px", ref.fkv_px}, {"phi_deg", ref.phi_deg},
-        {"u0_px", ref.u0_px},   {"v0_px", ref.v0_px},   {"theta_err_below", ref.theta_err_below}};
-    for (const auto& [key, v] : values) {
-      if (std::isfinite(v)) out << YAML::Key << key << YAML::Value << v;
-    }
-    if (ref.x_c.allFinite()) {
-      out << YAML::Key << "x_C" << YAML::Value;
-      EmitVector(out, ref.x_c);
-    }
-    out << YAML::EndMap;
-  }
-  out << YAML::EndMap;
-}
-
 }  // namespace
 
 namespace {
@@ -648,16 +468,6 @@ bool LoadRunConfigFromString(const std::string& yaml, const std::string& virtual
                              RunConfig* config, std::string* why) {
   return Guarded(virtual_path, config, why,
                  [&](RunConfig* c) { LoadNode(LoadYaml(yaml, virtual_path), virtual_path, 0, c); });
-}
-
-std::string ResolvedYaml(const RunConfig& config) {
-  YAML::Emitter out;
-  out.SetDoublePrecision(17);
-  out << YAML::Comment("calibench resolved configuration: every default filled in");
-  out << YAML::BeginMap << YAML::Key << "scenarios" << YAML::Value << YAML::BeginSeq;
-  for (const ScenarioConfig& s : config.scenarios) EmitScenario(out, s);
-  out << YAML::EndSeq << YAML::EndMap;
-  return std::string(out.c_str()) + "\n";
 }
 
 }  // namespace calibench

@@ -10,6 +10,8 @@
 //             R_C: [[..],[..],[..]], x_C: [x, y, z], allow_improper_rotation: false}
 //     points: {preset: thesis, count: 5}  |  {list: [[x, y, z], ...]}
 //             | {random: {count, min: [3], max: [3]}}   (uniform in the box, from the seed)
+//             | {boards: [{rows, cols, spacing_m, origin: [3], rpy_deg: [3]}, ...]}  (a rig)
+//     image_size: [640, 480]
 //     motion: {preset: small}  |  {v_const, v_cos, v_sin, w_const, w_cos, w_sin: [3],
 //              frequency_rad_s, frame: auto | body | world}
 //     measurements: {detections: oracle, sample_rate_hz: 0, eval_rate_hz: 10}
@@ -17,7 +19,8 @@
 //     methods: {adaptive: {enabled, alpha, gamma0, rtol, max_step_s, initial_step_s, max_steps,
 //               convergence_tol, initial: {intrinsics, R_C, x_C, allow_improper_rotation}},
 //               dlt: {enabled, min_planarity_ratio},
-//               ceres: {enabled, init: dlt, model, estimate_skew, loss, loss_scale_px,
+//               zhang: {enabled, model, view_stride, max_views},
+//               ceres: {enabled, init: dlt | zhang, model, estimate_skew, loss, loss_scale_px,
 //                       max_iterations}}
 //     reference: {source, fku_px, fkv_px, phi_deg, u0_px, v0_px, x_C, theta_err_below}
 //

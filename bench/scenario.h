@@ -16,6 +16,7 @@
 #include "batch/refine.h"
 #include "core/measurements.h"
 #include "core/scene.h"
+#include "core/target.h"
 
 namespace calibench {
 
@@ -44,10 +45,20 @@ struct DltMethodConfig {
   bool enabled = false;
   DltOptions options;
 };
+// Zhang (cv::calibrateCamera) on the boards of a scenario: every (frame, board) is a view; the
+// per-view board poses and the known body poses give the constant extrinsic, by chordal rotation
+// averaging (row `zhang`) and by cv::calibrateHandEye (row `zhang_handeye`).
+struct ZhangMethodConfig {
+  bool enabled = false;
+  LensModel model = LensModel::kPinholeK2;
+  int view_stride = 1;  // Use every view_stride-th frame.
+  int max_views = 60;   // Cap on (frame, board) views (calibrateCamera grows ~ N^2.5); 0: all.
+};
+
 struct CeresMethodConfig {
   bool enabled = false;
   RefineOptions options = DefaultOptions();  // shared_pose: the constant extrinsic.
-  std::string init = "dlt";                  // Initialisation: dlt (the only one for 3D points).
+  std::string init = "dlt";                  // Initialisation: dlt or zhang (boards only).
   static RefineOptions DefaultOptions() {
     RefineOptions o;
     o.shared_pose = true;
@@ -76,7 +87,9 @@ struct ScenarioConfig {
   int trials = 1;
 
   CameraSpec truth;
-  std::string points_preset;  // "thesis", "random" or empty (explicit list).
+  int image_width = 640, image_height = 480;  // For zhang's initialisation.
+  std::string points_preset;        // "thesis", "random", "boards" or empty (explicit list).
+  std::vector<PlanarBoard> boards;  // points: {boards: [...]}: the points are the rig's corners.
   // points: {random: {count, min, max}}: uniform in the box, drawn once from the config seed.
   Eigen::Vector3d random_min = Eigen::Vector3d::Zero(), random_max = Eigen::Vector3d::Zero();
   int points_count = 10;  // With a preset: how many of its points (the first ones).
@@ -89,6 +102,7 @@ struct ScenarioConfig {
 
   AdaptiveMethodConfig adaptive;
   DltMethodConfig dlt;
+  ZhangMethodConfig zhang;
   CeresMethodConfig ceres;
   Reference reference;
 

@@ -9,18 +9,19 @@ const char* ToString(CalibrationCase c) {
   return c == CalibrationCase::kFixedCamera ? "fixed_camera" : "moving_camera";
 }
 
-Eigen::Vector3d SceneTruth::PointInParent(int i, double t) const {
+Rigid3 SceneTruth::ParentFromPoints(double t) const {
   const Rigid3 world_from_body = motion.WorldFromBody(t);
-  if (calibration_case == CalibrationCase::kFixedCamera) return world_from_body * points[i];
-  return world_from_body.Inverse() * points[i];
+  return calibration_case == CalibrationCase::kFixedCamera ? world_from_body
+                                                           : world_from_body.Inverse();
+}
+
+Eigen::Vector3d SceneTruth::PointInParent(int i, double t) const {
+  return ParentFromPoints(t) * points[i];
 }
 
 bool SceneTruth::Observe(double t, std::vector<Eigen::Vector3d>* points_in_parent,
                          std::vector<Eigen::Vector2d>* pixels, std::string* why) const {
-  const Rigid3 world_from_body = motion.WorldFromBody(t);
-  const Rigid3 parent_from_points = calibration_case == CalibrationCase::kFixedCamera
-                                        ? world_from_body
-                                        : world_from_body.Inverse();
+  const Rigid3 parent_from_points = ParentFromPoints(t);
   const Rigid3 cam_from_parent = CamFromParent();
   const std::array<double, 10> params = intrinsics.Params();
   points_in_parent->resize(points.size());

@@ -36,6 +36,8 @@ struct SceneTruth {
   double duration_s = 240.0;
 
   Rigid3 CamFromParent() const { return parent_from_cam.Inverse(); }
+  // Where the points frame (body for a fixed camera, world for a moving one) is in P at time t.
+  Rigid3 ParentFromPoints(double t) const;
   // x_bar_i(t) without its homogeneous 1: point i in the parent frame P at time t.
   Eigen::Vector3d PointInParent(int i, double t) const;
   // All points at time t (x_bar in P, and their exact pixels). Returns false, naming the point,

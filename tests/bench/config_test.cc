@@ -157,7 +157,7 @@ TEST(Config, BatchMethodsAndRandomPointsParse) {
   EXPECT_NE(
       LoadError(Scenario("  methods: {ceres: {model: fisheye}}\n")).find("'fisheye' is not one of"),
       std::string::npos);
-  EXPECT_NE(LoadError(Scenario("  methods: {zhang: {enabled: true}}\n")).find("unknown key"),
+  EXPECT_NE(LoadError(Scenario("  methods: {bundle: {enabled: true}}\n")).find("unknown key"),
             std::string::npos);
   ASSERT_TRUE(LoadRunConfig(kThesisDir + "../batch/crlb50.yaml", &config, &why)) << why;
   const ScenarioConfig& s = config.scenarios[0];

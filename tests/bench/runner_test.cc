@@ -99,6 +99,56 @@ TEST(Runner, CeresRowsCarryStdAndCrlb) {
   EXPECT_TRUE(std::isnan(rows[0].std_fku));  // dlt reports no covariance.
 }
 
+// A two-board rig, noise-free: zhang (both extrinsic estimates), dlt and ceres recover the truth,
+// for the moving camera (eye-in-hand) and the fixed camera (eye-to-hand) alike.
+class RigRecovery : public ::testing::TestWithParam<CalibrationCase> {};
+
+TEST_P(RigRecovery, EveryBatchMethodRecoversTheTruth) {
+  ScenarioConfig s = LoadOne("configs/batch/rig_moving.yaml");
+  s.trials = 1;
+  s.measurements.noise = NoiseOptions();
+  s.adaptive.enabled = false;
+  s.zhang.model = LensModel::kPinhole;
+  if (GetParam() == CalibrationCase::kFixedCamera) {
+    // The same relative geometry seen the other way round: boards on the body, camera in W.
+    s.calibration_case = CalibrationCase::kFixedCamera;
+    s.motion.frame = TwistProfile::Frame::kWorld;
+  }
+  const std::vector<RunRow> rows = RunTrial(s, 0);
+  ASSERT_EQ(rows.size(), 4u);
+  for (const RunRow& r : rows) {
+    ASSERT_EQ(r.status, "ok") << r.method << ": " << r.message;
+    // Intrinsics: 1e-6 relative, the bar. Extrinsic: dlt and ceres work in double
+    // (1e-6); cv::calibrateCamera takes float32 points (~1e-7 relative, 4e-5 px here), which
+    // leaves ~1e-5 deg in its per-view poses and ~1e-4 deg after Tsai's linear hand-eye solve.
+    const bool float32 = r.method.rfind("zhang", 0) == 0;
+    EXPECT_LT(std::abs(r.err_fku) / 822, 1e-6) << r.method;
+    EXPECT_LT(std::abs(r.err_v0) / 239, 1e-6) << r.method;
+    EXPECT_LT(r.rot_err_deg, float32 ? 2e-4 : 1e-6) << r.method;
+    EXPECT_LT(r.err_xc_norm, float32 ? 1e-5 : 1e-6) << r.method;
+  }
+  EXPECT_EQ(rows[1].method, "zhang");
+  EXPECT_EQ(rows[2].method, "zhang_handeye");
+}
+
+INSTANTIATE_TEST_SUITE_P(BothCases, RigRecovery,
+                         ::testing::Values(CalibrationCase::kMovingCamera,
+                                           CalibrationCase::kFixedCamera));
+
+// Rotation about one fixed axis cannot determine a hand-eye problem: a failed row that says so.
+TEST(Runner, DegenerateHandEyeIsReported) {
+  ScenarioConfig s = LoadOne("configs/batch/rig_moving.yaml");
+  s.trials = 1;
+  s.adaptive.enabled = s.dlt.enabled = s.ceres.enabled = false;
+  s.motion.w_cos.setZero();
+  s.motion.w_sin = Eigen::Vector3d(0.15, 0.2, 0.1);
+  const std::vector<RunRow> rows = RunTrial(s, 0);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].status, "ok");
+  EXPECT_EQ(rows[1].status, "failed");
+  EXPECT_NE(rows[1].message.find("degenerate"), std::string::npos) << rows[1].message;
+}
+
 TEST(Runner, BadScenarioGivesAFailedRowNotACrash) {
   ScenarioConfig s = NoisyShortScenario();
   s.trials = 1;

@@ -1,0 +1,145 @@
+// Writing the resolved configuration (config_io.h): every field explicit, re-loadable.
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+
+#include "bench/config_io.h"
+
+namespace calibench {
+namespace {
+
+void EmitVector(YAML::Emitter& out, const Eigen::Vector3d& v) {
+  out << YAML::Flow << YAML::BeginSeq << v[0] << v[1] << v[2] << YAML::EndSeq;
+}
+
+void EmitCamera(YAML::Emitter& out, const CameraSpec& c) {
+  const CameraIntrinsics& k = c.intrinsics;
+  out << YAML::BeginMap << YAML::Key << "intrinsics" << YAML::Value << YAML::Flow << YAML::BeginMap
+      << YAML::Key << "fku_px" << YAML::Value << k.fku_px << YAML::Key << "fkv_px" << YAML::Value
+      << k.fkv_px << YAML::Key << "phi_deg" << YAML::Value << k.phi_deg << YAML::Key << "u0_px"
+      << YAML::Value << k.u0_px << YAML::Key << "v0_px" << YAML::Value << k.v0_px << YAML::Key
+      << "k1" << YAML::Value << k.k1 << YAML::Key << "k2" << YAML::Value << k.k2 << YAML::Key
+      << "p1" << YAML::Value << k.p1 << YAML::Key << "p2" << YAML::Value << k.p2 << YAML::Key
+      << "k3" << YAML::Value << k.k3 << YAML::EndMap;
+  out << YAML::Key << "R_C" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (int r = 0; r < 3; ++r) EmitVector(out, c.r_c.row(r).transpose());
+  out << YAML::EndSeq << YAML::Key << "x_C" << YAML::Value;
+  EmitVector(out, c.x_c);
+  out << YAML::Key << "allow_improper_rotation" << YAML::Value << c.allow_improper_rotation
+      << YAML::EndMap;
+}
+
+void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
+  out << YAML::BeginMap;
+  out << YAML::Key << "name" << YAML::Value << s.name;
+  out << YAML::Key << "description" << YAML::Value << s.description;
+  out << YAML::Key << "case" << YAML::Value << ToString(s.calibration_case);
+  out << YAML::Key << "duration_s" << YAML::Value << s.duration_s;
+  out << YAML::Key << "seed" << YAML::Value << s.seed;
+  out << YAML::Key << "trials" << YAML::Value << s.trials;
+  out << YAML::Key << "truth" << YAML::Value;
+  EmitCamera(out, s.truth);
+  out << YAML::Key << "image_size" << YAML::Value << YAML::Flow << YAML::BeginSeq << s.image_width
+      << s.image_height << YAML::EndSeq;
+  out << YAML::Key << "points" << YAML::Value << YAML::BeginMap;
+  if (!s.boards.empty()) {
+    out << YAML::Key << "boards" << YAML::Value << YAML::BeginSeq;
+    for (const PlanarBoard& b : s.boards) {
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "rows" << YAML::Value << b.rows
+          << YAML::Key << "cols" << YAML::Value << b.cols << YAML::Key << "spacing_m" << YAML::Value
+          << b.spacing_m << YAML::Key << "origin" << YAML::Value;
+      EmitVector(out, b.points_from_board.translation);
+      out << YAML::Key << "rpy_deg" << YAML::Value;
+      EmitVector(out, RollPitchYawDeg(b.points_from_board.rotation));
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  } else {
+    out << YAML::Key << "list" << YAML::Value << YAML::BeginSeq;
+    for (const Eigen::Vector3d& p : s.points) EmitVector(out, p);
+    out << YAML::EndSeq;
+  }
+  out << YAML::EndMap;
+  const TwistProfile& m = s.motion;
+  out << YAML::Key << "motion" << YAML::Value << YAML::BeginMap;
+  const std::pair<const char*, const Eigen::Vector3d*> parts[] = {
+      {"v_const", &m.v_const}, {"v_cos", &m.v_cos}, {"v_sin", &m.v_sin},
+      {"w_const", &m.w_const}, {"w_cos", &m.w_cos}, {"w_sin", &m.w_sin}};
+  for (const auto& [key, v] : parts) {
+    out << YAML::Key << key << YAML::Value;
+    EmitVector(out, *v);
+  }
+  out << YAML::Key << "frequency_rad_s" << YAML::Value << m.frequency_rad_s;
+  out << YAML::Key << "frame" << YAML::Value
+      << (m.frame == TwistProfile::Frame::kWorld ? "world" : "body") << YAML::EndMap;
+  out << YAML::Key << "measurements" << YAML::Value << YAML::BeginMap << YAML::Key << "detections"
+      << YAML::Value << s.detections << YAML::Key << "sample_rate_hz" << YAML::Value
+      << s.measurements.sample_rate_hz << YAML::Key << "eval_rate_hz" << YAML::Value
+      << s.measurements.eval_rate_hz << YAML::EndMap;
+  const NoiseOptions& n = s.measurements.noise;
+  out << YAML::Key << "noise" << YAML::Value << YAML::BeginMap << YAML::Key << "point_sigma_m"
+      << YAML::Value << n.point_sigma_m << YAML::Key << "pixel_sigma_px" << YAML::Value
+      << n.pixel_sigma_px << YAML::Key << "hold_s" << YAML::Value << n.hold_s << YAML::EndMap;
+  const AdaptiveMethodConfig& a = s.adaptive;
+  out << YAML::Key << "methods" << YAML::Value << YAML::BeginMap << YAML::Key << "adaptive"
+      << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "enabled" << YAML::Value << a.enabled;
+  out << YAML::Key << "alpha" << YAML::Value << a.options.alpha;
+  out << YAML::Key << "gamma0" << YAML::Value << a.options.gamma0;
+  out << YAML::Key << "rtol" << YAML::Value << a.options.rtol;
+  out << YAML::Key << "max_step_s" << YAML::Value << a.options.max_step_s;
+  out << YAML::Key << "initial_step_s" << YAML::Value << a.options.initial_step_s;
+  out << YAML::Key << "max_steps" << YAML::Value << a.options.max_steps;
+  out << YAML::Key << "convergence_tol" << YAML::Value << a.convergence_tol;
+  out << YAML::Key << "initial" << YAML::Value;
+  EmitCamera(out, a.initial);
+  out << YAML::EndMap;
+  out << YAML::Key << "dlt" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled"
+      << YAML::Value << s.dlt.enabled << YAML::Key << "min_planarity_ratio" << YAML::Value
+      << s.dlt.options.min_planarity_ratio << YAML::EndMap;
+  out << YAML::Key << "zhang" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled"
+      << YAML::Value << s.zhang.enabled << YAML::Key << "model" << YAML::Value
+      << ToString(s.zhang.model) << YAML::Key << "view_stride" << YAML::Value << s.zhang.view_stride
+      << YAML::Key << "max_views" << YAML::Value << s.zhang.max_views << YAML::EndMap;
+  const RefineOptions& c = s.ceres.options;
+  out << YAML::Key << "ceres" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "enabled" << YAML::Value << s.ceres.enabled;
+  out << YAML::Key << "init" << YAML::Value << s.ceres.init;
+  out << YAML::Key << "model" << YAML::Value << ToString(c.model);
+  out << YAML::Key << "estimate_skew" << YAML::Value << c.estimate_skew;
+  out << YAML::Key << "loss" << YAML::Value << c.loss;
+  out << YAML::Key << "loss_scale_px" << YAML::Value << c.loss_scale_px;
+  out << YAML::Key << "max_iterations" << YAML::Value << c.max_iterations;
+  out << YAML::EndMap << YAML::EndMap;
+  const Reference& ref = s.reference;
+  if (ref.Any() || !ref.source.empty()) {
+    out << YAML::Key << "reference" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "source" << YAML::Value << ref.source;
+    const std::pair<const char*, double> values[] = {
+        {"fku_px", ref.fku_px}, {"fkv_px", ref.fkv_px}, {"phi_deg", ref.phi_deg},
+        {"u0_px", ref.u0_px},   {"v0_px", ref.v0_px},   {"theta_err_below", ref.theta_err_below}};
+    for (const auto& [key, v] : values) {
+      if (std::isfinite(v)) out << YAML::Key << key << YAML::Value << v;
+    }
+    if (ref.x_c.allFinite()) {
+      out << YAML::Key << "x_C" << YAML::Value;
+      EmitVector(out, ref.x_c);
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+}
+
+}  // namespace
+
+std::string ResolvedYaml(const RunConfig& config) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::Comment("calibench resolved configuration: every default filled in");
+  out << YAML::BeginMap << YAML::Key << "scenarios" << YAML::Value << YAML::BeginSeq;
+  for (const ScenarioConfig& s : config.scenarios) EmitScenario(out, s);
+  out << YAML::EndSeq << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace calibench

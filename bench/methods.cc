@@ -1,0 +1,406 @@
+#include "bench/methods.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include "adaptive/estimator.h"
+#include "adaptive/theta.h"
+#include "batch/dlt.h"
+#include "batch/refine.h"
+#include "batch/zhang.h"
+
+namespace calibench {
+namespace {
+
+// Zhang's intrinsics and the constant extrinsic it implies (for ceres' initialisation).
+struct ZhangExtrinsics {
+  bool usable = false;
+  std::string message;
+  CameraIntrinsics intrinsics;
+  Rigid3 parent_from_cam;
+};
+
+// Per-point RMS reprojection error of M_hat over all frames of the source.
+double RmsReprojection(const MeasurementSource& source, const Matrix34d& m_hat) {
+  Frame frame;
+  double sum = 0.0;
+  long count = 0;
+  for (int k = 0; k < source.NumFrames(); ++k) {
+    source.GetFrame(k, &frame);
+    for (size_t i = 0; i < frame.pixels.size(); ++i) {
+      const Eigen::Vector3d m = m_hat * frame.points_in_parent[i].homogeneous();
+      sum += (m.hnormalized() - frame.pixels[i]).squaredNorm();
+      ++count;
+    }
+  }
+  return count ? std::sqrt(sum / count) : kUnset;
+}
+
+void FillCameraErrors(const ScenarioConfig& s, const RecoveredCamera& cam, RunRow* row) {
+  const CameraIntrinsics& k = cam.intrinsics;
+  row->fku = k.fku_px;
+  row->fkv = k.fkv_px;
+  row->phi_deg = k.phi_deg;
+  row->u0 = k.u0_px;
+  row->v0 = k.v0_px;
+  const Eigen::Matrix3d& r_c = cam.parent_from_cam.rotation;
+  // For an (opted-in) improper matrix the angles are those of -R_C, a proper rotation.
+  const Eigen::Vector3d rpy = RollPitchYawDeg(cam.improper ? Eigen::Matrix3d(-r_c) : r_c);
+  row->rc_roll_deg = rpy[0];
+  row->rc_pitch_deg = rpy[1];
+  row->rc_yaw_deg = rpy[2];
+  const Eigen::Vector3d& x_c = cam.parent_from_cam.translation;
+  row->xc_x = x_c[0];
+  row->xc_y = x_c[1];
+  row->xc_z = x_c[2];
+  const CameraIntrinsics& t = s.truth.intrinsics;
+  row->err_fku = k.fku_px - t.fku_px;
+  row->err_fkv = k.fkv_px - t.fkv_px;
+  row->err_phi_deg = k.phi_deg - t.phi_deg;
+  row->err_u0 = k.u0_px - t.u0_px;
+  row->err_v0 = k.v0_px - t.v0_px;
+  row->rot_err_deg = RotationAngleDeg(r_c, s.truth.r_c);
+  row->err_xc_norm = (x_c - s.truth.x_c).norm();
+  row->ortho_defect = cam.orthogonality_defect;
+  row->improper = cam.improper ? 1 : 0;
+}
+
+Vector16d TrueTheta(const ScenarioConfig& s) {
+  return ThetaFromCamera(s.truth.intrinsics, s.truth.ParentFromCam().Inverse());
+}
+
+RunRow RunAdaptive(const ScenarioConfig& s, const MeasurementSource& source, RunRow row) {
+  row.method = "adaptive";
+  const Vector16d theta_true = TrueTheta(s);
+  const CameraSpec& init = s.adaptive.initial;
+  const Vector16d theta0 = ThetaFromCamera(init.intrinsics, init.ParentFromCam().Inverse());
+  // Convergence time: the first recorded t after the last one with ||theta~|| >= tol.
+  const double tol = s.adaptive.convergence_tol;
+  double last_above = -1.0;
+  double first_after = 0.0;
+  bool pending = false;
+  auto observer = [&](double t, const Vector16d& theta_hat) {
+    if (ThetaError(theta_true, theta_hat) >= tol) {
+      last_above = t;
+      pending = true;
+    } else if (pending) {
+      first_after = t;
+      pending = false;
+    }
+  };
+  const AdaptiveSummary summary =
+      RunAdaptiveEstimator(source, theta0, s.adaptive.options, observer);
+  row.status = ToString(summary.status);
+  row.message = summary.message;
+  row.steps = summary.iterations;
+  row.wall_ms = summary.wall_ms;
+  row.theta_err_norm = ThetaError(theta_true, summary.theta_hat);
+  if (!summary.IsUsable()) return row;
+  row.converge_time_s = pending ? kUnset : (last_above < 0 ? 0.0 : first_after);
+  row.pe_min_eig = PersistentExcitationIndex(summary.information, summary.theta_hat);
+  row.rms_reproj_px = RmsReprojection(source, MFromTheta(summary.theta_hat));
+
+  Frame last;
+  source.Measure(source.Duration(), static_cast<int>(source.Breakpoints().size()) - 2, &last);
+  RecoveredCamera cam;
+  std::string why;
+  if (!RecoverCamera(summary.theta_hat, last.points_in_parent, &cam, &why)) {
+    row.status = "failed";
+    row.message = "parameter recovery: " + why;
+    return row;
+  }
+  FillCameraErrors(s, cam, &row);
+  if (cam.improper && !s.truth.allow_improper_rotation) {
+    row.message = "recovered rotation is improper (det < 0)";
+  }
+  return row;
+}
+
+// The source's frames as views of the parent frame (what the batch methods see).
+std::vector<View> FramesAsViews(const MeasurementSource& source) {
+  std::vector<View> views(source.NumFrames());
+  Frame frame;
+  for (int k = 0; k < source.NumFrames(); ++k) {
+    source.GetFrame(k, &frame);
+    views[k].points = frame.points_in_parent;
+    views[k].pixels = frame.pixels;
+  }
+  return views;
+}
+
+RunRow RunDlt(const ScenarioConfig& s, const std::vector<View>& views, RunRow row,
+              DltResult* result) {
+  row.method = "dlt";
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> pixels;
+  for (const View& v : views) {
+    points.insert(points.end(), v.points.begin(), v.points.end());
+    pixels.insert(pixels.end(), v.pixels.begin(), v.pixels.end());
+  }
+  *result = EstimateDlt(points, pixels, s.dlt.options);
+  row.status = ToString(result->status);
+  row.message = result->message;
+  row.wall_ms = result->wall_ms;
+  row.steps = result->iterations;
+  if (!result->IsUsable()) return row;
+  row.theta_err_norm = ThetaError(TrueTheta(s), ThetaFromM(result->m));
+  row.rms_reproj_px = result->rms_reproj_px;
+  FillCameraErrors(s, result->camera, &row);
+  return row;
+}
+
+// Cramer-Rao bound of the scenario's intrinsics for its pixel noise (NaN without pixel noise, or
+// with noise on the 3D points, which the bound does not model).
+void FillCrlb(const ScenarioConfig& s, const std::vector<View>& views, RunRow* row) {
+  const NoiseOptions& noise = s.measurements.noise;
+  if (!(noise.pixel_sigma_px > 0) || noise.point_sigma_m > 0) return;
+  IntrinsicsCovariance cov;
+  if (!IntrinsicsCovarianceAt(views, s.truth.intrinsics, {s.truth.ParentFromCam().Inverse()},
+                              s.ceres.options, noise.pixel_sigma_px, &cov, nullptr)) {
+    return;
+  }
+  const double deg = 180.0 / M_PI;
+  row->crlb_fku = std::sqrt(cov(0, 0));
+  row->crlb_fkv = std::sqrt(cov(1, 1));
+  if (s.ceres.options.estimate_skew) row->crlb_phi_deg = std::sqrt(cov(2, 2)) * deg;
+  row->crlb_u0 = std::sqrt(cov(3, 3));
+  row->crlb_v0 = std::sqrt(cov(4, 4));
+}
+
+RunRow RunCeres(const ScenarioConfig& s, const std::vector<View>& views, const DltResult& dlt,
+                const ZhangExtrinsics& zhang, RunRow row) {
+  row.method = "ceres";
+  const bool from_zhang = s.ceres.init == "zhang";
+  if (from_zhang ? !zhang.usable : !dlt.IsUsable()) {
+    row.status = "failed";
+    row.message = "initialisation (" + s.ceres.init +
+                  ") failed: " + (from_zhang ? zhang.message : dlt.message);
+    return row;
+  }
+  const CameraIntrinsics init = from_zhang ? zhang.intrinsics : dlt.camera.intrinsics;
+  const Rigid3 parent_from_cam = from_zhang ? zhang.parent_from_cam : dlt.camera.parent_from_cam;
+  const RefineResult r =
+      RefineCalibration(views, init, {parent_from_cam.Inverse()}, s.ceres.options);
+  row.status = ToString(r.status);
+  row.message = r.message;
+  row.wall_ms = r.wall_ms;
+  row.steps = r.iterations;
+  FillCrlb(s, views, &row);
+  if (!r.IsUsable()) return row;
+  DecomposedCamera cam;
+  cam.intrinsics = r.intrinsics;
+  cam.parent_from_cam = r.cam_from_object[0].Inverse();
+  FillCameraErrors(s, cam, &row);
+  CameraIntrinsics pinhole = r.intrinsics;
+  pinhole.k1 = pinhole.k2 = pinhole.p1 = pinhole.p2 = pinhole.k3 = 0;
+  row.theta_err_norm = ThetaError(TrueTheta(s), ThetaFromCamera(pinhole, r.cam_from_object[0]));
+  row.rms_reproj_px = r.rms_reproj_px;
+  const double deg = 180.0 / M_PI;
+  row.std_fku = r.intrinsics_std[0];
+  row.std_fkv = r.intrinsics_std[1];
+  row.std_phi_deg = r.intrinsics_std[2] * deg;
+  row.std_u0 = r.intrinsics_std[3];
+  row.std_v0 = r.intrinsics_std[4];
+  return row;
+}
+
+// Chordal L2 mean of rotations (the SO(3) projection of their sum) and the mean position.
+Rigid3 AveragePoses(const std::vector<Rigid3>& poses) {
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  for (const Rigid3& p : poses) {
+    sum += p.rotation;
+    position += p.translation;
+  }
+  return {ProjectToSO3(sum), position / static_cast<double>(poses.size())};
+}
+
+// Extrinsic by hand-eye calibration (Tsai) from the views of one board:
+//   moving camera (eye-in-hand):  gripper = body, base = world, target = board fixed in W;
+//       result cam2gripper = body_from_cam = parent_from_cam.
+//   fixed camera (eye-to-hand):   pass base2gripper (body_from_world) as the gripper poses;
+//       the result is cam2base = world_from_cam = parent_from_cam.
+bool HandEye(const std::vector<Rigid3>& parent_from_points,
+             const std::vector<Rigid3>& cam_from_board, Rigid3* parent_from_cam, std::string* why) {
+  std::vector<cv::Mat> r_g2b, t_g2b, r_t2c, t_t2c;
+  // Tsai's method needs relative rotations about at least two non-parallel axes.
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Zero();
+  for (size_t i = 1; i < parent_from_points.size(); ++i) {
+    const Eigen::AngleAxisd rel(parent_from_points[i].rotation *
+                                parent_from_points[i - 1].rotation.transpose());
+    if (rel.angle() > 1e-3) axes += rel.axis() * rel.axis().transpose();
+  }
+  const Eigen::Vector3d spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(axes).eigenvalues();
+  if (!(spread[1] > 1e-3 * spread[2])) {
+    if (why) {
+      *why =
+          "hand-eye is degenerate: the body rotates about a single axis (or not at all); "
+          "it needs rotations about two non-parallel axes";
+    }
+    return false;
+  }
+  for (size_t i = 0; i < cam_from_board.size(); ++i) {
+    // Moving: parent_from_points = body_from_world, whose inverse is gripper2base (eye-in-hand).
+    // Fixed: parent_from_points = world_from_body, whose inverse is base2gripper (eye-to-hand).
+    const Rigid3 gripper = parent_from_points[i].Inverse();
+    cv::Mat r, t, rc, tc;
+    cv::eigen2cv(Eigen::Matrix3d(gripper.rotation), r);
+    cv::eigen2cv(Eigen::Vector3d(gripper.translation), t);
+    cv::eigen2cv(Eigen::Matrix3d(cam_from_board[i].rotation), rc);
+    cv::eigen2cv(Eigen::Vector3d(cam_from_board[i].translation), tc);
+    r_g2b.push_back(r);
+    t_g2b.push_back(t);
+    r_t2c.push_back(rc);
+    t_t2c.push_back(tc);
+  }
+  if (r_g2b.size() < 3) {
+    if (why) *why = "hand-eye needs at least 3 views of board 0";
+    return false;
+  }
+  cv::Mat r_out, t_out;
+  try {
+    cv::calibrateHandEye(r_g2b, t_g2b, r_t2c, t_t2c, r_out, t_out, cv::CALIB_HAND_EYE_TSAI);
+  } catch (const cv::Exception& e) {
+    if (why) *why = std::string("cv::calibrateHandEye: ") + e.what();
+    return false;
+  }
+  Eigen::Matrix3d r;
+  Eigen::Vector3d t;
+  cv::cv2eigen(r_out, r);
+  cv::cv2eigen(t_out, t);
+  *parent_from_cam = {ProjectToSO3(r), t};
+  return parent_from_cam->rotation.allFinite() && t.allFinite();
+}
+
+std::vector<RunRow> RunZhang(const ScenarioConfig& s, const SceneTruth& scene,
+                             const MeasurementSource& source, const RunRow& base,
+                             ZhangExtrinsics* out) {
+  RunRow row = base;
+  row.method = "zhang";
+  RunRow hand_eye_row = base;
+  hand_eye_row.method = "zhang_handeye";
+  auto fail = [&](const std::string& message) {
+    out->message = message;
+    for (RunRow* r : {&row, &hand_eye_row}) {
+      r->status = "failed";
+      r->message = message;
+    }
+    return std::vector<RunRow>{row, hand_eye_row};
+  };
+  if (s.boards.empty()) return fail("zhang needs planar boards: points: {boards: [...]}");
+  // (frame, board) views, every view_stride-th frame, thinned further to max_views.
+  int stride = s.zhang.view_stride;
+  const int boards = static_cast<int>(s.boards.size());
+  if (s.zhang.max_views > 0) {
+    stride =
+        std::max(stride, (source.NumFrames() * boards + s.zhang.max_views - 1) / s.zhang.max_views);
+  }
+  std::vector<View> views;
+  std::vector<std::pair<double, int>> view_time_board;
+  Frame frame;
+  for (int k = 0; k < source.NumFrames(); k += stride) {
+    source.GetFrame(k, &frame);
+    int first = 0;
+    for (int b = 0; b < boards; ++b) {
+      View v;
+      v.points = s.boards[b].CornersInBoard();
+      v.pixels.assign(frame.pixels.begin() + first, frame.pixels.begin() + first + v.points.size());
+      first += static_cast<int>(v.points.size());
+      views.push_back(std::move(v));
+      view_time_board.emplace_back(frame.time_s, b);
+    }
+  }
+  ZhangOptions options;
+  options.model = s.zhang.model;
+  options.image_width = s.image_width;
+  options.image_height = s.image_height;
+  const ZhangResult z = CalibrateZhang(views, options);
+  if (!z.IsUsable()) return fail(z.message);
+
+  std::vector<Rigid3> parent_from_cam_views, parent_from_points0, cam_from_board0;
+  for (size_t i = 0; i < z.used_views.size(); ++i) {
+    const auto [time, b] = view_time_board[z.used_views[i]];
+    const Rigid3 parent_from_points = scene.ParentFromPoints(time);
+    const Rigid3 parent_from_board = parent_from_points * s.boards[b].points_from_board;
+    parent_from_cam_views.push_back(parent_from_board * z.cam_from_board[i].Inverse());
+    if (b == 0) {
+      // Hand-eye sees board 0 as the target: cam_from_target with target = board 0, and the
+      // points frame's motion (the board sits still in it).
+      parent_from_points0.push_back(parent_from_points);
+      cam_from_board0.push_back(z.cam_from_board[i] *
+                                Rigid3{s.boards[0].points_from_board.Inverse()});
+    }
+  }
+  out->usable = true;
+  out->intrinsics = z.intrinsics;
+  out->parent_from_cam = AveragePoses(parent_from_cam_views);
+
+  DecomposedCamera cam;
+  cam.intrinsics = z.intrinsics;
+  CameraIntrinsics pinhole = z.intrinsics;
+  pinhole.k1 = pinhole.k2 = pinhole.p1 = pinhole.p2 = pinhole.k3 = 0;
+  const std::string note = z.message + "; " + std::to_string(views.size()) + " views";
+  for (RunRow* r : {&row, &hand_eye_row}) {
+    r->status = "ok";
+    r->message = note;
+    r->wall_ms = z.wall_ms;
+    r->rms_reproj_px = z.rms_reproj_px;
+    r->std_fku = z.intrinsics_std[0];
+    r->std_fkv = z.intrinsics_std[1];
+    r->std_u0 = z.intrinsics_std[3];
+    r->std_v0 = z.intrinsics_std[4];
+  }
+  cam.parent_from_cam = out->parent_from_cam;
+  FillCameraErrors(s, cam, &row);
+  row.theta_err_norm =
+      ThetaError(TrueTheta(s), ThetaFromCamera(pinhole, cam.parent_from_cam.Inverse()));
+
+  std::string why;
+  Rigid3 hand_eye;
+  if (!HandEye(parent_from_points0, cam_from_board0, &hand_eye, &why)) {
+    hand_eye_row.status = "failed";
+    hand_eye_row.message = why;
+    return {row, hand_eye_row};
+  }
+  cam.parent_from_cam = hand_eye;
+  FillCameraErrors(s, cam, &hand_eye_row);
+  hand_eye_row.theta_err_norm =
+      ThetaError(TrueTheta(s), ThetaFromCamera(pinhole, hand_eye.Inverse()));
+  return {row, hand_eye_row};
+}
+
+}  // namespace
+
+std::vector<std::string> EnabledMethods(const ScenarioConfig& s) {
+  std::vector<std::string> methods;
+  if (s.adaptive.enabled) methods.push_back("adaptive");
+  if (s.dlt.enabled) methods.push_back("dlt");
+  if (s.zhang.enabled) methods.insert(methods.end(), {"zhang", "zhang_handeye"});
+  if (s.ceres.enabled) methods.push_back("ceres");
+  return methods;
+}
+
+std::vector<RunRow> RunMethods(const ScenarioConfig& s, const SceneTruth& scene,
+                               const MeasurementSource& source, const RunRow& base) {
+  std::vector<RunRow> rows;
+  if (s.adaptive.enabled) rows.push_back(RunAdaptive(s, source, base));
+  if (s.dlt.enabled || s.ceres.enabled || s.zhang.enabled) {
+    const std::vector<View> views = FramesAsViews(source);
+    DltResult dlt;
+    ZhangExtrinsics zhang;
+    if (s.dlt.enabled || s.ceres.init == "dlt") {
+      RunRow dlt_row = RunDlt(s, views, base, &dlt);
+      if (s.dlt.enabled) rows.push_back(dlt_row);
+    }
+    if (s.zhang.enabled || (s.ceres.enabled && s.ceres.init == "zhang")) {
+      std::vector<RunRow> zhang_rows = RunZhang(s, scene, source, base, &zhang);
+      if (s.zhang.enabled) rows.insert(rows.end(), zhang_rows.begin(), zhang_rows.end());
+    }
+    if (s.ceres.enabled) rows.push_back(RunCeres(s, views, dlt, zhang, base));
+  }
+  return rows;
+}
+
+}  // namespace calibench

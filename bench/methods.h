@@ -1,0 +1,28 @@
+// The methods a scenario can run on one trial's measurements, each yielding RunRows:
+//   adaptive       the thesis estimator on the source itself (continuous or held frames);
+//   dlt            normalised DLT on all frames pooled (non-coplanar points);
+//   zhang          cv::calibrateCamera on the (frame, board) views of a board scenario, then the
+//                  constant extrinsic from the per-view board poses and the known body poses by
+//                  chordal rotation averaging and a mean position;
+//   zhang_handeye  the same intrinsics, extrinsic from cv::calibrateHandEye (Tsai) instead;
+//   ceres          maximum likelihood over intrinsics and the constant extrinsic, from dlt or
+//   zhang.
+// Every method sees the same source, hence the same noise draw.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "bench/runner.h"
+#include "bench/scenario.h"
+#include "core/measurements.h"
+
+namespace calibench {
+
+// Method names (as in the `method` column) the scenario enables, in row order.
+std::vector<std::string> EnabledMethods(const ScenarioConfig& s);
+
+std::vector<RunRow> RunMethods(const ScenarioConfig& s, const SceneTruth& scene,
+                               const MeasurementSource& source, const RunRow& base);
+
+}  // namespace calibench

@@ -1,0 +1,152 @@
+// YAML access that names the file, line, column and dotted field in every error: the private
+// helper of config_io.cc (part of the config I/O, the only yaml-cpp users).
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace calibench {
+namespace config_internal {
+
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+inline size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diag = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// Parses one file's nodes, naming the file and the dotted field path in every error.
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+  const std::string& file() const { return file_; }
+
+  [[noreturn]] void Fail(const YAML::Node& node, const std::string& field,
+                         const std::string& reason) const {
+    std::ostringstream msg;
+    msg << file_;
+    if (node.IsDefined() && node.Mark().line >= 0) {
+      msg << ":" << node.Mark().line + 1 << ":" << node.Mark().column + 1;
+    }
+    msg << ": " << field << ": " << reason;
+    throw ConfigError(msg.str());
+  }
+
+  void ExpectMap(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsMap()) Fail(node, field, "expected a mapping of keys to values");
+  }
+
+  // Every key of `node` must be in `allowed`; suggests the closest for a misspelt one.
+  void CheckKeys(const YAML::Node& node, const std::string& field,
+                 const std::vector<std::string>& allowed) const {
+    ExpectMap(node, field);
+    for (const auto& kv : node) {
+      const std::string key = kv.first.Scalar();
+      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+      std::string best;
+      size_t best_distance = 3;
+      for (const std::string& a : allowed) {
+        const size_t d = EditDistance(key, a);
+        if (d < best_distance) best_distance = d, best = a;
+      }
+      std::string list;
+      for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      std::string reason = "unknown key";
+      if (!best.empty()) reason += " (did you mean '" + best + "'?)";
+      reason += "; allowed: ";
+      reason += list;
+      Fail(kv.first, Join(field, key), reason);
+    }
+  }
+
+  static std::string Join(const std::string& field, const std::string& key) {
+    return field.empty() ? key : field + "." + key;
+  }
+
+  // A scalar converted to T; `expected` names the type in the error ("a number").
+  template <typename T>
+  T Scalar(const YAML::Node& node, const std::string& field, const std::string& expected) const {
+    if (!node.IsScalar()) Fail(node, field, "expected " + expected);
+    try {
+      return node.as<T>();
+    } catch (const YAML::Exception&) {
+      Fail(node, field, "expected " + expected + ", got '" + node.Scalar() + "'");
+    }
+  }
+  double Double(const YAML::Node& node, const std::string& field) const {
+    return Scalar<double>(node, field, "a number");
+  }
+  long Integer(const YAML::Node& node, const std::string& field) const {
+    return Scalar<long>(node, field, "an integer");
+  }
+  uint64_t Unsigned(const YAML::Node& node, const std::string& field) const {
+    // yaml-cpp wraps "-1" to a huge unsigned value: refuse a sign outright.
+    if (node.IsScalar() && node.Scalar().find('-') != std::string::npos) {
+      Fail(node, field, "expected a non-negative integer, got '" + node.Scalar() + "'");
+    }
+    return Scalar<uint64_t>(node, field, "a non-negative integer");
+  }
+  bool Bool(const YAML::Node& node, const std::string& field) const {
+    return Scalar<bool>(node, field, "true or false");
+  }
+  std::string String(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsScalar()) Fail(node, field, "expected a string");
+    return node.Scalar();
+  }
+  std::string Choice(const YAML::Node& node, const std::string& field,
+                     const std::vector<std::string>& choices) const {
+    std::string value = String(node, field);
+    if (std::find(choices.begin(), choices.end(), value) != choices.end()) return value;
+    std::string list;
+    for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
+    Fail(node, field, "'" + value + "' is not one of: " + list);
+  }
+  Eigen::Vector3d Vector3(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsSequence() || node.size() != 3) Fail(node, field, "expected a list of 3 numbers");
+    Eigen::Vector3d v;
+    for (int i = 0; i < 3; ++i) v[i] = Double(node[i], field + "[" + std::to_string(i) + "]");
+    return v;
+  }
+  Eigen::Matrix3d Matrix3(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsSequence() || node.size() != 3) {
+      Fail(node, field, "expected a 3x3 matrix as a list of 3 rows");
+    }
+    Eigen::Matrix3d m;
+    for (int r = 0; r < 3; ++r) {
+      m.row(r) = Vector3(node[r], field + "[" + std::to_string(r) + "]").transpose();
+    }
+    return m;
+  }
+
+  // Calls `apply` when `key` is present in the map `node`.
+  template <typename F>
+  void If(const YAML::Node& node, const char* key, const std::string& field, F apply) const {
+    const YAML::Node child = node[key];
+    if (child.IsDefined() && !child.IsNull()) apply(child, Join(field, key));
+  }
+
+ private:
+  std::string file_;
+};
+
+}  // namespace config_internal
+}  // namespace calibench
