@@ -229,9 +229,9 @@ void ParseZhang(const Reader& r, const YAML::Node& node, const std::string& fiel
 
 void ParseCeres(const Reader& r, const YAML::Node& node, const std::string& field,
                 CeresMethodConfig* c) {
-  r.CheckKeys(
-      node, field,
-      {"enabled", "init", "model", "estimate_skew", "loss", "loss_scale_px", "max_iterations"});
+  r.CheckKeys(node, field,
+              {"enabled", "init", "model", "estimate_skew", "loss", "loss_scale_px",
+               "max_iterations", "autodiff"});
   RefineOptions& o = c->options;
   r.If(node, "enabled", field, [&](auto n, auto f) { c->enabled = r.Bool(n, f); });
   r.If(node, "init", field, [&](auto n, auto f) { c->init = r.Choice(n, f, {"dlt", "zhang"}); });
@@ -240,6 +240,7 @@ void ParseCeres(const Reader& r, const YAML::Node& node, const std::string& fiel
                    &o.model);
   });
   r.If(node, "estimate_skew", field, [&](auto n, auto f) { o.estimate_skew = r.Bool(n, f); });
+  r.If(node, "autodiff", field, [&](auto n, auto f) { o.autodiff = r.Bool(n, f); });
   r.If(node, "loss", field, [&](auto n, auto f) {
     o.loss = r.Choice(n, f, {"none", "huber", "cauchy"});
   });

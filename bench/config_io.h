@@ -21,7 +21,7 @@
 //               dlt: {enabled, min_planarity_ratio},
 //               zhang: {enabled, model, view_stride, max_views},
 //               ceres: {enabled, init: dlt | zhang, model, estimate_skew, loss, loss_scale_px,
-//                       max_iterations}}
+//                       max_iterations, autodiff}}
 //     reference: {source, fku_px, fkv_px, phi_deg, u0_px, v0_px, x_C, theta_err_below}
 //
 // `base:` loads another scenario file first; this file's fields then override it (a `points`,

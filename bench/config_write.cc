@@ -110,6 +110,7 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
   out << YAML::Key << "loss" << YAML::Value << c.loss;
   out << YAML::Key << "loss_scale_px" << YAML::Value << c.loss_scale_px;
   out << YAML::Key << "max_iterations" << YAML::Value << c.max_iterations;
+  out << YAML::Key << "autodiff" << YAML::Value << c.autodiff;
   out << YAML::EndMap << YAML::EndMap;
   const Reference& ref = s.reference;
   if (ref.Any() || !ref.source.empty()) {

@@ -41,9 +41,9 @@ class SummaryClock {
  public:
   SummaryClock() : start_(std::chrono::steady_clock::now()) {}
   template <typename Summary>
-  Summary Finish(Summary* summary, MethodStatus status, std::string message) const {
+  Summary Finish(Summary* summary, MethodStatus status, const std::string& message) const {
     summary->status = status;
-    summary->message = std::move(message);
+    summary->message = message;
     summary->wall_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
             .count();

@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Per-method RMSE of the intrinsics against the Cramer-Rao bound, from a calibench runs.csv.
+"""Per-method RMSE of the intrinsics against the Cramer-Rao bound, and extrinsic errors, from a
+calibench runs.csv.
 
 Usage: scripts/rmse_vs_crlb.py out/crlb50/runs.csv
 The bound is the median crlb_* of the ceres rows (the same for every trial: it depends on the
@@ -21,15 +22,17 @@ def main(path):
     ok = df[df.status == "ok"]
     print(f"{path}: trials per method {ok.groupby('method').size().to_dict()}, "
           f"failed rows {(df.status != 'ok').sum()}")
-    print("| method | " + " | ".join(f"{p} RMSE (×CRLB)" for p in PARAMS) + " | median wall_ms |")
-    print("|---" * (len(PARAMS) + 2) + "|")
+    print("| method | " + " | ".join(f"{p} RMSE (×CRLB)" for p in PARAMS) +
+          " | rot_err_deg median | err_xc median | median wall_ms |")
+    print("|---" * (len(PARAMS) + 4) + "|")
     for method, g in ok.groupby("method"):
         cells = []
         for p in PARAMS:
             rmse = float(np.sqrt(np.nanmean(g["err_" + p].to_numpy() ** 2)))
             cells.append(f"{rmse:.4f} ({rmse / crlb[p]:.2f})")
-        print(f"| {method} | " + " | ".join(cells) + f" | {g.wall_ms.median():.1f} |")
-    print("| CRLB std | " + " | ".join(f"{crlb[p]:.4f}" for p in PARAMS) + " | |")
+        print(f"| {method} | " + " | ".join(cells) + f" | {g.rot_err_deg.median():.4f} | "
+              f"{g.err_xc_norm.median():.5f} | {g.wall_ms.median():.1f} |")
+    print("| CRLB std | " + " | ".join(f"{crlb[p]:.4f}" for p in PARAMS) + " | | | |")
     ratios = {p: ceres["std_" + p].mean() / np.sqrt(np.mean(ceres["err_" + p] ** 2)) for p in PARAMS}
     print("ceres reported std / empirical RMSE: " +
           ", ".join(f"{p} {r:.3f}" for p, r in ratios.items()))
