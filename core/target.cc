@@ -29,6 +29,40 @@ bool PlanarBoard::Check(std::string* why) const {
   return false;
 }
 
+std::vector<Eigen::Vector3d> AprilGrid::CornersInBoard() const {
+  std::vector<Eigen::Vector3d> corners;
+  corners.reserve(4 * NumTags());
+  const double p = Pitch(), s = tag_size_m;
+  for (int r = 0; r < tag_rows; ++r) {
+    for (int c = 0; c < tag_cols; ++c) {
+      const double x = c * p, y = r * p;
+      corners.emplace_back(x, y, 0.0);
+      corners.emplace_back(x + s, y, 0.0);
+      corners.emplace_back(x + s, y + s, 0.0);
+      corners.emplace_back(x, y + s, 0.0);
+    }
+  }
+  return corners;
+}
+
+std::vector<Eigen::Vector3d> AprilGrid::CornersInPointsFrame() const {
+  std::vector<Eigen::Vector3d> corners = CornersInBoard();
+  for (Eigen::Vector3d& p : corners) p = points_from_board * p;
+  return corners;
+}
+
+bool AprilGrid::Check(std::string* why) const {
+  std::string msg;
+  if (tag_rows < 1 || tag_cols < 1) msg = "an aprilgrid needs at least one tag";
+  if (!(tag_size_m > 0 && std::isfinite(tag_size_m))) msg = "tag_size_m must be positive";
+  if (!(tag_spacing > 0 && std::isfinite(tag_spacing))) msg = "tag_spacing must be positive";
+  if (first_id < 0) msg = "first_id must be >= 0";
+  if (!CheckRotation(points_from_board.rotation, 1e-9, false, nullptr)) msg = "invalid rotation";
+  if (msg.empty()) return true;
+  if (why) *why = msg;
+  return false;
+}
+
 std::vector<Eigen::Vector3d> RigCorners(const std::vector<PlanarBoard>& rig) {
   std::vector<Eigen::Vector3d> corners;
   for (const PlanarBoard& b : rig) {

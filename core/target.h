@@ -25,6 +25,29 @@ struct PlanarBoard {
   bool Check(std::string* why) const;
 };
 
+// An AprilTag grid as Kalibr defines its aprilgrid: tag_rows x tag_cols tags; tag_size_m is the
+// edge of a tag's reference square (the black border square whose corners the detector reports);
+// tag_spacing is the gap between squares as a fraction of tag_size_m.
+// Board frame: x right, y up, z out of the board (Kalibr's). Tag (r, c) has id
+// first_id + r * tag_cols + c; its reference square spans [c p, c p + s] x [r p, r p + s] with
+// p = s (1 + tag_spacing). Corner order per tag = the detector's: bottom-left, bottom-right,
+// top-right, top-left of the tag's bitmap, placed bitmap-up = board +y; corner k of the tag with
+// index i (= id - first_id) is point 4 i + k.
+struct AprilGrid {
+  std::string family = "tag36h11";
+  int tag_rows = 6, tag_cols = 6;
+  double tag_size_m = 0.088;
+  double tag_spacing = 0.3;
+  int first_id = 0;
+  Rigid3 points_from_board;
+
+  int NumTags() const { return tag_rows * tag_cols; }
+  double Pitch() const { return tag_size_m * (1.0 + tag_spacing); }
+  std::vector<Eigen::Vector3d> CornersInBoard() const;
+  std::vector<Eigen::Vector3d> CornersInPointsFrame() const;
+  bool Check(std::string* why) const;
+};
+
 // Corners of every board of a rig, board after board.
 std::vector<Eigen::Vector3d> RigCorners(const std::vector<PlanarBoard>& rig);
 

@@ -1,0 +1,61 @@
+// Ray-cast rendering of AprilTag grids as a camera sees them: 8-bit grayscale frames.
+//
+// For every sample point (u, v) of the image (pixel-centre convention of camera.h: pixel (i, j)
+// covers [i - 0.5, i + 0.5] x [j - 0.5, j + 0.5]):
+//   1. undo A: (xd, yd, 1) = A^-1 (u, v, 1); undo the distortion by fixed-point iteration;
+//   2. intersect the ray (x, y, 1) with every board plane (cam_from_board), keep the nearest hit
+//      that lands on a board (tags, their white margins, a white frame of one gap around);
+//   3. shade: black or white cell of the tag bitmap (TagFamily), white board, or background.
+// Antialiasing: each pixel is the mean of n x n samples (supersample = n) — but only pixels whose
+// four corners do not all see the same shade of the same board are supersampled (features are
+// assumed larger than a pixel: tag cells of a few pixels). Then optional Gaussian blur (PSF sigma
+// in px), Gaussian noise in gray levels, and rounding to 8 bits.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/pose.h"
+#include "core/random.h"
+#include "core/tag_family.h"
+#include "core/target.h"
+
+namespace calibench {
+
+struct GrayImage {
+  int width = 0, height = 0;
+  std::vector<uint8_t> pixels;  // Row-major, stride = width.
+  uint8_t at(int col, int row) const { return pixels[static_cast<size_t>(row) * width + col]; }
+};
+
+struct RenderOptions {
+  int width = 640, height = 480;
+  int supersample = 4;            // n x n samples in pixels that straddle an edge.
+  double blur_sigma_px = 0.0;     // Gaussian PSF; 0: none.
+  double noise_sigma_gray = 0.0;  // Gaussian noise added before quantisation.
+  double background_gray = 128.0;
+  double black_gray = 20.0;
+  double white_gray = 235.0;
+  bool Check(std::string* why) const;
+};
+
+struct BoardView {
+  AprilGrid grid;
+  std::shared_ptr<const TagFamily> family;  // Must be grid.family's.
+  Rigid3 cam_from_board;
+};
+
+// Renders the boards; `noise_rng` may be null when noise_sigma_gray = 0. Returns false and says why
+// for invalid options or a family without enough codes for the grid's ids.
+bool RenderFrame(const CameraIntrinsics& intrinsics, const std::vector<BoardView>& boards,
+                 const RenderOptions& options, Rng* noise_rng, GrayImage* image, std::string* why);
+
+// Undistorts normalised coordinates (inverse of the distortion in camera.h), by fixed-point
+// iteration to 1e-12; returns false if it does not converge (outside the model's valid region).
+bool UndistortNormalized(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& distorted,
+                         Eigen::Vector2d* undistorted);
+
+}  // namespace calibench
