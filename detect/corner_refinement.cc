@@ -1,0 +1,113 @@
+#include "detect/corner_refinement.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+namespace calibench {
+namespace {
+
+// Bilinear interpolation at (u, v) in calibench's pixel convention (pixel (i, j) centred at (i,
+// j)).
+std::optional<double> Sample(const GrayImage& image, double u, double v) {
+  const int i = static_cast<int>(std::floor(u)), j = static_cast<int>(std::floor(v));
+  if (i < 0 || j < 0 || i + 1 >= image.width || j + 1 >= image.height) return std::nullopt;
+  const double a = u - i, b = v - j;
+  return (1 - a) * (1 - b) * image.at(i, j) + a * (1 - b) * image.at(i + 1, j) +
+         (1 - a) * b * image.at(i, j + 1) + a * b * image.at(i + 1, j + 1);
+}
+
+// Line n . x = c fitted by total least squares; nullopt with fewer than 4 points.
+struct Line {
+  Eigen::Vector2d normal;
+  double c;
+};
+std::optional<Line> FitLine(const std::vector<Eigen::Vector2d>& points) {
+  if (points.size() < 4) return std::nullopt;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const Eigen::Vector2d& p : points) scatter += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
+  const Eigen::Vector2d normal = eig.eigenvectors().col(0);
+  return Line{normal, normal.dot(mean)};
+}
+
+}  // namespace
+
+bool CornerRefineOptions::Check(std::string* why) const {
+  std::string msg;
+  if (samples_per_edge < 4) msg = "samples_per_edge must be >= 4";
+  if (!(corner_margin >= 0 && corner_margin < 0.5)) msg = "corner_margin must lie in [0, 0.5)";
+  if (!(max_search_px > 0)) msg = "max_search_px must be > 0";
+  if (!(max_correction_px > 0)) msg = "max_correction_px must be > 0";
+  if (width_at_border < 3) msg = "width_at_border must be >= 3";
+  if (msg.empty()) return true;
+  if (why) *why = msg;
+  return false;
+}
+
+bool RefineTagCorners(const GrayImage& image, const CornerRefineOptions& o,
+                      TagDetection* detection) {
+  if (!o.Check(nullptr)) return false;
+  const std::array<Eigen::Vector2d, 4>& p = detection->corners;
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& c : p) centre += c / 4.0;
+  std::array<Line, 4> lines;
+  for (int e = 0; e < 4; ++e) {
+    const Eigen::Vector2d a = p[e], b = p[(e + 1) % 4];
+    const Eigen::Vector2d along = (b - a).normalized();
+    Eigen::Vector2d normal(-along.y(), along.x());
+    if (normal.dot((a + b) / 2 - centre) < 0) normal = -normal;  // Outward.
+    const double cell_px = (b - a).norm() / o.width_at_border;
+    const double h = std::min(o.max_search_px, 0.45 * cell_px);
+    if (h < 0.75) return false;  // Tag too small to read its edges.
+    std::vector<Eigen::Vector2d> edge_points;
+    for (int k = 0; k < o.samples_per_edge; ++k) {
+      const double t = o.corner_margin + (1 - 2 * o.corner_margin) * (k + 0.5) / o.samples_per_edge;
+      const Eigen::Vector2d base = a + t * (b - a);
+      constexpr double kStep = 0.05;
+      const int n = static_cast<int>(std::round(2 * h / kStep)) + 1;
+      std::vector<double> profile(n);
+      bool inside = true;
+      for (int s = 0; s < n && inside; ++s) {
+        const std::optional<double> v = Sample(image, base.x() + (-h + s * kStep) * normal.x(),
+                                               base.y() + (-h + s * kStep) * normal.y());
+        inside = v.has_value();
+        if (inside) profile[s] = *v;
+      }
+      if (!inside) continue;
+      const double dark = profile.front(), bright = profile.back();
+      if (bright - dark < 10.0) continue;  // No contrast: not an edge here.
+      const double mid = 0.5 * (dark + bright);
+      for (int s = 1; s < n; ++s) {
+        if (profile[s - 1] < mid && profile[s] >= mid) {
+          const double f = (mid - profile[s - 1]) / (profile[s] - profile[s - 1]);
+          edge_points.push_back(base + (-h + (s - 1 + f) * kStep) * normal);
+          break;
+        }
+      }
+    }
+    if (static_cast<int>(edge_points.size()) < o.samples_per_edge / 2) return false;
+    const std::optional<Line> line = FitLine(edge_points);
+    if (!line) return false;
+    lines[e] = *line;
+  }
+  std::array<Eigen::Vector2d, 4> refined;
+  for (int k = 0; k < 4; ++k) {
+    // Corner k joins edge (k-1 -> k) and edge (k -> k+1).
+    const Line& l1 = lines[(k + 3) % 4];
+    const Line& l2 = lines[k];
+    Eigen::Matrix2d m;
+    m << l1.normal.transpose(), l2.normal.transpose();
+    if (std::abs(m.determinant()) < 1e-6) return false;
+    refined[k] = m.inverse() * Eigen::Vector2d(l1.c, l2.c);
+    if ((refined[k] - p[k]).norm() > o.max_correction_px) return false;
+  }
+  detection->corners = refined;
+  return true;
+}
+
+}  // namespace calibench
