@@ -100,6 +100,67 @@ TEST(AprilTagDetector, RenderDetectRoundTrip) {
   EXPECT_LT(std::abs(bias.y()), kBiasTolPx);
 }
 
+// Corner accuracy vs pixel noise (gray levels) and blur (PSF sigma, px): raw and refined. The
+// refinement must never be worse than the raw detector, and stay below 0.1 px.
+struct Degradation {
+  double noise_gray, blur_px;
+};
+class CornerAccuracy : public ::testing::TestWithParam<Degradation> {};
+
+TEST_P(CornerAccuracy, RefinementBeatsRawUnderNoiseAndBlur) {
+  const CameraIntrinsics k{600, 600, 90, 319.5, 239.5};
+  BoardView b;
+  b.grid.tag_rows = 5;
+  b.grid.tag_cols = 6;
+  b.grid.tag_size_m = 0.04;
+  b.family = TagFamily::Create("tag36h11", nullptr);
+  const auto detector = AprilTagDetector::Create({}, nullptr);
+  const std::vector<Eigen::Vector3d> corners = b.grid.CornersInBoard();
+  const Eigen::Vector3d centre(3 * b.grid.Pitch(), 2.5 * b.grid.Pitch(), 0);
+  RenderOptions o;
+  o.noise_sigma_gray = GetParam().noise_gray;
+  o.blur_sigma_px = GetParam().blur_px;
+  Rng rng(7), noise(8);
+  double raw_sq = 0, refined_sq = 0;
+  int raw_n = 0, refined_n = 0;
+  for (int f = 0; f < 6; ++f) {
+    b.cam_from_board.rotation =
+        Eigen::Matrix3d(Eigen::Vector3d(1, -1, -1).asDiagonal()) *
+        ExpSO3(Eigen::Vector3d(rng.Uniform(-0.4, 0.4), rng.Uniform(-0.4, 0.4), rng.Uniform(-1, 1)));
+    b.cam_from_board.translation =
+        Eigen::Vector3d(0, 0, rng.Uniform(0.45, 0.55)) - b.cam_from_board.rotation * centre;
+    GrayImage img;
+    ASSERT_TRUE(RenderFrame(k, {b}, o, &noise, &img, nullptr));
+    for (const TagDetection& d : detector->Detect(img)) {
+      if (d.id < 0 || d.id >= 30) continue;
+      TagDetection refined = d;
+      const bool ok = RefineTagCorners(img, {}, &refined);
+      for (int c = 0; c < 4; ++c) {
+        Eigen::Vector2d truth;
+        ProjectPoint(k, b.cam_from_board * corners[4 * d.id + c], &truth);
+        raw_sq += (d.corners[c] - truth).squaredNorm();
+        ++raw_n;
+        if (ok) {
+          refined_sq += (refined.corners[c] - truth).squaredNorm();
+          ++refined_n;
+        }
+      }
+    }
+  }
+  ASSERT_GT(raw_n, 400);
+  ASSERT_GT(refined_n, raw_n * 9 / 10);
+  const double raw = std::sqrt(raw_sq / raw_n), refined = std::sqrt(refined_sq / refined_n);
+  std::printf("| %.0f | %.0f | %.3f | %.3f | %d/%d |\n", GetParam().noise_gray, GetParam().blur_px,
+              raw, refined, refined_n, raw_n);
+  EXPECT_LE(refined, raw);
+  EXPECT_LT(refined, 0.1);
+}
+
+INSTANTIATE_TEST_SUITE_P(NoiseAndBlur, CornerAccuracy,
+                         ::testing::Values(Degradation{0, 0}, Degradation{1, 0}, Degradation{3, 0},
+                                           Degradation{0, 1}, Degradation{1, 1},
+                                           Degradation{3, 1}));
+
 TEST(AprilTagDetector, BadOptionsAndEmptyImages) {
   std::string why;
   AprilTagOptions o;
