@@ -17,13 +17,8 @@
 namespace calibench {
 namespace {
 
-struct FamilyFunctions {
-  apriltag_family_t* (*create)();
-  void (*destroy)(apriltag_family_t*);
-};
-
-const std::map<std::string, FamilyFunctions>& Families() {
-  static const std::map<std::string, FamilyFunctions> families = {
+const std::map<std::string, AprilTagFamilyFunctions>& Families() {
+  static const std::map<std::string, AprilTagFamilyFunctions> families = {
       {"tag36h11", {tag36h11_create, tag36h11_destroy}},
       {"tag25h9", {tag25h9_create, tag25h9_destroy}},
       {"tag16h5", {tag16h5_create, tag16h5_destroy}},
@@ -37,6 +32,13 @@ const std::map<std::string, FamilyFunctions>& Families() {
 }
 
 }  // namespace
+
+bool FindAprilTagFamily(const std::string& name, AprilTagFamilyFunctions* functions) {
+  const auto it = Families().find(name);
+  if (it == Families().end()) return false;
+  *functions = it->second;
+  return true;
+}
 
 std::vector<std::string> TagFamily::Names() {
   std::vector<std::string> names;

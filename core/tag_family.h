@@ -11,7 +11,16 @@
 #include <string>
 #include <vector>
 
+struct apriltag_family;
+
 namespace calibench {
+
+// The apriltag library's constructor / destructor pair of a family, by name (see Names()).
+struct AprilTagFamilyFunctions {
+  apriltag_family* (*create)() = nullptr;
+  void (*destroy)(apriltag_family*) = nullptr;
+};
+bool FindAprilTagFamily(const std::string& name, AprilTagFamilyFunctions* functions);
 
 class TagFamily {
  public:

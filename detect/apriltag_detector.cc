@@ -1,17 +1,10 @@
 #include "detect/apriltag_detector.h"
 
 #include <apriltag/apriltag.h>
-#include <apriltag/tag16h5.h>
-#include <apriltag/tag25h9.h>
-#include <apriltag/tag36h11.h>
-#include <apriltag/tagCircle21h7.h>
-#include <apriltag/tagCircle49h12.h>
-#include <apriltag/tagCustom48h12.h>
-#include <apriltag/tagStandard41h12.h>
-#include <apriltag/tagStandard52h13.h>
 
 #include <algorithm>
-#include <map>
+
+#include "core/tag_family.h"
 
 namespace calibench {
 namespace {
@@ -19,34 +12,12 @@ namespace {
 // AprilTag 3 puts pixel centres at (i + 0.5, j + 0.5); calibench at (i, j).
 constexpr double kAprilTagToCalibenchPx = -0.5;
 
-struct FamilyFunctions {
-  apriltag_family_t* (*create)();
-  void (*destroy)(apriltag_family_t*);
-};
-
-bool FindFamily(const std::string& name, FamilyFunctions* f) {
-  static const std::map<std::string, FamilyFunctions> families = {
-      {"tag36h11", {tag36h11_create, tag36h11_destroy}},
-      {"tag25h9", {tag25h9_create, tag25h9_destroy}},
-      {"tag16h5", {tag16h5_create, tag16h5_destroy}},
-      {"tagStandard41h12", {tagStandard41h12_create, tagStandard41h12_destroy}},
-      {"tagStandard52h13", {tagStandard52h13_create, tagStandard52h13_destroy}},
-      {"tagCircle21h7", {tagCircle21h7_create, tagCircle21h7_destroy}},
-      {"tagCircle49h12", {tagCircle49h12_create, tagCircle49h12_destroy}},
-      {"tagCustom48h12", {tagCustom48h12_create, tagCustom48h12_destroy}},
-  };
-  const auto it = families.find(name);
-  if (it == families.end()) return false;
-  *f = it->second;
-  return true;
-}
-
 }  // namespace
 
 bool AprilTagOptions::Check(std::string* why) const {
   std::string msg;
-  FamilyFunctions f;
-  if (!FindFamily(family, &f)) msg = "unknown AprilTag family '" + family + "'";
+  AprilTagFamilyFunctions f;
+  if (!FindAprilTagFamily(family, &f)) msg = "unknown AprilTag family '" + family + "'";
   if (!(quad_decimate >= 1)) msg = "quad_decimate must be >= 1";
   if (!(quad_sigma >= 0)) msg = "quad_sigma must be >= 0";
   if (threads < 1) msg = "threads must be >= 1";
@@ -68,8 +39,8 @@ AprilTagDetector::~AprilTagDetector() {
 std::unique_ptr<AprilTagDetector> AprilTagDetector::Create(const AprilTagOptions& options,
                                                            std::string* why) {
   if (!options.Check(why)) return nullptr;
-  FamilyFunctions f;
-  FindFamily(options.family, &f);
+  AprilTagFamilyFunctions f;
+  FindAprilTagFamily(options.family, &f);
   std::unique_ptr<AprilTagDetector> d(new AprilTagDetector());
   d->family_ =
       std::unique_ptr<apriltag_family, FamilyDeleter>(f.create(), FamilyDeleter{f.destroy});
