@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <mutex>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
@@ -118,16 +119,30 @@ RunRow RunAdaptive(const ScenarioConfig& s, const MeasurementSource& source, Run
   return row;
 }
 
-// The source's frames as views of the parent frame (what the batch methods see).
-std::vector<View> FramesAsViews(const MeasurementSource& source) {
-  std::vector<View> views(source.NumFrames());
+// The source's frames as views of the parent frame (what the batch methods see), read once.
+struct FrameViews {
+  std::vector<View> views;
+  std::vector<double> times_s;
+};
+FrameViews ReadFrames(const MeasurementSource& source) {
+  FrameViews frames;
+  frames.views.resize(source.NumFrames());
+  frames.times_s.resize(source.NumFrames());
   Frame frame;
   for (int k = 0; k < source.NumFrames(); ++k) {
     source.GetFrame(k, &frame);
-    views[k].points = frame.points_in_parent;
-    views[k].pixels = frame.pixels;
+    frames.views[k].points = std::move(frame.points_in_parent);
+    frames.views[k].pixels = std::move(frame.pixels);
+    frames.times_s[k] = frame.time_s;
   }
-  return views;
+  return frames;
+}
+
+// The thesis error of a camera estimate; distortion is not part of theta (M = A [R | t]).
+double ThetaErrorOf(const ScenarioConfig& s, CameraIntrinsics intrinsics,
+                    const Rigid3& cam_from_parent) {
+  intrinsics.k1 = intrinsics.k2 = intrinsics.p1 = intrinsics.p2 = intrinsics.k3 = 0;
+  return ThetaError(TrueTheta(s), ThetaFromCamera(intrinsics, cam_from_parent));
 }
 
 RunRow RunDlt(const ScenarioConfig& s, const std::vector<View>& views, RunRow row,
@@ -152,25 +167,40 @@ RunRow RunDlt(const ScenarioConfig& s, const std::vector<View>& views, RunRow ro
 }
 
 // Cramer-Rao bound of the scenario's intrinsics for its pixel noise (NaN without pixel noise, or
-// with noise on the 3D points, which the bound does not model).
-void FillCrlb(const ScenarioConfig& s, const std::vector<View>& views, RunRow* row) {
+// with noise on the 3D points, which the bound does not model). It depends on the scenario alone
+// (exact points, the truth, sigma; J does not involve the noisy pixels), so the trials of a
+// scenario share one computation through `shared` when given.
+void FillCrlb(const ScenarioConfig& s, const std::vector<View>& views, ScenarioShared* shared,
+              RunRow* row) {
   const NoiseOptions& noise = s.measurements.noise;
   if (!(noise.pixel_sigma_px > 0) || noise.point_sigma_m > 0) return;
-  IntrinsicsCovariance cov;
-  if (!IntrinsicsCovarianceAt(views, s.truth.intrinsics, {s.truth.ParentFromCam().Inverse()},
-                              s.ceres.options, noise.pixel_sigma_px, &cov, nullptr)) {
-    return;
+  auto compute = [&](ScenarioShared* out) {
+    IntrinsicsCovariance cov;
+    out->crlb_valid =
+        IntrinsicsCovarianceAt(views, s.truth.intrinsics, {s.truth.ParentFromCam().Inverse()},
+                               s.ceres.options, noise.pixel_sigma_px, &cov, nullptr);
+    const double deg = 180.0 / M_PI;
+    out->crlb_std = {std::sqrt(cov(0, 0)), std::sqrt(cov(1, 1)),
+                     s.ceres.options.estimate_skew ? std::sqrt(cov(2, 2)) * deg : kUnset,
+                     std::sqrt(cov(3, 3)), std::sqrt(cov(4, 4))};
+  };
+  ScenarioShared local;
+  if (shared != nullptr) {
+    std::call_once(shared->crlb_once, compute, shared);
+  } else {
+    compute(&local);
+    shared = &local;
   }
-  const double deg = 180.0 / M_PI;
-  row->crlb_fku = std::sqrt(cov(0, 0));
-  row->crlb_fkv = std::sqrt(cov(1, 1));
-  if (s.ceres.options.estimate_skew) row->crlb_phi_deg = std::sqrt(cov(2, 2)) * deg;
-  row->crlb_u0 = std::sqrt(cov(3, 3));
-  row->crlb_v0 = std::sqrt(cov(4, 4));
+  if (!shared->crlb_valid) return;
+  row->crlb_fku = shared->crlb_std[0];
+  row->crlb_fkv = shared->crlb_std[1];
+  row->crlb_phi_deg = shared->crlb_std[2];
+  row->crlb_u0 = shared->crlb_std[3];
+  row->crlb_v0 = shared->crlb_std[4];
 }
 
 RunRow RunCeres(const ScenarioConfig& s, const std::vector<View>& views, const DltResult& dlt,
-                const ZhangExtrinsics& zhang, RunRow row) {
+                const ZhangExtrinsics& zhang, ScenarioShared* shared, RunRow row) {
   row.method = "ceres";
   const bool from_zhang = s.ceres.init == "zhang";
   if (from_zhang ? !zhang.usable : !dlt.IsUsable()) {
@@ -187,15 +217,13 @@ RunRow RunCeres(const ScenarioConfig& s, const std::vector<View>& views, const D
   row.message = r.message;
   row.wall_ms = r.wall_ms;
   row.steps = r.iterations;
-  FillCrlb(s, views, &row);
+  FillCrlb(s, views, shared, &row);
   if (!r.IsUsable()) return row;
   DecomposedCamera cam;
   cam.intrinsics = r.intrinsics;
   cam.parent_from_cam = r.cam_from_object[0].Inverse();
   FillCameraErrors(s, cam, &row);
-  CameraIntrinsics pinhole = r.intrinsics;
-  pinhole.k1 = pinhole.k2 = pinhole.p1 = pinhole.p2 = pinhole.k3 = 0;
-  row.theta_err_norm = ThetaError(TrueTheta(s), ThetaFromCamera(pinhole, r.cam_from_object[0]));
+  row.theta_err_norm = ThetaErrorOf(s, r.intrinsics, r.cam_from_object[0]);
   row.rms_reproj_px = r.rms_reproj_px;
   const double deg = 180.0 / M_PI;
   row.std_fku = r.intrinsics_std[0];
@@ -275,8 +303,7 @@ bool HandEye(const std::vector<Rigid3>& parent_from_points,
 }
 
 std::vector<RunRow> RunZhang(const ScenarioConfig& s, const SceneTruth& scene,
-                             const MeasurementSource& source, const RunRow& base,
-                             ZhangExtrinsics* out) {
+                             const FrameViews& frames, const RunRow& base, ZhangExtrinsics* out) {
   RunRow row = base;
   row.method = "zhang";
   RunRow hand_eye_row = base;
@@ -292,24 +319,23 @@ std::vector<RunRow> RunZhang(const ScenarioConfig& s, const SceneTruth& scene,
   if (s.boards.empty()) return fail("zhang needs planar boards: points: {boards: [...]}");
   // (frame, board) views, every view_stride-th frame, thinned further to max_views.
   int stride = s.zhang.view_stride;
+  const int num_frames = static_cast<int>(frames.views.size());
   const int boards = static_cast<int>(s.boards.size());
   if (s.zhang.max_views > 0) {
-    stride =
-        std::max(stride, (source.NumFrames() * boards + s.zhang.max_views - 1) / s.zhang.max_views);
+    stride = std::max(stride, (num_frames * boards + s.zhang.max_views - 1) / s.zhang.max_views);
   }
   std::vector<View> views;
   std::vector<std::pair<double, int>> view_time_board;
-  Frame frame;
-  for (int k = 0; k < source.NumFrames(); k += stride) {
-    source.GetFrame(k, &frame);
+  for (int k = 0; k < num_frames; k += stride) {
+    const std::vector<Eigen::Vector2d>& pixels = frames.views[k].pixels;
     int first = 0;
     for (int b = 0; b < boards; ++b) {
       View v;
       v.points = s.boards[b].CornersInBoard();
-      v.pixels.assign(frame.pixels.begin() + first, frame.pixels.begin() + first + v.points.size());
+      v.pixels.assign(pixels.begin() + first, pixels.begin() + first + v.points.size());
       first += static_cast<int>(v.points.size());
       views.push_back(std::move(v));
-      view_time_board.emplace_back(frame.time_s, b);
+      view_time_board.emplace_back(frames.times_s[k], b);
     }
   }
   ZhangOptions options;
@@ -339,8 +365,6 @@ std::vector<RunRow> RunZhang(const ScenarioConfig& s, const SceneTruth& scene,
 
   DecomposedCamera cam;
   cam.intrinsics = z.intrinsics;
-  CameraIntrinsics pinhole = z.intrinsics;
-  pinhole.k1 = pinhole.k2 = pinhole.p1 = pinhole.p2 = pinhole.k3 = 0;
   const std::string note = z.message + "; " + std::to_string(views.size()) + " views";
   for (RunRow* r : {&row, &hand_eye_row}) {
     r->status = "ok";
@@ -354,8 +378,7 @@ std::vector<RunRow> RunZhang(const ScenarioConfig& s, const SceneTruth& scene,
   }
   cam.parent_from_cam = out->parent_from_cam;
   FillCameraErrors(s, cam, &row);
-  row.theta_err_norm =
-      ThetaError(TrueTheta(s), ThetaFromCamera(pinhole, cam.parent_from_cam.Inverse()));
+  row.theta_err_norm = ThetaErrorOf(s, z.intrinsics, cam.parent_from_cam.Inverse());
 
   std::string why;
   Rigid3 hand_eye;
@@ -366,8 +389,7 @@ std::vector<RunRow> RunZhang(const ScenarioConfig& s, const SceneTruth& scene,
   }
   cam.parent_from_cam = hand_eye;
   FillCameraErrors(s, cam, &hand_eye_row);
-  hand_eye_row.theta_err_norm =
-      ThetaError(TrueTheta(s), ThetaFromCamera(pinhole, hand_eye.Inverse()));
+  hand_eye_row.theta_err_norm = ThetaErrorOf(s, z.intrinsics, hand_eye.Inverse());
   return {row, hand_eye_row};
 }
 
@@ -383,22 +405,23 @@ std::vector<std::string> EnabledMethods(const ScenarioConfig& s) {
 }
 
 std::vector<RunRow> RunMethods(const ScenarioConfig& s, const SceneTruth& scene,
-                               const MeasurementSource& source, const RunRow& base) {
+                               const MeasurementSource& source, const RunRow& base,
+                               ScenarioShared* shared) {
   std::vector<RunRow> rows;
   if (s.adaptive.enabled) rows.push_back(RunAdaptive(s, source, base));
   if (s.dlt.enabled || s.ceres.enabled || s.zhang.enabled) {
-    const std::vector<View> views = FramesAsViews(source);
+    const FrameViews frames = ReadFrames(source);
     DltResult dlt;
     ZhangExtrinsics zhang;
-    if (s.dlt.enabled || s.ceres.init == "dlt") {
-      RunRow dlt_row = RunDlt(s, views, base, &dlt);
+    if (s.dlt.enabled || (s.ceres.enabled && s.ceres.init == "dlt")) {
+      RunRow dlt_row = RunDlt(s, frames.views, base, &dlt);
       if (s.dlt.enabled) rows.push_back(dlt_row);
     }
     if (s.zhang.enabled || (s.ceres.enabled && s.ceres.init == "zhang")) {
-      std::vector<RunRow> zhang_rows = RunZhang(s, scene, source, base, &zhang);
+      std::vector<RunRow> zhang_rows = RunZhang(s, scene, frames, base, &zhang);
       if (s.zhang.enabled) rows.insert(rows.end(), zhang_rows.begin(), zhang_rows.end());
     }
-    if (s.ceres.enabled) rows.push_back(RunCeres(s, views, dlt, zhang, base));
+    if (s.ceres.enabled) rows.push_back(RunCeres(s, frames.views, dlt, zhang, shared, base));
   }
   return rows;
 }

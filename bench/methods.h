@@ -22,7 +22,9 @@ namespace calibench {
 // Method names (as in the `method` column) the scenario enables, in row order.
 std::vector<std::string> EnabledMethods(const ScenarioConfig& s);
 
+// `shared` (may be null) holds what every trial of the scenario would compute alike.
 std::vector<RunRow> RunMethods(const ScenarioConfig& s, const SceneTruth& scene,
-                               const MeasurementSource& source, const RunRow& base);
+                               const MeasurementSource& source, const RunRow& base,
+                               ScenarioShared* shared);
 
 }  // namespace calibench

@@ -1,7 +1,6 @@
 #include "bench/runner.h"
 
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -94,7 +93,7 @@ std::vector<std::string> RunRowFields(const RunRow& r) {
   return fields;
 }
 
-std::vector<RunRow> RunTrial(const ScenarioConfig& s, int trial) {
+std::vector<RunRow> RunTrial(const ScenarioConfig& s, int trial, ScenarioShared* shared) {
   RunRow base;
   base.scenario = s.name;
   base.trial = trial;
@@ -103,7 +102,7 @@ std::vector<RunRow> RunTrial(const ScenarioConfig& s, int trial) {
   const SceneTruth scene = s.MakeScene();
   const std::unique_ptr<OracleSource> source =
       OracleSource::Create(scene, s.measurements, base.seed, &why);
-  if (source) return RunMethods(s, scene, *source, base);
+  if (source) return RunMethods(s, scene, *source, base, shared);
   std::vector<RunRow> rows;
   for (const std::string& method : EnabledMethods(s)) {
     RunRow failed = base;
@@ -122,12 +121,13 @@ std::vector<RunRow> RunScenarios(const std::vector<ScenarioConfig>& scenarios,
     for (int t = 0; t < scenarios[i].trials; ++t) tasks.emplace_back(static_cast<int>(i), t);
   }
   std::vector<std::vector<RunRow>> results(tasks.size());
+  std::vector<ScenarioShared> shared(scenarios.size());
   std::atomic<size_t> next{0};
   std::atomic<int> done{0};
   std::mutex progress_mutex;
   auto worker = [&] {
     for (size_t k = next++; k < tasks.size(); k = next++) {
-      results[k] = RunTrial(scenarios[tasks[k].first], tasks[k].second);
+      results[k] = RunTrial(scenarios[tasks[k].first], tasks[k].second, &shared[tasks[k].first]);
       const int finished = ++done;
       if (options.progress) {
         std::lock_guard<std::mutex> lock(progress_mutex);

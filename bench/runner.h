@@ -4,8 +4,10 @@
 // count, and every number in them is independent of it.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -45,8 +47,19 @@ struct RunRow {
 const std::vector<std::string>& RunRowHeader();
 std::vector<std::string> RunRowFields(const RunRow& row);
 
-// Runs one trial of one scenario; never throws for bad data (a failed row instead).
-std::vector<RunRow> RunTrial(const ScenarioConfig& scenario, int trial);
+// Results the trials of one scenario share, computed once by whichever trial needs them first.
+// They depend on the scenario alone, so their values do not depend on which trial or thread
+// computes them (the rows stay identical for any thread count).
+struct ScenarioShared {
+  std::once_flag crlb_once;
+  bool crlb_valid = false;
+  std::array<double, 5> crlb_std{};  // fku, fkv, phi_deg (NaN without skew), u0, v0.
+};
+
+// Runs one trial of one scenario; never throws for bad data (a failed row instead). `shared`
+// (optional) lets the scenario's trials share per-scenario work.
+std::vector<RunRow> RunTrial(const ScenarioConfig& scenario, int trial,
+                             ScenarioShared* shared = nullptr);
 
 struct RunOptions {
   int threads = 0;  // 0: all cores.

@@ -11,7 +11,6 @@
 #include <apriltag/tagStandard41h12.h>
 #include <apriltag/tagStandard52h13.h>
 
-#include <functional>
 #include <map>
 
 namespace calibench {

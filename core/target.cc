@@ -3,6 +3,15 @@
 #include <cmath>
 
 namespace calibench {
+namespace {
+
+std::vector<Eigen::Vector3d> Transformed(const Rigid3& b_from_a,
+                                         std::vector<Eigen::Vector3d> points) {
+  for (Eigen::Vector3d& p : points) p = b_from_a * p;
+  return points;
+}
+
+}  // namespace
 
 std::vector<Eigen::Vector3d> PlanarBoard::CornersInBoard() const {
   std::vector<Eigen::Vector3d> corners;
@@ -14,9 +23,7 @@ std::vector<Eigen::Vector3d> PlanarBoard::CornersInBoard() const {
 }
 
 std::vector<Eigen::Vector3d> PlanarBoard::CornersInPointsFrame() const {
-  std::vector<Eigen::Vector3d> corners = CornersInBoard();
-  for (Eigen::Vector3d& p : corners) p = points_from_board * p;
-  return corners;
+  return Transformed(points_from_board, CornersInBoard());
 }
 
 bool PlanarBoard::Check(std::string* why) const {
@@ -46,9 +53,7 @@ std::vector<Eigen::Vector3d> AprilGrid::CornersInBoard() const {
 }
 
 std::vector<Eigen::Vector3d> AprilGrid::CornersInPointsFrame() const {
-  std::vector<Eigen::Vector3d> corners = CornersInBoard();
-  for (Eigen::Vector3d& p : corners) p = points_from_board * p;
-  return corners;
+  return Transformed(points_from_board, CornersInBoard());
 }
 
 bool AprilGrid::Check(std::string* why) const {
