@@ -9,80 +9,208 @@ namespace {
 
 constexpr int kOffBoard = -1;
 
-// What a ray sees: -1 background, else 2 * board + (1 if white).
-struct Scene {
-  struct Board {
-    const BoardView* view;
-    Eigen::Matrix3d board_from_cam_rotation;
-    Eigen::Vector3d normal;      // Board z axis in the camera frame.
-    Eigen::Vector3d origin;      // Board origin in the camera frame.
-    double cell, pitch, margin;  // Tag cell edge, tag pitch, white frame width.
-  };
-  std::vector<Board> boards;
-  Eigen::Matrix3d a_inv;
-  const CameraIntrinsics* intrinsics;
-  bool distorted;
-};
-
-// Shade of board point (bx, by): 0 black, 1 white, kOffBoard outside the board.
-int ShadeOnBoard(const Scene::Board& b, double bx, double by) {
-  const AprilGrid& g = b.view->grid;
-  const TagFamily& f = *b.view->family;
-  const double extent_x = g.tag_cols * b.pitch - (b.pitch - g.tag_size_m);
-  const double extent_y = g.tag_rows * b.pitch - (b.pitch - g.tag_size_m);
-  if (bx < -b.margin || by < -b.margin || bx > extent_x + b.margin || by > extent_y + b.margin) {
-    return kOffBoard;
-  }
-  const int start = f.border_start();
-  // The tag whose full bitmap (reference square plus border_start cells around) may hold the point.
-  const int c = static_cast<int>(std::floor((bx + start * b.cell) / b.pitch));
-  const int r = static_cast<int>(std::floor((by + start * b.cell) / b.pitch));
-  if (c < 0 || r < 0 || c >= g.tag_cols || r >= g.tag_rows) return 1;
-  const double lx = bx - c * b.pitch, ly = by - r * b.pitch;
-  const int col = static_cast<int>(std::floor(lx / b.cell)) + start;
-  const int row_from_bottom = static_cast<int>(std::floor(ly / b.cell)) + start;
-  const int w = f.total_width();
-  if (col < 0 || row_from_bottom < 0 || col >= w || row_from_bottom >= w) return 1;
-  return f.IsWhite(g.first_id + r * g.tag_cols + c, col, w - 1 - row_from_bottom) ? 1 : 0;
+// floor() without a library call (x86-64 baseline has no SSE4.1 rounding); |x| < 2^31.
+inline int FastFloor(double x) {
+  const int i = static_cast<int>(x);
+  return i - (x < i);
 }
 
-int Trace(const Scene& scene, double u, double v) {
-  Eigen::Vector2d xy = (scene.a_inv * Eigen::Vector3d(u, v, 1.0)).head<2>();
-  if (scene.distorted) {
-    Eigen::Vector2d undistorted;
-    if (!UndistortNormalized(*scene.intrinsics, xy, &undistorted)) return kOffBoard;
-    xy = undistorted;
+// floor() of a cell or tag index, |x| < 2^15: one truncation of a positive number.
+inline int FloorSmall(double x) {
+  constexpr int kOffset = 1 << 15;
+  return static_cast<int>(x + kOffset) - kOffset;
+}
+
+// One board of the frame: its ray -> board homography and a table of its cells' shades.
+class BoardShader {
+ public:
+  bool Init(const BoardView& view, std::string* why) {
+    const AprilGrid& g = view.grid;
+    const TagFamily& f = *view.family;
+    if (f.name() != g.family) {
+      if (why) *why = "board family '" + g.family + "' has no matching TagFamily";
+      return false;
+    }
+    if (g.first_id + g.NumTags() > f.num_codes()) {
+      if (why)
+        *why = g.family + " has only " + std::to_string(f.num_codes()) +
+               " codes, the grid needs ids up to " + std::to_string(g.first_id + g.NumTags() - 1);
+      return false;
+    }
+    Eigen::Matrix3d plane;  // [r1 r2 t]: board (bx, by, 1) -> camera ray.
+    plane << view.cam_from_board.rotation.col(0), view.cam_from_board.rotation.col(1),
+        view.cam_from_board.translation;
+    visible_ = std::abs(plane.determinant()) > 1e-15;  // Not seen edge-on.
+    if (visible_) board_from_ray_ = plane.inverse();
+    cell_ = g.tag_size_m / f.width_at_border();
+    inv_cell_ = 1.0 / cell_;
+    pitch_ = g.Pitch();
+    inv_pitch_ = 1.0 / pitch_;
+    const double margin = pitch_ - g.tag_size_m;
+    min_ = -margin;
+    max_x_ = g.tag_cols * pitch_ - (pitch_ - g.tag_size_m) + margin;
+    max_y_ = g.tag_rows * pitch_ - (pitch_ - g.tag_size_m) + margin;
+    start_ = f.border_start();
+    width_ = f.total_width();
+    cols_ = g.tag_cols;
+    rows_ = g.tag_rows;
+    // Cell (X, Y) = (c * width + col, r * width + row_from_bottom), X fastest.
+    cells_.resize(static_cast<size_t>(rows_) * width_ * cols_ * width_);
+    for (int r = 0; r < rows_; ++r) {
+      for (int c = 0; c < cols_; ++c) {
+        for (int row = 0; row < width_; ++row) {
+          for (int col = 0; col < width_; ++col) {
+            cells_[(static_cast<size_t>(r) * width_ + row) * cols_ * width_ + c * width_ + col] =
+                f.IsWhite(g.first_id + r * g.tag_cols + c, col, width_ - 1 - row) ? 1 : 0;
+          }
+        }
+      }
+    }
+    return true;
   }
-  const Eigen::Vector3d ray(xy.x(), xy.y(), 1.0);
+
+  // Board point seen along ray (x, y, 1): false if the ray misses the board's plane in front of
+  // the camera or lands outside the board; else *bx, *by (m) and *depth (camera z, m).
+  bool ToBoard(double x, double y, double* bx, double* by, double* depth) const {
+    if (!visible_) return false;
+    const Eigen::Matrix3d& m = board_from_ray_;
+    const double hz = m(2, 0) * x + m(2, 1) * y + m(2, 2);
+    if (!(hz > 0)) return false;
+    const double inv = 1.0 / hz;
+    *bx = (m(0, 0) * x + m(0, 1) * y + m(0, 2)) * inv;
+    *by = (m(1, 0) * x + m(1, 1) * y + m(1, 2)) * inv;
+    *depth = inv;
+    return *bx >= min_ && *by >= min_ && *bx <= max_x_ && *by <= max_y_;
+  }
+
+  // Shade of board point (bx, by): 0 black, 1 white, kOffBoard outside the board.
+  int Shade(double bx, double by) const {
+    if (bx < min_ || by < min_ || bx > max_x_ || by > max_y_) return kOffBoard;
+    // The tag whose full bitmap (reference square plus border_start cells around) may hold b.
+    const int c = FloorSmall((bx + start_ * cell_) * inv_pitch_);
+    const int r = FloorSmall((by + start_ * cell_) * inv_pitch_);
+    if (c < 0 || r < 0 || c >= cols_ || r >= rows_) return 1;
+    const int col = FloorSmall((bx - c * pitch_) * inv_cell_) + start_;
+    const int row = FloorSmall((by - r * pitch_) * inv_cell_) + start_;
+    if (col < 0 || row < 0 || col >= width_ || row >= width_) return 1;
+    return cells_[(static_cast<size_t>(r) * width_ + row) * cols_ * width_ + c * width_ + col];
+  }
+
+  // Keys of the column and row a board point falls in, non-decreasing in bx and in by: two points
+  // with equal x keys see no vertical cell edge between them.
+  void AxisKeys(double bx, double by, int* kx, int* ky) const {
+    *kx = AxisKey(bx, max_x_, cols_);
+    *ky = AxisKey(by, max_y_, rows_);
+  }
+
+  // Pixel-corner box [i0, i1] x [j0, j1] outside which the board cannot be seen: the projection of
+  // its outline sampled densely, padded by 2 px; the whole image when the outline crosses the
+  // plane z = 0 or the distortion folds over (d r_d / d r <= 0) somewhere on it.
+  void ComputeImageBounds(const CameraIntrinsics& k, const Rigid3& cam_from_board, int width,
+                          int height) {
+    i0_ = 0, j0_ = 0, i1_ = width, j1_ = height;
+    if (!visible_) {
+      i0_ = 1, i1_ = 0;  // Empty.
+      return;
+    }
+    constexpr int kSamplesPerEdge = 64;
+    constexpr double kPadPx = 2.0;
+    double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300;
+    const double xs[2] = {min_, max_x_}, ys[2] = {min_, max_y_};
+    for (int e = 0; e < 4; ++e) {
+      for (int s = 0; s <= kSamplesPerEdge; ++s) {
+        const double f = static_cast<double>(s) / kSamplesPerEdge;
+        const Eigen::Vector3d point_in_board =
+            e < 2 ? Eigen::Vector3d(xs[0] + f * (xs[1] - xs[0]), ys[e], 0)
+                  : Eigen::Vector3d(xs[e - 2], ys[0] + f * (ys[1] - ys[0]), 0);
+        const Eigen::Vector3d p = cam_from_board * point_in_board;
+        if (!(p.z() > 1e-9)) return;
+        const double r2 = (p.x() * p.x() + p.y() * p.y()) / (p.z() * p.z());
+        // d/dr [r (1 + k1 r^2 + k2 r^4 + k3 r^6)] must stay positive.
+        if (1 + r2 * (3 * k.k1 + r2 * (5 * k.k2 + r2 * 7 * k.k3)) <= 0) return;
+        Eigen::Vector2d pixel;
+        if (!ProjectPoint(k, p, &pixel)) return;
+        u_min = std::min(u_min, pixel.x()), u_max = std::max(u_max, pixel.x());
+        v_min = std::min(v_min, pixel.y()), v_max = std::max(v_max, pixel.y());
+      }
+    }
+    // Corner (i, j) is at pixel coordinates (i - 0.5, j - 0.5).
+    i0_ = std::max(0, FastFloor(u_min + 0.5 - kPadPx));
+    i1_ = std::min(width, FastFloor(u_max + 0.5 + kPadPx) + 1);
+    j0_ = std::max(0, FastFloor(v_min + 0.5 - kPadPx));
+    j1_ = std::min(height, FastFloor(v_max + 0.5 + kPadPx) + 1);
+  }
+  bool Covers(int i, int j) const { return i >= i0_ && i <= i1_ && j >= j0_ && j <= j1_; }
+  int i0() const { return i0_; }
+  int i1() const { return i1_; }
+  int j0() const { return j0_; }
+  int j1() const { return j1_; }
+
+ private:
+  int AxisKey(double x, double max, int tags) const {
+    if (x < min_) return std::numeric_limits<int>::min();
+    if (x > max) return std::numeric_limits<int>::max();
+    const int c = std::clamp(FloorSmall((x + start_ * cell_) * inv_pitch_), -1, tags);
+    const int col = std::clamp(FloorSmall((x - c * pitch_) * inv_cell_) + start_, 0, width_);
+    return c * (width_ + 1) + col;
+  }
+
+  bool visible_ = false;
+  Eigen::Matrix3d board_from_ray_;
+  double cell_ = 0, inv_cell_ = 0, pitch_ = 0, inv_pitch_ = 0, min_ = 0, max_x_ = 0, max_y_ = 0;
+  int start_ = 0, width_ = 0, cols_ = 0, rows_ = 0;
+  int i0_ = 0, i1_ = -1, j0_ = 0, j1_ = -1;  // Pixel-corner bounds, inclusive.
+  std::vector<uint8_t> cells_;
+};
+
+// Sum of sample(a, b) over the n x n samples of a pixel (a = column, b = row). With
+// `rows_are_simple`, the caller guarantees that the shade cannot change and change back along a
+// row of samples (the edges crossing the pixel are parallel lines at least a pixel apart): a row
+// whose end samples agree is then filled without sampling inside.
+template <typename Sample>
+float SumSamples(int n, bool rows_are_simple, const Sample& sample) {
+  float sum = 0;
+  for (int b = 0; b < n; ++b) {
+    if (!rows_are_simple || n <= 2) {
+      for (int a = 0; a < n; ++a) sum += sample(a, b);
+      continue;
+    }
+    const float first = sample(0, b), end = sample(n - 1, b);
+    sum += first + end;
+    if (first == end) {
+      sum += (n - 2) * first;
+      continue;
+    }
+    for (int a = 1; a < n - 1; ++a) sum += sample(a, b);
+  }
+  return sum;
+}
+
+// Nearest board hit along a ray: kOffBoard or 2 * board + (1 if white).
+int TraceBoards(const std::vector<BoardShader>& boards, double x, double y) {
   double nearest = std::numeric_limits<double>::infinity();
   int hit = kOffBoard;
-  for (size_t i = 0; i < scene.boards.size(); ++i) {
-    const Scene::Board& b = scene.boards[i];
-    const double denom = b.normal.dot(ray);
-    if (std::abs(denom) < 1e-12) continue;
-    const double s = b.normal.dot(b.origin) / denom;
-    if (!(s > 0) || s >= nearest) continue;
-    const Eigen::Vector3d in_board = b.board_from_cam_rotation * (s * ray - b.origin);
-    const int shade = ShadeOnBoard(b, in_board.x(), in_board.y());
-    if (shade == kOffBoard) continue;
-    nearest = s;
-    hit = 2 * static_cast<int>(i) + shade;
+  for (size_t i = 0; i < boards.size(); ++i) {
+    double bx = 0, by = 0, depth = 0;
+    if (!boards[i].ToBoard(x, y, &bx, &by, &depth) || depth >= nearest) continue;
+    nearest = depth;
+    hit = 2 * static_cast<int>(i) + boards[i].Shade(bx, by);
   }
   return hit;
 }
 
-void GaussianBlur(double sigma, int width, int height, std::vector<double>* image) {
+void GaussianBlur(double sigma, int width, int height, std::vector<float>* image) {
   const int radius = static_cast<int>(std::ceil(3 * sigma));
-  std::vector<double> kernel(2 * radius + 1);
-  double sum = 0;
+  std::vector<float> kernel(2 * radius + 1);
+  float sum = 0;
   for (int k = -radius; k <= radius; ++k)
-    sum += kernel[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
-  for (double& k : kernel) k /= sum;
-  std::vector<double> tmp(image->size());
+    sum += kernel[k + radius] = static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)));
+  for (float& k : kernel) k /= sum;
+  std::vector<float> tmp(image->size());
   auto clamp_index = [](int i, int n) { return std::clamp(i, 0, n - 1); };
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
-      double acc = 0;
+      float acc = 0;
       for (int k = -radius; k <= radius; ++k)
         acc += kernel[k + radius] * (*image)[y * width + clamp_index(x + k, width)];
       tmp[y * width + x] = acc;
@@ -90,7 +218,7 @@ void GaussianBlur(double sigma, int width, int height, std::vector<double>* imag
   }
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
-      double acc = 0;
+      float acc = 0;
       for (int k = -radius; k <= radius; ++k)
         acc += kernel[k + radius] * tmp[clamp_index(y + k, height) * width + x];
       (*image)[y * width + x] = acc;
@@ -134,77 +262,180 @@ bool UndistortNormalized(const CameraIntrinsics& k, const Eigen::Vector2d& disto
   return false;
 }
 
-bool RenderFrame(const CameraIntrinsics& intrinsics, const std::vector<BoardView>& boards,
-                 const RenderOptions& o, Rng* noise_rng, GrayImage* image, std::string* why) {
-  if (!o.Check(why) || !intrinsics.Check(why)) return false;
+std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& intrinsics,
+                                                     const RenderOptions& options,
+                                                     std::string* why) {
+  if (!options.Check(why) || !intrinsics.Check(why)) return nullptr;
+  std::unique_ptr<FrameRenderer> r(new FrameRenderer());
+  r->intrinsics_ = intrinsics;
+  r->options_ = options;
+  const int w = options.width, h = options.height;
+  r->corner_rays_.resize(static_cast<size_t>(w + 1) * (h + 1));
+  const Eigen::Matrix3d a_inv = intrinsics.Matrix().inverse();
+  const bool distorted = intrinsics.k1 != 0 || intrinsics.k2 != 0 || intrinsics.k3 != 0 ||
+                         intrinsics.p1 != 0 || intrinsics.p2 != 0;
+  for (int j = 0; j <= h; ++j) {
+    for (int i = 0; i <= w; ++i) {
+      Eigen::Vector2d xy = (a_inv * Eigen::Vector3d(i - 0.5, j - 0.5, 1.0)).head<2>();
+      if (distorted && !UndistortNormalized(intrinsics, Eigen::Vector2d(xy), &xy)) {
+        xy.setConstant(std::numeric_limits<double>::quiet_NaN());
+      }
+      r->corner_rays_[static_cast<size_t>(j) * (w + 1) + i] = xy;
+    }
+  }
+  return r;
+}
+
+bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, GrayImage* image,
+                           std::string* why) const {
+  const RenderOptions& o = options_;
   if (o.noise_sigma_gray > 0 && noise_rng == nullptr) {
     if (why) *why = "noise_sigma_gray > 0 needs a random generator";
     return false;
   }
-  Scene scene;
-  scene.a_inv = intrinsics.Matrix().inverse();
-  scene.intrinsics = &intrinsics;
-  scene.distorted = intrinsics.k1 != 0 || intrinsics.k2 != 0 || intrinsics.k3 != 0 ||
-                    intrinsics.p1 != 0 || intrinsics.p2 != 0;
-  for (const BoardView& view : boards) {
-    if (!view.family || view.family->name() != view.grid.family) {
-      if (why) *why = "board family '" + view.grid.family + "' has no matching TagFamily";
+  std::vector<BoardShader> boards(views.size());
+  for (size_t b = 0; b < views.size(); ++b) {
+    if (!views[b].family) {
+      if (why) *why = "board family '" + views[b].grid.family + "' has no TagFamily";
       return false;
     }
-    if (view.grid.first_id + view.grid.NumTags() > view.family->num_codes()) {
-      if (why)
-        *why = view.grid.family + " has only " + std::to_string(view.family->num_codes()) +
-               " codes, the grid needs ids up to " +
-               std::to_string(view.grid.first_id + view.grid.NumTags() - 1);
-      return false;
-    }
-    Scene::Board b;
-    b.view = &view;
-    b.board_from_cam_rotation = view.cam_from_board.rotation.transpose();
-    b.normal = view.cam_from_board.rotation.col(2);
-    b.origin = view.cam_from_board.translation;
-    b.cell = view.grid.tag_size_m / view.family->width_at_border();
-    b.pitch = view.grid.Pitch();
-    b.margin = b.pitch - view.grid.tag_size_m;
-    scene.boards.push_back(b);
+    if (!boards[b].Init(views[b], why)) return false;
   }
   const int w = o.width, h = o.height, n = o.supersample;
-  auto gray = [&](int shade) {
-    return shade == kOffBoard ? o.background_gray : (shade % 2 ? o.white_gray : o.black_gray);
-  };
-  // Shades at pixel corners (w + 1) x (h + 1): corner (i, j) is at (i - 0.5, j - 0.5).
-  std::vector<int> corners(static_cast<size_t>(w + 1) * (h + 1));
-  for (int j = 0; j <= h; ++j) {
-    for (int i = 0; i <= w; ++i) corners[j * (w + 1) + i] = Trace(scene, i - 0.5, j - 0.5);
+  for (size_t b = 0; b < views.size(); ++b) {
+    boards[b].ComputeImageBounds(intrinsics_, views[b].cam_from_board, w, h);
   }
-  std::vector<double> values(static_cast<size_t>(w) * h);
+  // Gray level of a hit: gray_of[hit + 1], hit = kOffBoard or 2 * board + (1 if white).
+  std::vector<float> gray_of(2 * boards.size() + 1, static_cast<float>(o.background_gray));
+  for (size_t b = 0; b < boards.size(); ++b) {
+    gray_of[2 * b + 1] = static_cast<float>(o.black_gray);
+    gray_of[2 * b + 2] = static_cast<float>(o.white_gray);
+  }
+  const auto gray = [&gray_of](int hit) { return gray_of[hit + 1]; };
+  // Pass 1, pixel corners: what each sees, and where on its board.
+  const size_t stride = w + 1;
+  // Per-thread scratch buffers, reused from frame to frame (no page faults per frame).
+  thread_local std::vector<int16_t> corners;
+  thread_local std::vector<Eigen::Vector2f> corner_in_board;  // Float: 1e-7 m on a 1 m board.
+  thread_local std::vector<double> depths;
+  thread_local std::vector<float> values;
+  corners.assign(corner_rays_.size(), kOffBoard);
+  corner_in_board.resize(corner_rays_.size());
+  depths.resize(stride);
+  values.resize(static_cast<size_t>(w) * h);
+  for (int j = 0; j <= h; ++j) {
+    std::fill(depths.begin(), depths.end(), std::numeric_limits<double>::infinity());
+    for (size_t b = 0; b < boards.size(); ++b) {
+      const BoardShader& board = boards[b];
+      if (j < board.j0() || j > board.j1()) continue;
+      for (int i = board.i0(); i <= board.i1(); ++i) {
+        const size_t k = j * stride + i;
+        const Eigen::Vector2d& ray = corner_rays_[k];
+        double bx = 0, by = 0, depth = 0;
+        if (!board.ToBoard(ray.x(), ray.y(), &bx, &by, &depth) || !(depth < depths[i])) continue;
+        depths[i] = depth;
+        corners[k] = static_cast<int16_t>(2 * b + board.Shade(bx, by));
+        corner_in_board[k] = Eigen::Vector2f(bx, by);
+      }
+    }
+  }
+  // Pass 2, pixels: one shade if the four corners agree, else n x n samples. When the four corners
+  // see the same board and no other board may be in the pixel, the samples' board coordinates are
+  // interpolated between the corners' (a homography is affine to 1e-6 px over one pixel).
+  const Eigen::Matrix3d a_inv = intrinsics_.Matrix().inverse();
+  const int16_t* hits = corners.data();
+  float* out = values.data();
   for (int j = 0; j < h; ++j) {
-    for (int i = 0; i < w; ++i) {
-      const int c00 = corners[j * (w + 1) + i], c10 = corners[j * (w + 1) + i + 1];
-      const int c01 = corners[(j + 1) * (w + 1) + i], c11 = corners[(j + 1) * (w + 1) + i + 1];
-      if (c00 == c10 && c00 == c01 && c00 == c11) {
-        values[j * w + i] = gray(c00);
+    // Pixels with no board's bounds at any corner see the background.
+    int i_begin = w, i_end = 0;
+    for (const BoardShader& board : boards) {
+      if (j + 1 < board.j0() || j > board.j1()) continue;
+      i_begin = std::min(i_begin, std::max(0, board.i0() - 1));
+      i_end = std::max(i_end, std::min(w, board.i1() + 1));
+    }
+    float* row = out + static_cast<size_t>(j) * w;
+    std::fill(row, row + w, gray(kOffBoard));
+    const int16_t* top = hits + j * stride;
+    const int16_t* bottom = top + stride;
+    for (int i = i_begin; i < i_end; ++i) {
+      const int c00 = top[i];
+      if (c00 == top[i + 1] && c00 == bottom[i] && c00 == bottom[i + 1]) {
+        row[i] = gray_of[c00 + 1];
         continue;
       }
-      double sum = 0;
+      const size_t k00 = j * stride + i, k01 = k00 + stride;
+      const int board = c00 / 2;
+      bool one_board = c00 >= 0 && corners[k00 + 1] / 2 == board && corners[k01] / 2 == board &&
+                       corners[k01 + 1] >= 0 && corners[k01 + 1] / 2 == board &&
+                       corners[k00 + 1] >= 0 && corners[k01] >= 0;
+      for (size_t b = 0; one_board && b < boards.size(); ++b) {
+        if (static_cast<int>(b) != board && boards[b].Covers(i, j)) one_board = false;
+      }
+      float sum = 0;
+      if (one_board) {
+        // b(fa, fb) = p + fa u + fb v + fa fb q over the pixel, from its corners' board points.
+        const Eigen::Vector2d p = corner_in_board[k00].cast<double>();
+        const Eigen::Vector2d u = corner_in_board[k00 + 1].cast<double>() - p;
+        const Eigen::Vector2d v = corner_in_board[k01].cast<double>() - p;
+        const Eigen::Vector2d q = corner_in_board[k01 + 1].cast<double>() - p - u - v;
+        const float lut[3] = {gray(kOffBoard), gray(2 * board), gray(2 * board + 1)};
+        const BoardShader& shader = boards[board];
+        // Cell-edge lines of one direction only cross the pixel when all four corners share the
+        // column key or the row key (keys are monotone, the footprint is in the corners' hull).
+        int kx[4], ky[4];
+        for (int c = 0; c < 4; ++c) {
+          const Eigen::Vector2f& corner = corner_in_board[c < 2 ? k00 + c : k01 + c - 2];
+          shader.AxisKeys(corner.x(), corner.y(), &kx[c], &ky[c]);
+        }
+        const bool one_direction = (kx[0] == kx[1] && kx[0] == kx[2] && kx[0] == kx[3]) ||
+                                   (ky[0] == ky[1] && ky[0] == ky[2] && ky[0] == ky[3]);
+        sum = SumSamples(n, one_direction, [&](int a, int b) {
+          const double fa = (a + 0.5) / n, fb = (b + 0.5) / n;
+          const Eigen::Vector2d point = p + fa * u + fb * v + fa * fb * q;
+          return lut[shader.Shade(point.x(), point.y()) + 1];
+        });
+        values[j * w + i] = sum / static_cast<float>(n * n);
+        continue;
+      }
+      const Eigen::Vector2d &r00 = corner_rays_[k00], &r10 = corner_rays_[k00 + 1];
+      const Eigen::Vector2d &r01 = corner_rays_[k01], &r11 = corner_rays_[k01 + 1];
+      const bool exact = std::isnan(r00.x() + r10.x() + r01.x() + r11.x());
       for (int b = 0; b < n; ++b) {
+        const double fb = (b + 0.5) / n;
         for (int a = 0; a < n; ++a) {
-          sum += gray(Trace(scene, i - 0.5 + (a + 0.5) / n, j - 0.5 + (b + 0.5) / n));
+          const double fa = (a + 0.5) / n;
+          Eigen::Vector2d ray =
+              (1 - fb) * ((1 - fa) * r00 + fa * r10) + fb * ((1 - fa) * r01 + fa * r11);
+          if (exact) {  // A corner outside the distortion's valid region: undistort the sample.
+            ray = (a_inv * Eigen::Vector3d(i - 0.5 + fa, j - 0.5 + fb, 1.0)).head<2>();
+            if (!UndistortNormalized(intrinsics_, Eigen::Vector2d(ray), &ray)) {
+              sum += gray(kOffBoard);
+              continue;
+            }
+          }
+          sum += gray(TraceBoards(boards, ray.x(), ray.y()));
         }
       }
-      values[j * w + i] = sum / (n * n);
+      values[j * w + i] = sum / static_cast<float>(n * n);
     }
   }
   if (o.blur_sigma_px > 0) GaussianBlur(o.blur_sigma_px, w, h, &values);
   image->width = w;
   image->height = h;
   image->pixels.resize(values.size());
-  for (size_t k = 0; k < values.size(); ++k) {
-    double v = values[k];
-    if (o.noise_sigma_gray > 0) v += o.noise_sigma_gray * noise_rng->Normal();
-    image->pixels[k] = static_cast<uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+  if (o.noise_sigma_gray > 0) {
+    for (float& v : values) v += static_cast<float>(o.noise_sigma_gray * noise_rng->Normal());
+  }
+  for (size_t k = 0; k < values.size(); ++k) {  // Round half up.
+    image->pixels[k] = static_cast<uint8_t>(std::clamp(values[k], 0.0f, 255.0f) + 0.5f);
   }
   return true;
+}
+
+bool RenderFrame(const CameraIntrinsics& intrinsics, const std::vector<BoardView>& boards,
+                 const RenderOptions& options, Rng* noise_rng, GrayImage* image, std::string* why) {
+  const auto renderer = FrameRenderer::Create(intrinsics, options, why);
+  return renderer != nullptr && renderer->Render(boards, noise_rng, image, why);
 }
 
 }  // namespace calibench

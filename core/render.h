@@ -3,13 +3,19 @@
 // For every sample point (u, v) of the image (pixel-centre convention of camera.h: pixel (i, j)
 // covers [i - 0.5, i + 0.5] x [j - 0.5, j + 0.5]):
 //   1. undo A: (xd, yd, 1) = A^-1 (u, v, 1); undo the distortion by fixed-point iteration;
-//   2. intersect the ray (x, y, 1) with every board plane (cam_from_board), keep the nearest hit
-//      that lands on a board (tags, their white margins, a white frame of one gap around);
+//   2. intersect the ray (x, y, 1) with every board plane: with cam_from_board = [R | t], the
+//      board point b = (bx, by) seen along the ray satisfies (x, y, 1) ~ [r1 r2 t] (bx, by, 1), so
+//      h = [r1 r2 t]^-1 (x, y, 1) gives b = h.xy / h.z at depth 1 / h.z (in front iff h.z > 0);
+//      keep the nearest hit that lands on a board (tags, their white margins, a white frame of one
+//      gap around);
 //   3. shade: black or white cell of the tag bitmap (TagFamily), white board, or background.
 // Antialiasing: each pixel is the mean of n x n samples (supersample = n) — but only pixels whose
 // four corners do not all see the same shade of the same board are supersampled (features are
 // assumed larger than a pixel: tag cells of a few pixels). Then optional Gaussian blur (PSF sigma
 // in px), Gaussian noise in gray levels, and rounding to 8 bits.
+// Speed: FrameRenderer undistorts the rays of the (w + 1) x (h + 1) pixel corners once per camera;
+// the rays of the samples inside a pixel are interpolated bilinearly between its four corner rays
+// (exact without distortion; with |k1| <= 0.3 the error is below 1e-3 px).
 #pragma once
 
 #include <cstdint>
@@ -48,8 +54,26 @@ struct BoardView {
   Rigid3 cam_from_board;
 };
 
-// Renders the boards; `noise_rng` may be null when noise_sigma_gray = 0. Returns false and says why
-// for invalid options or a family without enough codes for the grid's ids.
+// A camera's renderer: holds the pixel-corner ray table; Render() is const and thread-safe.
+class FrameRenderer {
+ public:
+  // nullptr (and *why) for invalid intrinsics or options.
+  static std::unique_ptr<FrameRenderer> Create(const CameraIntrinsics& intrinsics,
+                                               const RenderOptions& options, std::string* why);
+  // Renders the boards; `noise_rng` may be null when noise_sigma_gray = 0. Returns false and says
+  // why for a family without enough codes for the grid's ids.
+  bool Render(const std::vector<BoardView>& boards, Rng* noise_rng, GrayImage* image,
+              std::string* why) const;
+  const RenderOptions& options() const { return options_; }
+
+ private:
+  FrameRenderer() = default;
+  CameraIntrinsics intrinsics_;
+  RenderOptions options_;
+  std::vector<Eigen::Vector2d> corner_rays_;  // (w + 1) x (h + 1), row-major; NaN: no valid ray.
+};
+
+// One-off convenience: FrameRenderer::Create(...)->Render(...).
 bool RenderFrame(const CameraIntrinsics& intrinsics, const std::vector<BoardView>& boards,
                  const RenderOptions& options, Rng* noise_rng, GrayImage* image, std::string* why);
 
