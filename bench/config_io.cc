@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bench/config_parsers.h"
 #include "bench/yaml_reader.h"
 #include "core/random.h"
 #include "core/synthetic.h"
@@ -59,17 +60,34 @@ void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& fie
 
 void ParsePoints(const Reader& r, const YAML::Node& node, const std::string& field,
                  ScenarioConfig* s) {
-  r.CheckKeys(node, field, {"preset", "count", "list", "random", "boards"});
+  r.CheckKeys(node, field, {"preset", "count", "list", "random", "boards", "aprilgrids"});
   const bool has_preset = node["preset"].IsDefined();
   const bool has_list = node["list"].IsDefined();
   const bool has_random = node["random"].IsDefined();
   const bool has_boards = node["boards"].IsDefined();
-  if (has_preset + has_list + has_random + has_boards != 1) {
-    r.Fail(node, field, "give exactly one of 'preset', 'list', 'random' or 'boards'");
+  const bool has_grids = node["aprilgrids"].IsDefined();
+  if (has_preset + has_list + has_random + has_boards + has_grids != 1) {
+    r.Fail(node, field, "give exactly one of 'preset', 'list', 'random', 'boards' or 'aprilgrids'");
   }
   s->points.clear();
   s->points_preset.clear();
   s->boards.clear();
+  s->aprilgrids.clear();
+  if (has_grids) {
+    const YAML::Node list = node["aprilgrids"];
+    const std::string f = Reader::Join(field, "aprilgrids");
+    if (!list.IsSequence() || list.size() == 0) r.Fail(list, f, "expected a non-empty list");
+    for (size_t i = 0; i < list.size(); ++i) {
+      AprilGrid g;
+      config_internal::ParseAprilGrid(r, list[i], f + "[" + std::to_string(i) + "]", &g);
+      const std::vector<Eigen::Vector3d> corners = g.CornersInPointsFrame();
+      s->points.insert(s->points.end(), corners.begin(), corners.end());
+      s->aprilgrids.push_back(g);
+    }
+    s->points_preset = "aprilgrids";
+    s->points_count = static_cast<int>(s->points.size());
+    return;
+  }
   if (has_boards) {
     const YAML::Node list = node["boards"];
     const std::string f = Reader::Join(field, "boards");
@@ -273,7 +291,7 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
                    ScenarioConfig* s) {
   r.CheckKeys(node, field,
               {"name", "description", "case", "duration_s", "seed", "trials", "truth", "image_size",
-               "points", "motion", "measurements", "noise", "methods", "reference"});
+               "points", "motion", "measurements", "noise", "rendering", "methods", "reference"});
   r.If(node, "image_size", field, [&](auto n, auto f) {
     if (!n.IsSequence() || n.size() != 2) r.Fail(n, f, "expected [width, height]");
     s->image_width = static_cast<int>(r.Integer(n[0], f + "[0]"));
@@ -306,7 +324,9 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
   r.If(node, "motion", field, [&](auto n, auto f) { ParseMotion(r, n, f, s); });
   r.If(node, "measurements", field, [&](auto n, auto f) {
     r.CheckKeys(n, f, {"detections", "sample_rate_hz", "eval_rate_hz"});
-    r.If(n, "detections", f, [&](auto m, auto g) { s->detections = r.Choice(m, g, {"oracle"}); });
+    r.If(n, "detections", f, [&](auto m, auto g) {
+      s->detections = r.Choice(m, g, {"oracle", "rendered"});
+    });
     r.If(n, "sample_rate_hz", f,
          [&](auto m, auto g) { s->measurements.sample_rate_hz = r.Double(m, g); });
     r.If(n, "eval_rate_hz", f,
@@ -325,6 +345,8 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     std::string why;
     if (!noise.Check(&why)) r.Fail(n, f, why);
   });
+  r.If(node, "rendering", field,
+       [&](auto n, auto f) { config_internal::ParseRendering(r, n, f, &s->rendering); });
   r.If(node, "methods", field, [&](auto n, auto f) {
     r.CheckKeys(n, f, {"adaptive", "dlt", "zhang", "ceres"});
     r.If(n, "zhang", f, [&](auto m, auto g) { ParseZhang(r, m, g, &s->zhang); });

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "bench/config_io.h"
+#include "bench/config_parsers.h"
 
 namespace calibench {
 namespace {
@@ -54,6 +55,10 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
       out << YAML::EndMap;
     }
     out << YAML::EndSeq;
+  } else if (!s.aprilgrids.empty()) {
+    out << YAML::Key << "aprilgrids" << YAML::Value << YAML::BeginSeq;
+    for (const AprilGrid& g : s.aprilgrids) config_internal::EmitAprilGrid(out, g);
+    out << YAML::EndSeq;
   } else {
     out << YAML::Key << "list" << YAML::Value << YAML::BeginSeq;
     for (const Eigen::Vector3d& p : s.points) EmitVector(out, p);
@@ -80,6 +85,8 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
   out << YAML::Key << "noise" << YAML::Value << YAML::BeginMap << YAML::Key << "point_sigma_m"
       << YAML::Value << n.point_sigma_m << YAML::Key << "pixel_sigma_px" << YAML::Value
       << n.pixel_sigma_px << YAML::Key << "hold_s" << YAML::Value << n.hold_s << YAML::EndMap;
+  out << YAML::Key << "rendering" << YAML::Value;
+  config_internal::EmitRendering(out, s.rendering);
   const AdaptiveMethodConfig& a = s.adaptive;
   out << YAML::Key << "methods" << YAML::Value << YAML::BeginMap << YAML::Key << "adaptive"
       << YAML::Value << YAML::BeginMap;

@@ -123,14 +123,19 @@ RunRow RunAdaptive(const ScenarioConfig& s, const MeasurementSource& source, Run
 struct FrameViews {
   std::vector<View> views;
   std::vector<double> times_s;
+  std::vector<std::vector<int>> point_ids;  // Per view: the scene point of each entry.
 };
 FrameViews ReadFrames(const MeasurementSource& source) {
   FrameViews frames;
   frames.views.resize(source.NumFrames());
   frames.times_s.resize(source.NumFrames());
+  frames.point_ids.resize(source.NumFrames());
   Frame frame;
   for (int k = 0; k < source.NumFrames(); ++k) {
     source.GetFrame(k, &frame);
+    for (size_t i = 0; i < frame.pixels.size(); ++i) {
+      frames.point_ids[k].push_back(frame.PointId(i));
+    }
     frames.views[k].points = std::move(frame.points_in_parent);
     frames.views[k].pixels = std::move(frame.pixels);
     frames.times_s[k] = frame.time_s;
@@ -316,25 +321,35 @@ std::vector<RunRow> RunZhang(const ScenarioConfig& s, const SceneTruth& scene,
     }
     return std::vector<RunRow>{row, hand_eye_row};
   };
-  if (s.boards.empty()) return fail("zhang needs planar boards: points: {boards: [...]}");
-  // (frame, board) views, every view_stride-th frame, thinned further to max_views.
+  const std::vector<ScenarioConfig::BoardLayout> layouts = s.BoardLayouts();
+  if (layouts.empty()) {
+    return fail("zhang needs planar boards: points: {boards: [...]} or {aprilgrids: [...]}");
+  }
+  // (frame, board) views, every view_stride-th frame, thinned further to max_views; a board seen
+  // with fewer than kMinViewPoints points in a frame (partly detected) gives no view.
+  constexpr size_t kMinViewPoints = 8;
   int stride = s.zhang.view_stride;
   const int num_frames = static_cast<int>(frames.views.size());
-  const int boards = static_cast<int>(s.boards.size());
+  const int boards = static_cast<int>(layouts.size());
   if (s.zhang.max_views > 0) {
     stride = std::max(stride, (num_frames * boards + s.zhang.max_views - 1) / s.zhang.max_views);
   }
   std::vector<View> views;
   std::vector<std::pair<double, int>> view_time_board;
   for (int k = 0; k < num_frames; k += stride) {
-    const std::vector<Eigen::Vector2d>& pixels = frames.views[k].pixels;
-    int first = 0;
+    std::vector<View> by_board(boards);
+    for (size_t i = 0; i < frames.point_ids[k].size(); ++i) {
+      const int id = frames.point_ids[k][i];
+      for (int b = boards - 1; b >= 0; --b) {
+        if (id < layouts[b].first_point) continue;
+        by_board[b].points.push_back(layouts[b].corners_in_board[id - layouts[b].first_point]);
+        by_board[b].pixels.push_back(frames.views[k].pixels[i]);
+        break;
+      }
+    }
     for (int b = 0; b < boards; ++b) {
-      View v;
-      v.points = s.boards[b].CornersInBoard();
-      v.pixels.assign(pixels.begin() + first, pixels.begin() + first + v.points.size());
-      first += static_cast<int>(v.points.size());
-      views.push_back(std::move(v));
+      if (by_board[b].points.size() < kMinViewPoints) continue;
+      views.push_back(std::move(by_board[b]));
       view_time_board.emplace_back(frames.times_s[k], b);
     }
   }
@@ -349,14 +364,14 @@ std::vector<RunRow> RunZhang(const ScenarioConfig& s, const SceneTruth& scene,
   for (size_t i = 0; i < z.used_views.size(); ++i) {
     const auto [time, b] = view_time_board[z.used_views[i]];
     const Rigid3 parent_from_points = scene.ParentFromPoints(time);
-    const Rigid3 parent_from_board = parent_from_points * s.boards[b].points_from_board;
+    const Rigid3 parent_from_board = parent_from_points * layouts[b].points_from_board;
     parent_from_cam_views.push_back(parent_from_board * z.cam_from_board[i].Inverse());
     if (b == 0) {
       // Hand-eye sees board 0 as the target: cam_from_target with target = board 0, and the
       // points frame's motion (the board sits still in it).
       parent_from_points0.push_back(parent_from_points);
       cam_from_board0.push_back(z.cam_from_board[i] *
-                                Rigid3{s.boards[0].points_from_board.Inverse()});
+                                Rigid3{layouts[0].points_from_board.Inverse()});
     }
   }
   out->usable = true;

@@ -1,6 +1,7 @@
 #include "bench/runner.h"
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -70,6 +71,11 @@ const std::vector<Column>& Columns() {
       {"improper", [](const RunRow& r) { return std::to_string(r.improper); }},
       {"steps", [](const RunRow& r) { return std::to_string(r.steps); }},
       {"wall_ms", Num(&RunRow::wall_ms)},
+      {"detect_rate", Num(&RunRow::detect_rate)},
+      {"corner_rms_px", Num(&RunRow::corner_rms_px)},
+      {"frames_no_detection",
+       [](const RunRow& r) { return std::to_string(r.frames_no_detection); }},
+      {"measure_ms", Num(&RunRow::measure_ms)},
       {"message", [](const RunRow& r) { return r.message; }},
   };
   return columns;
@@ -100,8 +106,23 @@ std::vector<RunRow> RunTrial(const ScenarioConfig& s, int trial, ScenarioShared*
   base.seed = TrialSeed(s.seed, static_cast<uint64_t>(trial));
   std::string why;
   const SceneTruth scene = s.MakeScene();
-  const std::unique_ptr<OracleSource> source =
-      OracleSource::Create(scene, s.measurements, base.seed, &why);
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_ptr<MeasurementSource> source;
+  if (s.detections == "rendered") {
+    auto rendered =
+        RenderedSource::Create(scene, s.aprilgrids, s.RenderingOptions(), base.seed, &why);
+    if (rendered) {
+      const DetectionStats& stats = rendered->stats();
+      base.detect_rate = stats.DetectionRate();
+      base.corner_rms_px = stats.rms_px;
+      base.frames_no_detection = stats.frames_without_detections;
+    }
+    source = std::move(rendered);
+  } else {
+    source = OracleSource::Create(scene, s.measurements, base.seed, &why);
+  }
+  base.measure_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (source) return RunMethods(s, scene, *source, base, shared);
   std::vector<RunRow> rows;
   for (const std::string& method : EnabledMethods(s)) {

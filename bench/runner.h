@@ -42,6 +42,11 @@ struct RunRow {
   int improper = 0;  // 1 when the recovered rotation is a reflection.
   long steps = 0;    // Integrator steps / solver iterations.
   double wall_ms = kUnset;
+  // detections: rendered (the same for every method of a trial; NaN / -1 for oracle).
+  double detect_rate = kUnset;    // Tags detected / tags fully in the image.
+  double corner_rms_px = kUnset;  // Detected corners vs exact projections.
+  int frames_no_detection = -1;
+  double measure_ms = kUnset;  // Wall time spent producing the measurements (render + detect).
 };
 
 const std::vector<std::string>& RunRowHeader();

@@ -36,6 +36,28 @@ SceneTruth ScenarioConfig::MakeScene() const {
   return scene;
 }
 
+std::vector<ScenarioConfig::BoardLayout> ScenarioConfig::BoardLayouts() const {
+  std::vector<BoardLayout> layouts;
+  int first = 0;
+  for (const PlanarBoard& b : boards) {
+    layouts.push_back({b.CornersInBoard(), b.points_from_board, first});
+    first += b.NumCorners();
+  }
+  for (const AprilGrid& g : aprilgrids) {
+    layouts.push_back({g.CornersInBoard(), g.points_from_board, first});
+    first += 4 * g.NumTags();
+  }
+  return layouts;
+}
+
+RenderedSourceOptions ScenarioConfig::RenderingOptions() const {
+  RenderedSourceOptions o = rendering;
+  o.frame_rate_hz = measurements.sample_rate_hz;
+  o.render.width = image_width;
+  o.render.height = image_height;
+  return o;
+}
+
 bool ScenarioConfig::Check(std::string* why) const {
   std::string reason;
   auto fail = [&](const std::string& field, const std::string& r) {
@@ -50,10 +72,24 @@ bool ScenarioConfig::Check(std::string* why) const {
   }
   if (points.empty()) return fail("points", "at least one feature point is needed");
   if (!motion.Check(&reason)) return fail("motion", reason);
-  if (detections != "oracle") {
-    return fail("measurements.detections", "only 'oracle' is available, got '" + detections + "'");
-  }
   if (!measurements.Check(&reason)) return fail("measurements", reason);
+  if (detections == "rendered") {
+    if (aprilgrids.empty()) {
+      return fail("points",
+                  "detections: rendered needs AprilTag targets: points: {aprilgrids: [...]}");
+    }
+    if (!(measurements.sample_rate_hz > 0)) {
+      return fail("measurements.sample_rate_hz", "detections: rendered needs a frame rate > 0");
+    }
+    if (measurements.noise.Active()) {
+      return fail("noise",
+                  "rendered detections take their noise from the image "
+                  "(rendering.noise_sigma_gray, blur_sigma_px); remove noise.*");
+    }
+    if (!RenderingOptions().Check(&reason)) return fail("rendering", reason);
+  } else if (detections != "oracle") {
+    return fail("measurements.detections", "must be oracle or rendered, got '" + detections + "'");
+  }
   if (adaptive.enabled) {
     if (!adaptive.options.Check(&reason)) return fail("methods.adaptive", reason);
     if (!adaptive.initial.intrinsics.Check(&reason)) {

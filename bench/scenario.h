@@ -17,6 +17,7 @@
 #include "core/measurements.h"
 #include "core/scene.h"
 #include "core/target.h"
+#include "detect/rendered_source.h"
 
 namespace calibench {
 
@@ -88,8 +89,10 @@ struct ScenarioConfig {
 
   CameraSpec truth;
   int image_width = 640, image_height = 480;  // For zhang's initialisation.
-  std::string points_preset;        // "thesis", "random", "boards" or empty (explicit list).
-  std::vector<PlanarBoard> boards;  // points: {boards: [...]}: the points are the rig's corners.
+  // "thesis", "random", "boards", "aprilgrids" or empty (explicit list).
+  std::string points_preset;
+  std::vector<PlanarBoard> boards;    // points: {boards: [...]}: the points are the rig's corners.
+  std::vector<AprilGrid> aprilgrids;  // points: {aprilgrids: [...]}: the tags' corners.
   // points: {random: {count, min, max}}: uniform in the box, drawn once from the config seed.
   Eigen::Vector3d random_min = Eigen::Vector3d::Zero(), random_max = Eigen::Vector3d::Zero();
   int points_count = 10;  // With a preset: how many of its points (the first ones).
@@ -97,8 +100,11 @@ struct ScenarioConfig {
   std::string motion_preset;  // A ThesisMotionPreset name or empty (explicit twist).
   TwistProfile motion;        // Frame already resolved from the case.
 
-  std::string detections = "oracle";  // oracle (rendered: issue #4).
-  OracleOptions measurements;         // sample rate, eval rate and noise.
+  // oracle: exact projections + noise (OracleSource); rendered: frames rendered at
+  // measurements.sample_rate_hz, detected and matched (RenderedSource; needs aprilgrids).
+  std::string detections = "oracle";
+  OracleOptions measurements;       // sample rate, eval rate and noise (noise: oracle only).
+  RenderedSourceOptions rendering;  // rendered: frame_rate_hz = measurements.sample_rate_hz.
 
   AdaptiveMethodConfig adaptive;
   DltMethodConfig dlt;
@@ -108,6 +114,15 @@ struct ScenarioConfig {
 
   // The ground truth scene (motion integrated over duration_s).
   SceneTruth MakeScene() const;
+  // The planar boards (PlanarBoard or AprilGrid) in point order; empty for other point sets.
+  struct BoardLayout {
+    std::vector<Eigen::Vector3d> corners_in_board;
+    Rigid3 points_from_board;
+    int first_point = 0;  // Index of its first corner among the scenario's points.
+  };
+  std::vector<BoardLayout> BoardLayouts() const;
+  // The rendering options with the scenario's frame rate and image size filled in.
+  RenderedSourceOptions RenderingOptions() const;
   bool Check(std::string* why) const;
 };
 

@@ -32,6 +32,9 @@ struct Frame {
   double time_s = 0.0;
   std::vector<Eigen::Vector3d> points_in_parent;  // x_bar_i (measured: may carry noise).
   std::vector<Eigen::Vector2d> pixels;            // p_i (measured: may carry noise).
+  // Which scene point each entry is (a detector sees a subset); empty: all, in order.
+  std::vector<int> point_ids;
+  int PointId(size_t i) const { return point_ids.empty() ? static_cast<int>(i) : point_ids[i]; }
 };
 
 class MeasurementSource {

@@ -9,7 +9,9 @@
 //      keep the nearest hit that lands on a board (tags, their white margins, a white frame of one
 //      gap around);
 //   3. shade: black or white cell of the tag bitmap (TagFamily), white board, or background.
-// Antialiasing: each pixel is the mean of n x n samples (supersample = n) — but only pixels whose
+// Antialiasing: each pixel is the mean of n x n samples (supersample = n; a sheared grid whose n^2
+// samples have distinct x and y offsets, so that an axis-aligned edge is resolved to 1/n^2 px, not
+// 1/n px) — but only pixels whose
 // four corners do not all see the same shade of the same board are supersampled (features are
 // assumed larger than a pixel: tag cells of a few pixels). Then optional Gaussian blur (PSF sigma
 // in px), Gaussian noise in gray levels, and rounding to 8 bits.
@@ -35,6 +37,18 @@ struct GrayImage {
   int width = 0, height = 0;
   std::vector<uint8_t> pixels;  // Row-major, stride = width.
   uint8_t at(int col, int row) const { return pixels[static_cast<size_t>(row) * width + col]; }
+};
+
+// A read-only view of 8-bit gray pixels owned elsewhere (a GrayImage, a cv::Mat): no copy.
+struct GrayImageView {
+  const uint8_t* data = nullptr;
+  int width = 0, height = 0;
+  int stride = 0;  // Bytes per row.
+  GrayImageView() = default;
+  GrayImageView(const uint8_t* d, int w, int h, int s) : data(d), width(w), height(h), stride(s) {}
+  GrayImageView(const GrayImage& image)  // NOLINT(google-explicit-constructor): a view of it.
+      : data(image.pixels.data()), width(image.width), height(image.height), stride(image.width) {}
+  uint8_t at(int col, int row) const { return data[static_cast<size_t>(row) * stride + col]; }
 };
 
 struct RenderOptions {

@@ -30,7 +30,7 @@ struct CornerRefineOptions {
 
 // Refines the corners of `detection` in place. Returns false (corners unchanged) when an edge has
 // too few valid profile crossings, lines are parallel, or a correction exceeds max_correction_px.
-bool RefineTagCorners(const GrayImage& image, const CornerRefineOptions& options,
+bool RefineTagCorners(const GrayImageView& image, const CornerRefineOptions& options,
                       TagDetection* detection);
 
 }  // namespace calibench

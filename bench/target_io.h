@@ -1,0 +1,28 @@
+// Calibration targets described by Kalibr's target YAML (the format Kalibr's
+// kalibr_calibrate_cameras reads), for `calibench calibrate --images`:
+//   target_type: 'aprilgrid'                target_type: 'checkerboard'
+//   tagCols: 6                              targetCols: 9          # inner corners per row
+//   tagRows: 6                              targetRows: 6          # inner corners per column
+//   tagSize: 0.088        # m               rowSpacingMeters: 0.025
+//   tagSpacing: 0.3       # fraction        colSpacingMeters: 0.025
+//   tagFamily: tag36h11   # calibench extension, optional (Kalibr: always tag36h11)
+// Errors name the file, line, column, field and reason.
+#pragma once
+
+#include <string>
+
+#include "core/target.h"
+
+namespace calibench {
+
+struct CalibrationTarget {
+  enum class Type { kAprilGrid, kCheckerboard } type = Type::kAprilGrid;
+  AprilGrid grid;  // aprilgrid.
+  // checkerboard: inner corners, corner (r, c) at (c * col_spacing_m, r * row_spacing_m, 0).
+  int cols = 0, rows = 0;
+  double row_spacing_m = 0, col_spacing_m = 0;
+};
+
+bool LoadTargetYaml(const std::string& path, CalibrationTarget* target, std::string* why);
+
+}  // namespace calibench

@@ -1,0 +1,67 @@
+// From an image to target observations: AprilTag detection, corner refinement, and the matching
+// of (tag id, corner index) to the points of a target made of AprilGrids.
+//
+// Point numbering (core/target.h): the grids' corners are concatenated grid after grid; corner k
+// (detector order: bottom-left, bottom-right, top-right, top-left) of the tag with id `id` on grid
+// g is point offset(g) + 4 (id - g.first_id) + k. All grids must use the detector's family and no
+// id may appear on two grids (a detection could not be attributed).
+// Pixels follow calibench's convention (camera.h: pixel centres at integers).
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/render.h"
+#include "core/target.h"
+#include "detect/apriltag_detector.h"
+#include "detect/corner_refinement.h"
+
+namespace calibench {
+
+struct FrameDetectorOptions {
+  AprilTagOptions detector;    // family is taken from the grids.
+  bool refine_corners = true;  // Edge-fit refinement (corner_refinement.h); raw corners if false.
+  CornerRefineOptions refine;  // width_at_border is taken from the family.
+  bool Check(std::string* why) const;
+};
+
+struct Observation {
+  int point_id = -1;
+  Eigen::Vector2d pixel;
+};
+
+struct DetectionCounts {
+  int tags = 0;            // Tags detected and matched to a grid.
+  int unknown_tags = 0;    // Detected ids that are on no grid.
+  int unrefined_tags = 0;  // Tags whose refinement was refused (raw corners kept).
+};
+
+class FrameDetector {
+ public:
+  // nullptr (and *why) for invalid options, no grids, mixed families or an id on two grids.
+  static std::unique_ptr<FrameDetector> Create(const std::vector<AprilGrid>& grids,
+                                               const FrameDetectorOptions& options,
+                                               std::string* why);
+  int NumPoints() const { return num_points_; }
+  // Point id of corner k of tag `id`, or -1 when no grid has the id.
+  int PointId(int id, int corner) const;
+  // Observations of the image sorted by point id. Not thread-safe (one per thread).
+  std::vector<Observation> Detect(const GrayImage& image, DetectionCounts* counts) const;
+  // The same on a raw 8-bit buffer with a row stride in bytes (e.g. a cv::Mat, zero copy).
+  std::vector<Observation> Detect(const uint8_t* pixels, int width, int height, int stride,
+                                  DetectionCounts* counts) const;
+
+ private:
+  FrameDetector() = default;
+  struct GridIds {
+    int first_id, num_tags, first_point;
+  };
+  std::vector<GridIds> grids_;
+  int num_points_ = 0;
+  FrameDetectorOptions options_;
+  std::unique_ptr<AprilTagDetector> detector_;
+};
+
+}  // namespace calibench

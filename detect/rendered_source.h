@@ -1,0 +1,77 @@
+// RenderedSource: the measurement source of `detections: rendered` — the whole chain a real camera
+// runs. For each frame time t_k = k / frame_rate_hz (k = 0, 1, ... while t_k < duration):
+//   1. place every AprilGrid in the camera: cam_from_board = CamFromParent * ParentFromPoints(t_k)
+//      * points_from_board (scene.h, target.h);
+//   2. render the 8-bit frame (core/render.h) with pixel noise drawn from (trial seed, k);
+//   3. detect, refine and match the tags (frame_detector.h): the frame holds the detected points
+//      x_bar_i(t_k) (exact 3D positions: the target is known) and their detected pixels.
+// Measurements are held from t_k until t_k+1, as OracleSource's sampled mode does, so the two are
+// interchangeable for every method. Frames are produced at creation, in parallel when asked; each
+// frame depends only on (trial seed, k), so the result does not depend on the thread count.
+// Frames without any detection are kept (empty) and counted, never fatal.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/measurements.h"
+#include "core/render.h"
+#include "core/scene.h"
+#include "core/target.h"
+#include "detect/frame_detector.h"
+
+namespace calibench {
+
+struct RenderedSourceOptions {
+  double frame_rate_hz = 30.0;
+  RenderOptions render;  // width, height: the camera's image size.
+  FrameDetectorOptions detection;
+  int threads = 1;  // Frames produced in parallel; 0: all cores.
+  bool Check(std::string* why) const;
+};
+
+// Corner errors against the exact projections of the detected points (camera.h convention).
+struct DetectionStats {
+  int frames = 0;
+  int frames_without_detections = 0;
+  long tags_expected = 0;  // Tags whose four corners project at least 2 px inside the image.
+  long tags_detected = 0;
+  long unknown_tags = 0;  // Decoded ids on no grid (false positives or another target).
+  long corners = 0;
+  double rms_px = 0, bias_x_px = 0, bias_y_px = 0, p95_px = 0;  // Per-corner Euclidean error.
+  double DetectionRate() const {
+    return tags_expected > 0 ? static_cast<double>(tags_detected) / tags_expected : 0.0;
+  }
+};
+
+class RenderedSource final : public MeasurementSource {
+ public:
+  // nullptr (and *why) for invalid options or scene, or a target the detector cannot attribute.
+  static std::unique_ptr<RenderedSource> Create(const SceneTruth& scene,
+                                                const std::vector<AprilGrid>& grids,
+                                                const RenderedSourceOptions& options,
+                                                uint64_t trial_seed, std::string* why);
+
+  int NumPoints() const override { return static_cast<int>(scene_.points.size()); }
+  double Duration() const override { return scene_.duration_s; }
+  const std::vector<double>& Breakpoints() const override { return breakpoints_; }
+  void Measure(double t, int segment, Frame* frame) const override { *frame = frames_[segment]; }
+  int NumFrames() const override { return static_cast<int>(frames_.size()); }
+  void GetFrame(int k, Frame* frame) const override { *frame = frames_[k]; }
+  const DetectionStats& stats() const { return stats_; }
+
+ private:
+  RenderedSource() = default;
+  SceneTruth scene_;
+  std::vector<double> breakpoints_;
+  std::vector<Frame> frames_;
+  DetectionStats stats_;
+};
+
+// The boards of a scene at time t as the renderer takes them; families[g] is grids[g]'s.
+std::vector<BoardView> BoardViewsAt(const SceneTruth& scene, const std::vector<AprilGrid>& grids,
+                                    const std::vector<std::shared_ptr<const TagFamily>>& families,
+                                    double t);
+
+}  // namespace calibench
