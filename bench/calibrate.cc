@@ -1,5 +1,6 @@
 #include "bench/calibrate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -83,6 +84,44 @@ std::string FormatCalibrateReport(const CalibrateReport& report, const PointData
                 report.zhang.wall_ms, report.ceres.wall_ms, report.ceres.iterations);
   out << line;
   if (!report.zhang.message.empty()) out << "note: " << report.zhang.message << "\n";
+  return out.str();
+}
+
+std::string FormatImageReport(const ImageFolderReport& images, const std::vector<int>& used_index,
+                              const CalibrateReport& report) {
+  std::vector<double> view_rms(images.images.size(), -1.0);
+  if (report.ceres.IsUsable()) {
+    for (size_t i = 0; i < report.ceres.view_rms_px.size(); ++i) {
+      view_rms[used_index[report.zhang.used_views[i]]] = report.ceres.view_rms_px[i];
+    }
+  }
+  std::vector<double> sorted = report.ceres.view_rms_px;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  std::ostringstream out;
+  char line[256];
+  out << "image                          points  view_rms_px  note\n";
+  int outliers = 0;
+  for (size_t i = 0; i < images.images.size(); ++i) {
+    const ImageResult& r = images.images[i];
+    std::string note = r.used ? r.reason : "skipped: " + r.reason;
+    std::string rms = "-";
+    if (view_rms[i] >= 0) {
+      std::snprintf(line, sizeof(line), "%.4f", view_rms[i]);
+      rms = line;
+      if (view_rms[i] > kOutlierFactor * median) {
+        note += "; OUTLIER (> 3x median view RMS: re-take or drop this image)";
+        ++outliers;
+      }
+    } else if (r.used) {
+      note += "; not used by the calibration";
+    }
+    std::snprintf(line, sizeof(line), "%-30s %6d  %11s  %s\n", r.file.c_str(), r.points,
+                  rms.c_str(), note.c_str());
+    out << line;
+  }
+  out << images.used << " of " << images.images.size() << " images used; " << outliers
+      << " outlier view(s)\n";
   return out.str();
 }
 

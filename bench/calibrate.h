@@ -7,6 +7,7 @@
 
 #include "batch/refine.h"
 #include "batch/zhang.h"
+#include "bench/image_points.h"
 #include "bench/points_io.h"
 
 namespace calibench {
@@ -27,5 +28,11 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
 
 // Human-readable report: intrinsics +- std for ceres beside zhang, RMS, per-view RMS.
 std::string FormatCalibrateReport(const CalibrateReport& report, const PointData& data);
+
+// Per image: used or why not, points, per-view RMS and an outlier flag (view RMS above
+// kOutlierFactor times the median view RMS). `used_index` maps data views to report images.
+constexpr double kOutlierFactor = 3.0;
+std::string FormatImageReport(const ImageFolderReport& images, const std::vector<int>& used_index,
+                              const CalibrateReport& report);
 
 }  // namespace calibench

@@ -337,11 +337,13 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     if (!check.Check(&why)) r.Fail(n, f, why);
   });
   r.If(node, "noise", field, [&](auto n, auto f) {
-    r.CheckKeys(n, f, {"point_sigma_m", "pixel_sigma_px", "hold_s"});
+    r.CheckKeys(n, f, {"point_sigma_m", "pixel_sigma_px", "hold_s", "hold_frames"});
     NoiseOptions& noise = s->measurements.noise;
     r.If(n, "point_sigma_m", f, [&](auto m, auto g) { noise.point_sigma_m = r.Double(m, g); });
     r.If(n, "pixel_sigma_px", f, [&](auto m, auto g) { noise.pixel_sigma_px = r.Double(m, g); });
     r.If(n, "hold_s", f, [&](auto m, auto g) { noise.hold_s = r.Double(m, g); });
+    r.If(n, "hold_frames", f,
+         [&](auto m, auto g) { noise.hold_frames = static_cast<int>(r.Integer(m, g)); });
     std::string why;
     if (!noise.Check(&why)) r.Fail(n, f, why);
   });

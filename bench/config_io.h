@@ -11,12 +11,16 @@
 //     points: {preset: thesis, count: 5}  |  {list: [[x, y, z], ...]}
 //             | {random: {count, min: [3], max: [3]}}   (uniform in the box, from the seed)
 //             | {boards: [{rows, cols, spacing_m, origin: [3], rpy_deg: [3]}, ...]}  (a rig)
+//             | {aprilgrids: [{family, tag_rows, tag_cols, tag_size_m, tag_spacing, first_id,
+//                              origin: [3], rpy_deg: [3]}, ...]}  (AprilTag rig)
 //     image_size: [640, 480]
 //     motion: {preset: small}  |  {v_const, v_cos, v_sin, w_const, w_cos, w_sin: [3],
 //              frequency_rad_s, frame: auto | body | world}
-//     measurements: {detections: oracle, sample_rate_hz: 0, eval_rate_hz: 10}
-//     noise: {point_sigma_m, pixel_sigma_px, hold_s}
-//     methods: {adaptive: {enabled, alpha, gamma0, rtol, max_step_s, initial_step_s, max_steps,
+//     measurements: {detections: oracle | rendered, sample_rate_hz: 0, eval_rate_hz: 10}
+//     noise: {point_sigma_m, pixel_sigma_px, hold_s, hold_frames}
+//     rendering: {supersample, blur_sigma_px, noise_sigma_gray, ..., detector: {...}}
+//     (config_parsers.h) methods: {adaptive: {enabled, alpha, gamma0, rtol, max_step_s,
+//     initial_step_s, max_steps,
 //               convergence_tol, initial: {intrinsics, R_C, x_C, allow_improper_rotation}},
 //               dlt: {enabled, min_planarity_ratio},
 //               zhang: {enabled, model, view_stride, max_views},

@@ -84,7 +84,8 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
   const NoiseOptions& n = s.measurements.noise;
   out << YAML::Key << "noise" << YAML::Value << YAML::BeginMap << YAML::Key << "point_sigma_m"
       << YAML::Value << n.point_sigma_m << YAML::Key << "pixel_sigma_px" << YAML::Value
-      << n.pixel_sigma_px << YAML::Key << "hold_s" << YAML::Value << n.hold_s << YAML::EndMap;
+      << n.pixel_sigma_px << YAML::Key << "hold_s" << YAML::Value << n.hold_s << YAML::Key
+      << "hold_frames" << YAML::Value << n.hold_frames << YAML::EndMap;
   out << YAML::Key << "rendering" << YAML::Value;
   config_internal::EmitRendering(out, s.rendering);
   const AdaptiveMethodConfig& a = s.adaptive;

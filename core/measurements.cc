@@ -28,6 +28,8 @@ bool NoiseOptions::Check(std::string* why) const {
     msg << "pixel_sigma_px must be >= 0, got " << pixel_sigma_px;
   } else if (!(hold_s > 0 && std::isfinite(hold_s))) {
     msg << "hold_s must be > 0, got " << hold_s;
+  } else if (hold_frames < 0) {
+    msg << "hold_frames must be >= 0 (0: one draw for the whole run), got " << hold_frames;
   }
   if (msg.str().empty()) return true;
   if (why) *why = msg.str();
@@ -79,12 +81,14 @@ std::unique_ptr<OracleSource> OracleSource::Create(const SceneTruth& scene,
 
   if (options.noise.Active()) {
     const int segments = static_cast<int>(source->breakpoints_.size()) - 1;
+    const int hold = options.noise.hold_frames;
+    const int draws = !sampled ? segments : (hold == 0 ? 1 : (segments + hold - 1) / hold);
     const int n = static_cast<int>(scene.points.size());
     Rng point_rng(trial_seed, RngStream::kPointNoise);
     Rng pixel_rng(trial_seed, RngStream::kPixelNoise);
-    source->point_noise_.resize(segments);
-    source->pixel_noise_.resize(segments);
-    for (int s = 0; s < segments; ++s) {
+    source->point_noise_.resize(draws);
+    source->pixel_noise_.resize(draws);
+    for (int s = 0; s < draws; ++s) {
       Eigen::VectorXd& pn = source->point_noise_[s];
       Eigen::VectorXd& qn = source->pixel_noise_[s];
       pn.resize(3 * n);
@@ -98,8 +102,10 @@ std::unique_ptr<OracleSource> OracleSource::Create(const SceneTruth& scene,
 
 void OracleSource::AddNoise(int segment, Frame* frame) const {
   if (point_noise_.empty()) return;
-  const Eigen::VectorXd& pn = point_noise_[segment];
-  const Eigen::VectorXd& qn = pixel_noise_[segment];
+  const int hold = options_.noise.hold_frames;
+  const int draw = options_.sample_rate_hz > 0 ? (hold == 0 ? 0 : segment / hold) : segment;
+  const Eigen::VectorXd& pn = point_noise_[draw];
+  const Eigen::VectorXd& qn = pixel_noise_[draw];
   for (size_t i = 0; i < frame->pixels.size(); ++i) {
     frame->points_in_parent[i] += pn.segment<3>(3 * i);
     frame->pixels[i] += qn.segment<2>(2 * i);

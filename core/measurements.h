@@ -15,7 +15,9 @@
 //   continuous (sample_rate_hz = 0): x_bar(t), p(t) exact functions of t, the thesis's Simulink
 //       model; noise (if any) is held for noise_hold_s; or
 //   sampled (sample_rate_hz > 0): frames at k / rate, held constant until the next frame (what a
-//       detector at a frame rate gives); noise is drawn per frame.
+//       detector at a frame rate gives); noise is drawn per frame, or once per hold_frames frames
+//       (hold_frames = 0: one draw for the whole run, a fixed error pattern per point, the way a
+//       detector's systematic corner errors behave under slow motion).
 #pragma once
 
 #include <Eigen/Core>
@@ -55,6 +57,8 @@ struct NoiseOptions {
   double pixel_sigma_px = 0.0;  // Std of the Gaussian added to u and v.
   // Continuous sources: each noise draw is held this long (Simulink's noise block default 0.1 s).
   double hold_s = 0.1;
+  // Sampled sources: one draw per this many consecutive frames; 0: one draw for the whole run.
+  int hold_frames = 1;
   bool Check(std::string* why) const;
   bool Active() const { return point_sigma_m > 0 || pixel_sigma_px > 0; }
 };

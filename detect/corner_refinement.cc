@@ -49,10 +49,11 @@ bool CornerRefineOptions::Check(std::string* why) const {
   return false;
 }
 
-bool RefineTagCorners(const GrayImageView& image, const CornerRefineOptions& o,
-                      TagDetection* detection) {
-  if (!o.Check(nullptr)) return false;
-  const std::array<Eigen::Vector2d, 4>& p = detection->corners;
+namespace {
+
+// One pass: the four edge lines measured around the quadrilateral `p`, and their intersections.
+bool RefinePass(const GrayImageView& image, const CornerRefineOptions& o,
+                const std::array<Eigen::Vector2d, 4>& p, std::array<Eigen::Vector2d, 4>* out) {
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   for (const Eigen::Vector2d& c : p) centre += c / 4.0;
   std::array<Line, 4> lines;
@@ -61,8 +62,12 @@ bool RefineTagCorners(const GrayImageView& image, const CornerRefineOptions& o,
     const Eigen::Vector2d along = (b - a).normalized();
     Eigen::Vector2d normal(-along.y(), along.x());
     if (normal.dot((a + b) / 2 - centre) < 0) normal = -normal;  // Outward.
-    const double cell_px = (b - a).norm() / o.width_at_border;
-    const double h = std::min(o.max_search_px, 0.45 * cell_px);
+    // The window must stay inside the black ring and the white frame, one cell each across the
+    // edge: the cell size across is that of the two adjacent edges (they differ under
+    // perspective from this edge's own).
+    const double across_px =
+        0.5 * ((p[(e + 3) % 4] - a).norm() + (p[(e + 2) % 4] - b).norm()) / o.width_at_border;
+    const double h = std::min(o.max_search_px, 0.45 * across_px);
     if (h < 0.75) return false;  // Tag too small to read its edges.
     std::vector<Eigen::Vector2d> edge_points;
     for (int k = 0; k < o.samples_per_edge; ++k) {
@@ -104,7 +109,6 @@ bool RefineTagCorners(const GrayImageView& image, const CornerRefineOptions& o,
     if (!line) return false;
     lines[e] = *line;
   }
-  std::array<Eigen::Vector2d, 4> refined;
   for (int k = 0; k < 4; ++k) {
     // Corner k joins edge (k-1 -> k) and edge (k -> k+1).
     const Line& l1 = lines[(k + 3) % 4];
@@ -112,10 +116,29 @@ bool RefineTagCorners(const GrayImageView& image, const CornerRefineOptions& o,
     Eigen::Matrix2d m;
     m << l1.normal.transpose(), l2.normal.transpose();
     if (std::abs(m.determinant()) < 1e-6) return false;
-    refined[k] = m.inverse() * Eigen::Vector2d(l1.c, l2.c);
-    if ((refined[k] - p[k]).norm() > o.max_correction_px) return false;
+    (*out)[k] = m.inverse() * Eigen::Vector2d(l1.c, l2.c);
   }
-  detection->corners = refined;
+  return true;
+}
+
+}  // namespace
+
+bool RefineTagCorners(const GrayImageView& image, const CornerRefineOptions& o,
+                      TagDetection* detection) {
+  if (!o.Check(nullptr)) return false;
+  // Pass 1 centres the profiles on the detector's corners; pass 2 re-centres them on pass 1's
+  // lines, so that the window's truncation of the edge transition is symmetric.
+  constexpr int kPasses = 2;
+  std::array<Eigen::Vector2d, 4> corners = detection->corners;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    std::array<Eigen::Vector2d, 4> refined;
+    if (!RefinePass(image, o, corners, &refined)) return false;
+    corners = refined;
+  }
+  for (int k = 0; k < 4; ++k) {
+    if ((corners[k] - detection->corners[k]).norm() > o.max_correction_px) return false;
+  }
+  detection->corners = corners;
   return true;
 }
 

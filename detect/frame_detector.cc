@@ -7,6 +7,10 @@
 namespace calibench {
 
 bool FrameDetectorOptions::Check(std::string* why) const {
+  if (!(min_border_distance_px >= 0)) {
+    if (why) *why = "min_border_distance_px must be >= 0";
+    return false;
+  }
   return detector.Check(why) && refine.Check(why);
 }
 
@@ -68,6 +72,17 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
   for (TagDetection& tag : detector_->Detect(pixels, width, height, stride)) {
     if (PointId(tag.id, 0) < 0) {
       ++local.unknown_tags;
+      continue;
+    }
+    bool near_border = false;
+    for (const Eigen::Vector2d& c : tag.corners) {
+      // Pixel centres at integers: the image spans [-0.5, width - 0.5] x [-0.5, height - 0.5].
+      const double margin =
+          std::min({c.x() + 0.5, c.y() + 0.5, width - 0.5 - c.x(), height - 0.5 - c.y()});
+      near_border |= margin < options_.min_border_distance_px;
+    }
+    if (near_border) {
+      ++local.border_tags;
       continue;
     }
     ++local.tags;

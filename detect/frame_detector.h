@@ -24,6 +24,9 @@ struct FrameDetectorOptions {
   AprilTagOptions detector;    // family is taken from the grids.
   bool refine_corners = true;  // Edge-fit refinement (corner_refinement.h); raw corners if false.
   CornerRefineOptions refine;  // width_at_border is taken from the family.
+  // Tags with a corner closer than this to the image border are dropped: a tag cut by the border
+  // still decodes, but its corners are extrapolated (measured: up to 2 px off).
+  double min_border_distance_px = 2.0;
   bool Check(std::string* why) const;
 };
 
@@ -36,6 +39,7 @@ struct DetectionCounts {
   int tags = 0;            // Tags detected and matched to a grid.
   int unknown_tags = 0;    // Detected ids that are on no grid.
   int unrefined_tags = 0;  // Tags whose refinement was refused (raw corners kept).
+  int border_tags = 0;     // Tags dropped for touching the image border.
 };
 
 class FrameDetector {

@@ -19,30 +19,63 @@ struct FrameResult {
   std::string error;                    // Non-empty: rendering failed.
 };
 
-// Tags of the grids whose four corners project at least `margin_px` inside the image, on the
-// side of the board that faces the camera.
-int ExpectedTags(const SceneTruth& scene, const std::vector<BoardView>& views, int width,
-                 int height) {
+}  // namespace
+
+std::vector<std::vector<bool>> TagsInView(const CameraIntrinsics& intrinsics,
+                                          const std::vector<BoardView>& views, int width,
+                                          int height) {
   constexpr double kMarginPx = 2.0;
-  int expected = 0;
+  std::vector<std::vector<bool>> in_view;
   for (const BoardView& view : views) {
-    if (!(view.cam_from_board.Inverse().translation.z() > 0)) continue;  // Seen from behind.
     const std::vector<Eigen::Vector3d> corners = view.grid.CornersInBoard();
-    for (size_t t = 0; t + 3 < corners.size(); t += 4) {
+    std::vector<bool> tags(corners.size() / 4, false);
+    const bool facing = view.cam_from_board.Inverse().translation.z() > 0;
+    for (size_t t = 0; facing && t < tags.size(); ++t) {
       bool inside = true;
-      for (size_t k = t; k < t + 4 && inside; ++k) {
+      for (size_t k = 4 * t; k < 4 * t + 4 && inside; ++k) {
         Eigen::Vector2d pixel;
-        inside = ProjectPoint(scene.intrinsics, view.cam_from_board * corners[k], &pixel) &&
+        inside = ProjectPoint(intrinsics, view.cam_from_board * corners[k], &pixel) &&
                  pixel.x() >= kMarginPx - 0.5 && pixel.y() >= kMarginPx - 0.5 &&
                  pixel.x() <= width - 0.5 - kMarginPx && pixel.y() <= height - 0.5 - kMarginPx;
       }
-      expected += inside;
+      tags[t] = inside;
     }
+    in_view.push_back(tags);
   }
-  return expected;
+  return in_view;
 }
 
-}  // namespace
+void DetectionStatsAccumulator::AddFrame(int tags_expected, const DetectionCounts& counts,
+                                         bool no_detection) {
+  ++stats_.frames;
+  stats_.frames_without_detections += no_detection;
+  stats_.tags_expected += tags_expected;
+  stats_.tags_detected += counts.tags;
+  stats_.unknown_tags += counts.unknown_tags;
+  stats_.unrefined_tags += counts.unrefined_tags;
+  stats_.border_tags += counts.border_tags;
+}
+
+void DetectionStatsAccumulator::AddCornerError(const Eigen::Vector2d& e) {
+  sum_ += e;
+  sum_sq_ += e.squaredNorm();
+  norms_.push_back(e.norm());
+}
+
+DetectionStats DetectionStatsAccumulator::Finish() const {
+  DetectionStats stats = stats_;
+  stats.corners = static_cast<long>(norms_.size());
+  if (norms_.empty()) return stats;
+  const double n = static_cast<double>(norms_.size());
+  stats.rms_px = std::sqrt(sum_sq_ / n);
+  stats.bias_x_px = sum_.x() / n;
+  stats.bias_y_px = sum_.y() / n;
+  std::vector<double> norms = norms_;
+  const size_t p95 = std::min(norms.size() - 1, static_cast<size_t>(std::ceil(0.95 * n)) - 1);
+  std::nth_element(norms.begin(), norms.begin() + p95, norms.end());
+  stats.p95_px = norms[p95];
+  return stats;
+}
 
 bool RenderedSourceOptions::Check(std::string* why) const {
   if (!(frame_rate_hz > 0 && std::isfinite(frame_rate_hz))) {
@@ -114,7 +147,10 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
       const std::vector<BoardView> views = BoardViewsAt(scene, grids, families, t);
       Rng noise(TrialSeed(trial_seed, k), RngStream::kPixelNoise);
       if (!renderer->Render(views, &noise, &image, &r.error)) continue;
-      r.tags_expected = ExpectedTags(scene, views, image.width, image.height);
+      for (const std::vector<bool>& grid :
+           TagsInView(scene.intrinsics, views, image.width, image.height)) {
+        r.tags_expected += static_cast<int>(std::count(grid.begin(), grid.end(), true));
+      }
       const Rigid3 parent_from_points = scene.ParentFromPoints(t);
       const Rigid3 cam_from_points = scene.CamFromParent() * parent_from_points;
       r.frame.time_s = t;
@@ -137,37 +173,17 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
   worker();
   for (std::thread& t : pool) t.join();
 
-  DetectionStats& stats = source->stats_;
-  std::vector<double> norms;
-  Eigen::Vector2d bias = Eigen::Vector2d::Zero();
-  double sum_sq = 0;
+  DetectionStatsAccumulator stats;
   for (FrameResult& r : results) {
     if (!r.error.empty()) {
       if (why) *why = "frame at t = " + std::to_string(r.frame.time_s) + " s: " + r.error;
       return nullptr;
     }
-    ++stats.frames;
-    stats.frames_without_detections += r.frame.pixels.empty();
-    stats.tags_expected += r.tags_expected;
-    stats.tags_detected += r.counts.tags;
-    stats.unknown_tags += r.counts.unknown_tags;
-    for (const Eigen::Vector2d& e : r.errors) {
-      bias += e;
-      sum_sq += e.squaredNorm();
-      norms.push_back(e.norm());
-    }
+    stats.AddFrame(r.tags_expected, r.counts, r.frame.pixels.empty());
+    for (const Eigen::Vector2d& e : r.errors) stats.AddCornerError(e);
     source->frames_.push_back(std::move(r.frame));
   }
-  stats.corners = static_cast<long>(norms.size());
-  if (!norms.empty()) {
-    const double n = static_cast<double>(norms.size());
-    stats.rms_px = std::sqrt(sum_sq / n);
-    stats.bias_x_px = bias.x() / n;
-    stats.bias_y_px = bias.y() / n;
-    const size_t p95 = std::min(norms.size() - 1, static_cast<size_t>(std::ceil(0.95 * n)) - 1);
-    std::nth_element(norms.begin(), norms.begin() + p95, norms.end());
-    stats.p95_px = norms[p95];
-  }
+  source->stats_ = stats.Finish();
   return source;
 }
 

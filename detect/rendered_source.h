@@ -37,13 +37,35 @@ struct DetectionStats {
   int frames_without_detections = 0;
   long tags_expected = 0;  // Tags whose four corners project at least 2 px inside the image.
   long tags_detected = 0;
-  long unknown_tags = 0;  // Decoded ids on no grid (false positives or another target).
+  long unknown_tags = 0;    // Decoded ids on no grid (false positives or another target).
+  long unrefined_tags = 0;  // Refinement refused: raw detector corners kept.
+  long border_tags = 0;     // Dropped for touching the image border.
   long corners = 0;
   double rms_px = 0, bias_x_px = 0, bias_y_px = 0, p95_px = 0;  // Per-corner Euclidean error.
   double DetectionRate() const {
     return tags_expected > 0 ? static_cast<double>(tags_detected) / tags_expected : 0.0;
   }
 };
+
+// Builds DetectionStats frame by frame (used by RenderedSource and `calibench detect`).
+class DetectionStatsAccumulator {
+ public:
+  void AddFrame(int tags_expected, const DetectionCounts& counts, bool no_detection);
+  void AddCornerError(const Eigen::Vector2d& detected_minus_exact);
+  DetectionStats Finish() const;
+
+ private:
+  DetectionStats stats_;
+  Eigen::Vector2d sum_ = Eigen::Vector2d::Zero();
+  double sum_sq_ = 0;
+  std::vector<double> norms_;
+};
+
+// Per grid, per tag: whether all four corners project at least 2 px inside the image, on the
+// side of the board that faces the camera (the tags a detector is expected to find).
+std::vector<std::vector<bool>> TagsInView(const CameraIntrinsics& intrinsics,
+                                          const std::vector<BoardView>& views, int width,
+                                          int height);
 
 class RenderedSource final : public MeasurementSource {
  public:

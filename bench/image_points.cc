@@ -1,0 +1,148 @@
+#include "bench/image_points.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "detect/frame_detector.h"
+
+namespace calibench {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A view needs this many points: more than a homography's 4, so that a view says something.
+constexpr size_t kMinViewPoints = 8;
+
+bool IsImageFile(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const char* e : {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp"}) {
+    if (ext == e) return true;
+  }
+  return false;
+}
+
+bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, View* view,
+                      std::string* how) {
+  const cv::Size pattern(t.cols, t.rows);
+  std::vector<cv::Point2f> corners;
+  bool found = cv::findChessboardCorners(
+      gray, pattern, corners, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
+  if (found) {
+    cv::cornerSubPix(gray, corners, cv::Size(5, 5), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.1));
+    *how = "findChessboardCorners + cornerSubPix";
+  } else {
+    found = cv::findChessboardCornersSB(gray, pattern, corners);
+    *how = "findChessboardCornersSB";
+  }
+  if (!found || corners.size() != static_cast<size_t>(t.cols * t.rows)) return false;
+  for (int r = 0; r < t.rows; ++r) {
+    for (int c = 0; c < t.cols; ++c) {
+      view->points.emplace_back(c * t.col_spacing_m, r * t.row_spacing_m, 0.0);
+      const cv::Point2f& p = corners[r * t.cols + c];
+      view->pixels.emplace_back(p.x, p.y);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, PointData* data,
+                     ImageFolderReport* report, std::vector<int>* used_index, std::string* why) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->is_regular_file() && IsImageFile(it->path())) files.push_back(it->path());
+  }
+  if (ec) {
+    if (why) *why = dir + ": cannot list the folder: " + ec.message();
+    return false;
+  }
+  if (files.empty()) {
+    if (why) *why = dir + ": no images (png, jpg, jpeg, tif, tiff, bmp) in the folder";
+    return false;
+  }
+  std::sort(files.begin(), files.end());
+  std::unique_ptr<FrameDetector> detector;
+  std::vector<Eigen::Vector3d> grid_corners;
+  if (target.type == CalibrationTarget::Type::kAprilGrid) {
+    detector = FrameDetector::Create({target.grid}, FrameDetectorOptions(), why);
+    if (!detector) return false;
+    grid_corners = target.grid.CornersInBoard();
+  }
+  *data = PointData();
+  data->format = target.type == CalibrationTarget::Type::kAprilGrid ? "images+aprilgrid"
+                                                                    : "images+checkerboard";
+  *report = ImageFolderReport();
+  used_index->clear();
+  cv::Size size;
+  for (const fs::path& file : files) {
+    ImageResult r;
+    r.file = file.filename().string();
+    cv::Mat gray;
+    try {
+      gray = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
+    } catch (const cv::Exception& e) {
+      gray.release();
+    }
+    View view;
+    if (gray.empty()) {
+      r.reason = "unreadable (not an image, truncated or empty)";
+    } else if (!size.empty() && gray.size() != size) {
+      r.reason = "size " + std::to_string(gray.cols) + "x" + std::to_string(gray.rows) +
+                 " differs from the first image's " + std::to_string(size.width) + "x" +
+                 std::to_string(size.height);
+    } else if (target.type == CalibrationTarget::Type::kCheckerboard) {
+      if (!FindCheckerboard(gray, target, &view, &r.reason)) {
+        r.reason = "no " + std::to_string(target.cols) + "x" + std::to_string(target.rows) +
+                   " checkerboard found";
+      }
+    } else {
+      DetectionCounts counts;
+      for (const Observation& o : detector->Detect(gray.data, gray.cols, gray.rows,
+                                                   static_cast<int>(gray.step), &counts)) {
+        view.points.push_back(grid_corners[o.point_id]);
+        view.pixels.push_back(o.pixel);
+      }
+      report->tags_detected += counts.tags;
+      report->unknown_tags += counts.unknown_tags;
+      r.reason = std::to_string(counts.tags) + " tags";
+      if (counts.unknown_tags > 0) {
+        r.reason += ", " + std::to_string(counts.unknown_tags) + " ids not on the grid";
+      }
+    }
+    if (!gray.empty() && size.empty()) size = gray.size();
+    r.points = static_cast<int>(view.points.size());
+    r.used = r.points >= static_cast<int>(kMinViewPoints);
+    if (!r.used && r.reason.find("unreadable") == std::string::npos &&
+        r.reason.find("differs") == std::string::npos && r.points > 0) {
+      r.reason += ": too few points (" + std::to_string(r.points) + " < " +
+                  std::to_string(kMinViewPoints) + ")";
+    }
+    if (r.used) {
+      data->views.push_back(std::move(view));
+      used_index->push_back(static_cast<int>(report->images.size()));
+      ++report->used;
+    }
+    report->images.push_back(r);
+  }
+  data->image_width = size.width;
+  data->image_height = size.height;
+  if (report->used == 0) {
+    if (why) {
+      *why = dir + ": the target was found in none of " + std::to_string(files.size()) +
+             " images (check the target YAML: type, size, family, spacing)";
+    }
+    return false;
+  }
+  return true;
+}
+
+}  // namespace calibench
