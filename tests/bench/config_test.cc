@@ -171,6 +171,50 @@ TEST(Config, BatchMethodsAndRandomPointsParse) {
   EXPECT_EQ(again.scenarios[0].points, s.points);  // Drawn from the seed: reproducible.
 }
 
+// The rendered-detection configs load, round-trip through the resolved YAML, and the rendered
+// switch's misuses are named.
+TEST(Config, RenderedScenariosLoadRoundTripAndRefuseMisuse) {
+  RunConfig config;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfig(kThesisDir + "../rendered/all.yaml", &config, &why)) << why;
+  ASSERT_EQ(config.scenarios.size(), 4u);
+  const ScenarioConfig& r = config.scenarios[0];
+  EXPECT_EQ(r.detections, "rendered");
+  ASSERT_EQ(r.aprilgrids.size(), 2u);
+  EXPECT_EQ(r.points.size(), 2u * 4 * 20);
+  EXPECT_EQ(r.aprilgrids[1].first_id, 20);
+  EXPECT_EQ(r.rendering.detection.detector.quad_decimate, 2.0);
+  EXPECT_EQ(r.RenderingOptions().frame_rate_hz, 30.0);
+  EXPECT_EQ(config.scenarios[2].measurements.noise.hold_frames, 0);
+  RunConfig again;
+  ASSERT_TRUE(LoadRunConfigFromString(ResolvedYaml(config), "resolved.yaml", &again, &why)) << why;
+  EXPECT_EQ(ResolvedYaml(again), ResolvedYaml(config));
+  EXPECT_EQ(again.scenarios[0].points, r.points);
+
+  EXPECT_NE(LoadError(Scenario("  measurements: {detections: rendered, sample_rate_hz: 30}\n"))
+                .find("needs AprilTag targets"),
+            std::string::npos);
+  const std::string grid =
+      "  points: {aprilgrids: [{tag_rows: 2, tag_cols: 2, tag_size_m: 0.1, origin: [0, 3, 0], "
+      "rpy_deg: [90, 0, 0]}]}\n";
+  EXPECT_NE(LoadError(Scenario("  measurements: {detections: rendered}\n" + grid))
+                .find("needs a frame rate"),
+            std::string::npos);
+  EXPECT_NE(LoadError(Scenario("  measurements: {detections: rendered, sample_rate_hz: 30}\n"
+                               "  noise: {pixel_sigma_px: 0.5}\n" +
+                               grid))
+                .find("take their noise from the image"),
+            std::string::npos);
+  EXPECT_NE(LoadError(Scenario("  rendering: {supersample: 0}\n")).find("supersample"),
+            std::string::npos);
+  EXPECT_NE(LoadError(Scenario("  rendering: {detector: {quad_decimat: 2}}\n"))
+                .find("unknown key"),
+            std::string::npos);
+  EXPECT_NE(
+      LoadError(Scenario("  points: {aprilgrids: [{family: tag99h9}]}\n")).find("tag99h9"),
+      std::string::npos);
+}
+
 TEST(Config, DuplicateScenarioNamesAreRefused) {
   const std::string inline_scenario = "  - {name: a, points: {preset: thesis}}\n";
   const std::string why = LoadError("scenarios:\n" + inline_scenario + inline_scenario);
