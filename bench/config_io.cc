@@ -359,24 +359,8 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
   r.If(node, "reference", field, [&](auto n, auto f) { ParseReference(r, n, f, &s->reference); });
 }
 
-YAML::Node LoadYaml(const std::string& text, const std::string& path) {
-  try {
-    return YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    std::ostringstream msg;
-    msg << path << ":" << e.mark.line + 1 << ":" << e.mark.column + 1
-        << ": (yaml): malformed YAML: " << e.msg;
-    throw ConfigError(msg.str());
-  }
-}
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(path + ": (file): cannot open for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using config_internal::LoadYaml;
+using config_internal::ReadFile;
 
 void LoadNode(const YAML::Node& root, const std::string& path, int depth, RunConfig* config);
 
@@ -469,18 +453,12 @@ namespace {
 // Runs `load` into a fresh RunConfig; *config changes only on success.
 bool Guarded(const std::string& path, RunConfig* config, std::string* why,
              const std::function<void(RunConfig*)>& load) {
-  try {
+  return config_internal::CatchConfigErrors(path, why, [&] {
     RunConfig loaded;
     load(&loaded);
     CheckUniqueNames(loaded);
     *config = std::move(loaded);
-    return true;
-  } catch (const ConfigError& e) {
-    if (why) *why = e.what();
-  } catch (const YAML::Exception& e) {
-    if (why) *why = path + ": (yaml): " + e.what();
-  }
-  return false;
+  });
 }
 
 }  // namespace

@@ -1,7 +1,4 @@
 // Config I/O for AprilTag targets and rendering (scenario sections and Kalibr target files).
-#include <fstream>
-#include <sstream>
-
 #include "bench/config_parsers.h"
 #include "bench/target_io.h"
 #include "core/tag_family.h"
@@ -113,20 +110,9 @@ void EmitRendering(YAML::Emitter& out, const RenderedSourceOptions& o) {
 }  // namespace config_internal
 
 bool LoadTargetYaml(const std::string& path, CalibrationTarget* target, std::string* why) {
-  using config_internal::ConfigError;
   using config_internal::Reader;
-  try {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw ConfigError(path + ": (file): cannot open for reading");
-    std::ostringstream text;
-    text << in.rdbuf();
-    YAML::Node root;
-    try {
-      root = YAML::Load(text.str());
-    } catch (const YAML::ParserException& e) {
-      throw ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ":" +
-                        std::to_string(e.mark.column + 1) + ": (yaml): malformed YAML: " + e.msg);
-    }
+  return config_internal::CatchConfigErrors(path, why, [&] {
+    const YAML::Node root = config_internal::LoadYaml(config_internal::ReadFile(path), path);
     const Reader r(path);
     r.ExpectMap(root, "(top level)");
     if (!root["target_type"].IsDefined()) r.Fail(root, "target_type", "missing");
@@ -169,13 +155,7 @@ bool LoadTargetYaml(const std::string& path, CalibrationTarget* target, std::str
       }
     }
     *target = t;
-    return true;
-  } catch (const ConfigError& e) {
-    if (why) *why = e.what();
-  } catch (const YAML::Exception& e) {
-    if (why) *why = path + ": (yaml): " + e.what();
-  }
-  return false;
+  });
 }
 
 }  // namespace calibench

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -18,6 +19,41 @@ class ConfigError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// The text of a file; ConfigError naming it when it cannot be opened.
+inline std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path + ": (file): cannot open for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Parsed YAML; ConfigError with file, line and column when it is malformed.
+inline YAML::Node LoadYaml(const std::string& text, const std::string& path) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    std::ostringstream msg;
+    msg << path << ":" << e.mark.line + 1 << ":" << e.mark.column + 1
+        << ": (yaml): malformed YAML: " << e.msg;
+    throw ConfigError(msg.str());
+  }
+}
+
+// Runs `body`; a ConfigError or a yaml-cpp exception becomes false and *why (naming `path`).
+template <typename Body>
+bool CatchConfigErrors(const std::string& path, std::string* why, const Body& body) {
+  try {
+    body();
+    return true;
+  } catch (const ConfigError& e) {
+    if (why) *why = e.what();
+  } catch (const YAML::Exception& e) {
+    if (why) *why = path + ": (yaml): " + e.what();
+  }
+  return false;
+}
 
 inline size_t EditDistance(const std::string& a, const std::string& b) {
   std::vector<size_t> row(b.size() + 1);

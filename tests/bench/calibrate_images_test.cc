@@ -4,23 +4,17 @@
 
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 
 #include "bench/calibrate.h"
 #include "bench/image_points.h"
 #include "bench/target_io.h"
 #include "core/random.h"
 #include "core/render.h"
-#include <opencv2/imgcodecs.hpp>
+#include "tests/common/test_data.h"
 
 namespace calibench {
 namespace {
-
-const std::string kDataDir = CALIBENCH_DATA_DIR;
-
-#define REQUIRE_DATA(sub)                                     \
-  if (!std::filesystem::exists(kDataDir + "/" + sub))         \
-  GTEST_SKIP() << "data directory " << kDataDir << "/" << sub \
-               << " is absent (set CALIBENCH_DATA_DIR); CI always has it"
 
 std::string WriteTarget(const std::string& name, const std::string& yaml) {
   const std::string path = testing::TempDir() + "/" + name;
@@ -148,8 +142,7 @@ TEST(CalibrateImages, RenderedAprilGridRecoversTheCamera) {
   ASSERT_EQ(written, 12);
   ImageFolderReport images;
   const CalibrateReport r = CalibrateFolder(
-      dir,
-      "target_type: 'aprilgrid'\ntagCols: 6\ntagRows: 6\ntagSize: 0.03\ntagSpacing: 0.3\n",
+      dir, "target_type: 'aprilgrid'\ntagCols: 6\ntagRows: 6\ntagSize: 0.03\ntagSpacing: 0.3\n",
       LensModel::kPinholeK2, &images);
   ASSERT_TRUE(r.IsUsable()) << r.ceres.message;
   EXPECT_EQ(images.used, 12);

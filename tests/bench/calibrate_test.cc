@@ -6,15 +6,10 @@
 #include <filesystem>
 #include <opencv2/core.hpp>
 
+#include "tests/common/test_data.h"
+
 namespace calibench {
 namespace {
-
-const std::string kDataDir = CALIBENCH_DATA_DIR;
-
-#define REQUIRE_DATA(sub)                                     \
-  if (!std::filesystem::exists(kDataDir + "/" + sub))         \
-  GTEST_SKIP() << "data directory " << kDataDir << "/" << sub \
-               << " is absent (set CALIBENCH_DATA_DIR); CI always has it"
 
 // Zhang (MSR-TR-98-71), complete calibration with skew and k1, k2, as published:
 // alpha 832.5010, beta 832.5309, gamma 0.2046, u0 303.9584, v0 206.5879, k1 -0.228601,

@@ -207,12 +207,10 @@ TEST(Config, RenderedScenariosLoadRoundTripAndRefuseMisuse) {
             std::string::npos);
   EXPECT_NE(LoadError(Scenario("  rendering: {supersample: 0}\n")).find("supersample"),
             std::string::npos);
-  EXPECT_NE(LoadError(Scenario("  rendering: {detector: {quad_decimat: 2}}\n"))
-                .find("unknown key"),
+  EXPECT_NE(LoadError(Scenario("  rendering: {detector: {quad_decimat: 2}}\n")).find("unknown key"),
             std::string::npos);
-  EXPECT_NE(
-      LoadError(Scenario("  points: {aprilgrids: [{family: tag99h9}]}\n")).find("tag99h9"),
-      std::string::npos);
+  EXPECT_NE(LoadError(Scenario("  points: {aprilgrids: [{family: tag99h9}]}\n")).find("tag99h9"),
+            std::string::npos);
 }
 
 TEST(Config, DuplicateScenarioNamesAreRefused) {
