@@ -20,8 +20,6 @@ void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& 
 //                        max_hamming}}
 void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& field,
                     RenderedSourceOptions* options);
-void EmitAprilGrid(YAML::Emitter& out, const AprilGrid& grid);
-void EmitRendering(YAML::Emitter& out, const RenderedSourceOptions& options);
 
 }  // namespace config_internal
 }  // namespace calibench

@@ -4,13 +4,41 @@
 #include <cmath>
 
 #include "bench/config_io.h"
-#include "bench/config_parsers.h"
 
 namespace calibench {
 namespace {
 
 void EmitVector(YAML::Emitter& out, const Eigen::Vector3d& v) {
   out << YAML::Flow << YAML::BeginSeq << v[0] << v[1] << v[2] << YAML::EndSeq;
+}
+
+void EmitAprilGrid(YAML::Emitter& out, const AprilGrid& g) {
+  out << YAML::Flow << YAML::BeginMap << YAML::Key << "family" << YAML::Value << g.family
+      << YAML::Key << "tag_rows" << YAML::Value << g.tag_rows << YAML::Key << "tag_cols"
+      << YAML::Value << g.tag_cols << YAML::Key << "tag_size_m" << YAML::Value << g.tag_size_m
+      << YAML::Key << "tag_spacing" << YAML::Value << g.tag_spacing << YAML::Key << "first_id"
+      << YAML::Value << g.first_id << YAML::Key << "origin" << YAML::Value;
+  EmitVector(out, g.points_from_board.translation);
+  out << YAML::Key << "rpy_deg" << YAML::Value;
+  EmitVector(out, RollPitchYawDeg(g.points_from_board.rotation));
+  out << YAML::EndMap;
+}
+
+void EmitRendering(YAML::Emitter& out, const RenderedSourceOptions& o) {
+  const RenderOptions& ro = o.render;
+  const AprilTagOptions& a = o.detection.detector;
+  out << YAML::BeginMap << YAML::Key << "supersample" << YAML::Value << ro.supersample << YAML::Key
+      << "blur_sigma_px" << YAML::Value << ro.blur_sigma_px << YAML::Key << "noise_sigma_gray"
+      << YAML::Value << ro.noise_sigma_gray << YAML::Key << "background_gray" << YAML::Value
+      << ro.background_gray << YAML::Key << "black_gray" << YAML::Value << ro.black_gray
+      << YAML::Key << "white_gray" << YAML::Value << ro.white_gray << YAML::Key << "threads"
+      << YAML::Value << o.threads << YAML::Key << "refine_corners" << YAML::Value
+      << o.detection.refine_corners << YAML::Key << "detector" << YAML::Value << YAML::Flow
+      << YAML::BeginMap << YAML::Key << "quad_decimate" << YAML::Value << a.quad_decimate
+      << YAML::Key << "quad_sigma" << YAML::Value << a.quad_sigma << YAML::Key << "refine_edges"
+      << YAML::Value << a.refine_edges << YAML::Key << "decode_sharpening" << YAML::Value
+      << a.decode_sharpening << YAML::Key << "threads" << YAML::Value << a.threads << YAML::Key
+      << "max_hamming" << YAML::Value << a.max_hamming << YAML::EndMap << YAML::EndMap;
 }
 
 void EmitCamera(YAML::Emitter& out, const CameraSpec& c) {
@@ -57,7 +85,7 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
     out << YAML::EndSeq;
   } else if (!s.aprilgrids.empty()) {
     out << YAML::Key << "aprilgrids" << YAML::Value << YAML::BeginSeq;
-    for (const AprilGrid& g : s.aprilgrids) config_internal::EmitAprilGrid(out, g);
+    for (const AprilGrid& g : s.aprilgrids) EmitAprilGrid(out, g);
     out << YAML::EndSeq;
   } else {
     out << YAML::Key << "list" << YAML::Value << YAML::BeginSeq;
@@ -87,7 +115,7 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
       << n.pixel_sigma_px << YAML::Key << "hold_s" << YAML::Value << n.hold_s << YAML::Key
       << "hold_frames" << YAML::Value << n.hold_frames << YAML::EndMap;
   out << YAML::Key << "rendering" << YAML::Value;
-  config_internal::EmitRendering(out, s.rendering);
+  EmitRendering(out, s.rendering);
   const AdaptiveMethodConfig& a = s.adaptive;
   out << YAML::Key << "methods" << YAML::Value << YAML::BeginMap << YAML::Key << "adaptive"
       << YAML::Value << YAML::BeginMap;

@@ -1,6 +1,5 @@
 #include "bench/frames_io.h"
 
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -34,9 +33,13 @@ bool CheckRendered(const ScenarioConfig& s, std::string* why) {
   return true;
 }
 
-int NumFrames(const ScenarioConfig& s, const FramesOptions& o) {
-  const int all = static_cast<int>(std::ceil(s.duration_s * s.measurements.sample_rate_hz - 1e-9));
-  return o.max_frames > 0 ? std::min(all, o.max_frames) : all;
+// The scenario's frame times, the first max_frames of them when that is set.
+std::vector<double> Times(const ScenarioConfig& s, const FramesOptions& o) {
+  std::vector<double> times = FrameTimes(s.measurements.sample_rate_hz, s.duration_s);
+  if (o.max_frames > 0 && static_cast<int>(times.size()) > o.max_frames) {
+    times.resize(o.max_frames);
+  }
+  return times;
 }
 
 struct Truth {
@@ -56,24 +59,19 @@ bool WriteRenderedFrames(const ScenarioConfig& s, const FramesOptions& o, const 
     return false;
   }
   const SceneTruth scene = s.MakeScene();
-  const RenderedSourceOptions ro = s.RenderingOptions();
-  const auto renderer = FrameRenderer::Create(scene.intrinsics, ro.render, why);
+  const auto renderer =
+      SceneRenderer::Create(scene, s.aprilgrids, s.RenderingOptions().render, why);
   if (!renderer) return false;
-  std::vector<std::shared_ptr<const TagFamily>> families;
-  for (const AprilGrid& g : s.aprilgrids) {
-    families.push_back(TagFamily::Create(g.family, why));
-    if (!families.back()) return false;
-  }
   const uint64_t trial_seed = TrialSeed(s.seed, static_cast<uint64_t>(o.trial));
   std::string csv =
       CsvLine({"frame", "time_s", "point_id", "tag_id", "corner", "u_px", "v_px", "in_view"});
   GrayImage image;
-  const int frames = NumFrames(s, o);
+  std::vector<BoardView> views;
+  const std::vector<double> times = Times(s, o);
+  const int frames = static_cast<int>(times.size());
   for (int k = 0; k < frames; ++k) {
-    const double t = k / s.measurements.sample_rate_hz;
-    const std::vector<BoardView> views = BoardViewsAt(scene, s.aprilgrids, families, t);
-    Rng noise(TrialSeed(trial_seed, k), RngStream::kPixelNoise);
-    if (!renderer->Render(views, &noise, &image, why)) return false;
+    const double t = times[k];
+    if (!renderer->Render(t, trial_seed, k, &image, &views, why)) return false;
     const cv::Mat mat(image.height, image.width, CV_8UC1, image.pixels.data());
     const std::string path = dir + "/" + FrameName(k);
     if (!cv::imwrite(path, mat)) {

@@ -121,8 +121,7 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
     if (!gray.empty() && size.empty()) size = gray.size();
     r.points = static_cast<int>(view.points.size());
     r.used = r.points >= static_cast<int>(kMinViewPoints);
-    if (!r.used && r.reason.find("unreadable") == std::string::npos &&
-        r.reason.find("differs") == std::string::npos && r.points > 0) {
+    if (!r.used && r.points > 0) {  // Unreadable or mis-sized images have no points.
       r.reason += ": too few points (" + std::to_string(r.points) + " < " +
                   std::to_string(kMinViewPoints) + ")";
     }

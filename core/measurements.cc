@@ -7,18 +7,14 @@
 #include "core/random.h"
 
 namespace calibench {
-namespace {
 
-// Regular grid 0, 1/rate, ... strictly below duration.
-std::vector<double> Grid(double rate_hz, double duration_s) {
+std::vector<double> FrameTimes(double rate_hz, double duration_s) {
   std::vector<double> times;
   const long count = static_cast<long>(std::ceil(duration_s * rate_hz - 1e-9));
   times.reserve(count);
   for (long k = 0; k < count; ++k) times.push_back(static_cast<double>(k) / rate_hz);
   return times;
 }
-
-}  // namespace
 
 bool NoiseOptions::Check(std::string* why) const {
   std::ostringstream msg;
@@ -61,12 +57,12 @@ std::unique_ptr<OracleSource> OracleSource::Create(const SceneTruth& scene,
   const double duration = scene.duration_s;
   const bool sampled = options.sample_rate_hz > 0;
   if (sampled) {
-    source->breakpoints_ = Grid(options.sample_rate_hz, duration);
+    source->breakpoints_ = FrameTimes(options.sample_rate_hz, duration);
     source->frame_times_ = source->breakpoints_;
   } else {
-    source->breakpoints_ = options.noise.Active() ? Grid(1.0 / options.noise.hold_s, duration)
+    source->breakpoints_ = options.noise.Active() ? FrameTimes(1.0 / options.noise.hold_s, duration)
                                                   : std::vector<double>{0};
-    source->frame_times_ = Grid(options.eval_rate_hz, duration);
+    source->frame_times_ = FrameTimes(options.eval_rate_hz, duration);
   }
   source->breakpoints_.push_back(duration);
 

@@ -52,6 +52,9 @@ class MeasurementSource {
   virtual void GetFrame(int k, Frame* frame) const = 0;
 };
 
+// The regular grid 0, 1/rate, 2/rate, ... strictly below duration_s (frame times at a rate).
+std::vector<double> FrameTimes(double rate_hz, double duration_s);
+
 struct NoiseOptions {
   double point_sigma_m = 0.0;   // Std of the Gaussian added to each coordinate of x_bar.
   double pixel_sigma_px = 0.0;  // Std of the Gaussian added to u and v.

@@ -72,6 +72,14 @@ std::vector<Eigen::Vector3d> BoardPoints(int rows, int cols, double spacing_m) {
   return points;
 }
 
+Rigid3 FacingBoardPose(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board_point,
+                       const Eigen::Vector3d& point_in_cam) {
+  Rigid3 cam_from_board;
+  cam_from_board.rotation = Eigen::Matrix3d(Eigen::Vector3d(1, -1, -1).asDiagonal()) * ExpSO3(tilt);
+  cam_from_board.translation = point_in_cam - cam_from_board.rotation * board_point;
+  return cam_from_board;
+}
+
 SyntheticBoardViews MakeBoardViews(const CameraIntrinsics& intrinsics,
                                    const SyntheticBoardOptions& o, Rng* rng) {
   SyntheticBoardViews out;

@@ -59,6 +59,12 @@ struct SyntheticBoardViews {
   std::vector<View> views;             // Board frame points (z = 0) and pixels.
   std::vector<Rigid3> cam_from_board;  // Ground truth per view.
 };
+// cam_from_board of a board seen from the front (Kalibr's board frame: z towards the camera, x to
+// the image's right, y up), turned by ExpSO3(tilt) in the board frame, with board point
+// `board_point` at `point_in_cam`.
+Rigid3 FacingBoardPose(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board_point,
+                       const Eigen::Vector3d& point_in_cam);
+
 // Corners row by row: (c * spacing, r * spacing, 0).
 std::vector<Eigen::Vector3d> BoardPoints(int rows, int cols, double spacing_m);
 SyntheticBoardViews MakeBoardViews(const CameraIntrinsics& intrinsics,

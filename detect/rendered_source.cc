@@ -89,17 +89,36 @@ bool RenderedSourceOptions::Check(std::string* why) const {
   return render.Check(why) && detection.Check(why);
 }
 
-std::vector<BoardView> BoardViewsAt(const SceneTruth& scene, const std::vector<AprilGrid>& grids,
-                                    const std::vector<std::shared_ptr<const TagFamily>>& families,
-                                    double t) {
-  const Rigid3 cam_from_points = scene.CamFromParent() * scene.ParentFromPoints(t);
-  std::vector<BoardView> views(grids.size());
-  for (size_t g = 0; g < grids.size(); ++g) {
-    views[g].grid = grids[g];
-    views[g].family = families[g];
-    views[g].cam_from_board = cam_from_points * grids[g].points_from_board;
+std::unique_ptr<SceneRenderer> SceneRenderer::Create(const SceneTruth& scene,
+                                                     const std::vector<AprilGrid>& grids,
+                                                     const RenderOptions& options,
+                                                     std::string* why) {
+  std::unique_ptr<SceneRenderer> r(new SceneRenderer(scene, grids));
+  for (const AprilGrid& g : grids) {
+    r->families_.push_back(TagFamily::Create(g.family, why));
+    if (!r->families_.back()) return nullptr;
+  }
+  r->renderer_ = FrameRenderer::Create(scene.intrinsics, options, why);
+  if (!r->renderer_) return nullptr;
+  return r;
+}
+
+std::vector<BoardView> SceneRenderer::ViewsAt(double t) const {
+  const Rigid3 cam_from_points = scene_.CamFromParent() * scene_.ParentFromPoints(t);
+  std::vector<BoardView> views(grids_.size());
+  for (size_t g = 0; g < grids_.size(); ++g) {
+    views[g].grid = grids_[g];
+    views[g].family = families_[g];
+    views[g].cam_from_board = cam_from_points * grids_[g].points_from_board;
   }
   return views;
+}
+
+bool SceneRenderer::Render(double t, uint64_t trial_seed, int k, GrayImage* image,
+                           std::vector<BoardView>* views, std::string* why) const {
+  *views = ViewsAt(t);
+  Rng noise(TrialSeed(trial_seed, static_cast<uint64_t>(k)), RngStream::kPixelNoise);
+  return renderer_->Render(*views, &noise, image, why);
 }
 
 std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
@@ -107,8 +126,11 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
                                                        const RenderedSourceOptions& options,
                                                        uint64_t trial_seed, std::string* why) {
   if (!options.Check(why) || !scene.Check(why)) return nullptr;
-  // Validates the target (one family, distinct ids) before any work.
-  if (!FrameDetector::Create(grids, options.detection, why)) return nullptr;
+  // Validates the target (one family, distinct ids) before any work; the calling thread's worker
+  // then uses it.
+  std::unique_ptr<FrameDetector> first_detector =
+      FrameDetector::Create(grids, options.detection, why);
+  if (!first_detector) return nullptr;
   std::vector<Eigen::Vector3d> corners;
   for (const AprilGrid& g : grids) {
     const std::vector<Eigen::Vector3d> c = g.CornersInPointsFrame();
@@ -118,35 +140,23 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
     if (why) *why = "the scene's points are not the grids' corners";
     return nullptr;
   }
-  std::vector<std::shared_ptr<const TagFamily>> families;
-  for (const AprilGrid& g : grids) {
-    families.push_back(TagFamily::Create(g.family, why));
-    if (!families.back()) return nullptr;
-  }
-  const auto renderer = FrameRenderer::Create(scene.intrinsics, options.render, why);
+  const auto renderer = SceneRenderer::Create(scene, grids, options.render, why);
   if (!renderer) return nullptr;
 
   std::unique_ptr<RenderedSource> source(new RenderedSource());
   source->scene_ = scene;
-  const double duration = scene.duration_s;
-  const long count = static_cast<long>(std::ceil(duration * options.frame_rate_hz - 1e-9));
-  for (long k = 0; k < count; ++k) {
-    source->breakpoints_.push_back(static_cast<double>(k) / options.frame_rate_hz);
-  }
+  source->breakpoints_ = FrameTimes(options.frame_rate_hz, scene.duration_s);
   std::vector<FrameResult> results(source->breakpoints_.size());
-  source->breakpoints_.push_back(duration);
+  source->breakpoints_.push_back(scene.duration_s);
 
   std::atomic<size_t> next{0};
-  auto worker = [&] {
-    std::string error;
-    const auto detector = FrameDetector::Create(grids, options.detection, &error);
+  auto worker = [&](std::unique_ptr<FrameDetector> detector) {
     GrayImage image;
+    std::vector<BoardView> views;
     for (size_t k = next++; k < results.size(); k = next++) {
       FrameResult& r = results[k];
       const double t = source->breakpoints_[k];
-      const std::vector<BoardView> views = BoardViewsAt(scene, grids, families, t);
-      Rng noise(TrialSeed(trial_seed, k), RngStream::kPixelNoise);
-      if (!renderer->Render(views, &noise, &image, &r.error)) continue;
+      if (!renderer->Render(t, trial_seed, static_cast<int>(k), &image, &views, &r.error)) continue;
       for (const std::vector<bool>& grid :
            TagsInView(scene.intrinsics, views, image.width, image.height)) {
         r.tags_expected += static_cast<int>(std::count(grid.begin(), grid.end(), true));
@@ -169,8 +179,10 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
       options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::clamp(threads, 1, static_cast<int>(std::max<size_t>(1, results.size())));
   std::vector<std::thread> pool;
-  for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
+  for (int i = 1; i < threads; ++i) {
+    pool.emplace_back(worker, FrameDetector::Create(grids, options.detection, nullptr));
+  }
+  worker(std::move(first_detector));
   for (std::thread& t : pool) t.join();
 
   DetectionStatsAccumulator stats;

@@ -91,9 +91,28 @@ class RenderedSource final : public MeasurementSource {
   DetectionStats stats_;
 };
 
-// The boards of a scene at time t as the renderer takes them; families[g] is grids[g]'s.
-std::vector<BoardView> BoardViewsAt(const SceneTruth& scene, const std::vector<AprilGrid>& grids,
-                                    const std::vector<std::shared_ptr<const TagFamily>>& families,
-                                    double t);
+// Frame k of a trial, one definition for RenderedSource and `calibench render`: the scene's grids
+// at time t, rendered with pixel noise drawn from (trial seed, k). Keeps references to the scene
+// and the grids, which must outlive it. Render() is const and thread-safe.
+class SceneRenderer {
+ public:
+  // nullptr (and *why) for invalid options or a grid family the library does not have.
+  static std::unique_ptr<SceneRenderer> Create(const SceneTruth& scene,
+                                               const std::vector<AprilGrid>& grids,
+                                               const RenderOptions& options, std::string* why);
+  // The boards at time t as the renderer takes them (cam_from_board from the scene's motion).
+  std::vector<BoardView> ViewsAt(double t) const;
+  // Renders frame k (time t); *views receives ViewsAt(t).
+  bool Render(double t, uint64_t trial_seed, int k, GrayImage* image, std::vector<BoardView>* views,
+              std::string* why) const;
+
+ private:
+  SceneRenderer(const SceneTruth& scene, const std::vector<AprilGrid>& grids)
+      : scene_(scene), grids_(grids) {}
+  const SceneTruth& scene_;
+  const std::vector<AprilGrid>& grids_;
+  std::vector<std::shared_ptr<const TagFamily>> families_;  // Per grid.
+  std::unique_ptr<FrameRenderer> renderer_;
+};
 
 }  // namespace calibench

@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include "core/render.h"
+#include "core/synthetic.h"
 #include "detect/apriltag_detector.h"
 
 namespace calibench {
@@ -16,10 +17,7 @@ BoardView GridView() {
   b.grid.tag_cols = 6;
   b.grid.tag_size_m = 0.04;
   b.family = TagFamily::Create("tag36h11", nullptr);
-  b.cam_from_board.rotation = Eigen::Matrix3d(Eigen::Vector3d(1, -1, -1).asDiagonal()) *
-                              ExpSO3(Eigen::Vector3d(0.3, -0.2, 0.1));
-  b.cam_from_board.translation =
-      Eigen::Vector3d(0, 0, 0.5) - b.cam_from_board.rotation * Eigen::Vector3d(0.15, 0.125, 0);
+  b.cam_from_board = FacingBoardPose({0.3, -0.2, 0.1}, {0.15, 0.125, 0}, {0, 0, 0.5});
   return b;
 }
 

@@ -11,6 +11,7 @@
 #include "bench/target_io.h"
 #include "core/random.h"
 #include "core/render.h"
+#include "core/synthetic.h"
 #include "tests/common/test_data.h"
 
 namespace calibench {
@@ -118,12 +119,10 @@ TEST(CalibrateImages, RenderedAprilGridRecoversTheCamera) {
     // Board facing the camera (board z towards it), tilted up to 35 degrees, 0.45-0.6 m away.
     const Eigen::Vector3d tilt(rng.Uniform(-0.6, 0.6), rng.Uniform(-0.6, 0.6),
                                rng.Uniform(-0.4, 0.4));
-    view.cam_from_board.rotation =
-        ExpSO3(tilt) * Eigen::Matrix3d(Eigen::Vector3d(1, -1, -1).asDiagonal());
     const double distance = rng.Uniform(0.45, 0.6);
-    view.cam_from_board.translation =
-        Eigen::Vector3d(rng.Uniform(-0.05, 0.05), rng.Uniform(-0.04, 0.04), distance) -
-        view.cam_from_board.rotation * centre;
+    const Eigen::Vector3d at(rng.Uniform(-0.05, 0.05), rng.Uniform(-0.04, 0.04), distance);
+    // ExpSO3(tilt) D = D ExpSO3(D tilt) for D = diag(1, -1, -1).
+    view.cam_from_board = FacingBoardPose({tilt.x(), -tilt.y(), -tilt.z()}, centre, at);
     bool inside = true;
     for (const Eigen::Vector3d& p : grid.CornersInBoard()) {
       Eigen::Vector2d pixel;

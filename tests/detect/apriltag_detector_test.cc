@@ -41,12 +41,10 @@ TEST(AprilTagDetector, RenderDetectRoundTrip) {
   int refined_count = 0;
   int count = 0, visible = 0, found = 0;
   for (int f = 0; f < 8; ++f) {
-    b.cam_from_board.rotation =
-        Eigen::Matrix3d(Eigen::Vector3d(1, -1, -1).asDiagonal()) *
-        ExpSO3(Eigen::Vector3d(rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5), rng.Uniform(-1, 1)));
-    b.cam_from_board.translation =
-        Eigen::Vector3d(rng.Uniform(-0.03, 0.03), rng.Uniform(-0.03, 0.03), rng.Uniform(0.4, 0.6)) -
-        b.cam_from_board.rotation * centre;
+    const Eigen::Vector3d tilt(rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5), rng.Uniform(-1, 1));
+    const Eigen::Vector3d at(rng.Uniform(-0.03, 0.03), rng.Uniform(-0.03, 0.03),
+                             rng.Uniform(0.4, 0.6));
+    b.cam_from_board = FacingBoardPose(tilt, centre, at);
     GrayImage img;
     ASSERT_TRUE(RenderFrame(k, {b}, RenderOptions(), nullptr, &img, &why)) << why;
     const std::vector<TagDetection> dets = detector->Detect(img);
@@ -126,11 +124,8 @@ TEST_P(CornerAccuracy, RefinementBeatsRawUnderNoiseAndBlur) {
   double raw_sq = 0, refined_sq = 0;
   int raw_n = 0, refined_n = 0;
   for (int f = 0; f < 6; ++f) {
-    b.cam_from_board.rotation =
-        Eigen::Matrix3d(Eigen::Vector3d(1, -1, -1).asDiagonal()) *
-        ExpSO3(Eigen::Vector3d(rng.Uniform(-0.4, 0.4), rng.Uniform(-0.4, 0.4), rng.Uniform(-1, 1)));
-    b.cam_from_board.translation =
-        Eigen::Vector3d(0, 0, rng.Uniform(0.45, 0.55)) - b.cam_from_board.rotation * centre;
+    const Eigen::Vector3d tilt(rng.Uniform(-0.4, 0.4), rng.Uniform(-0.4, 0.4), rng.Uniform(-1, 1));
+    b.cam_from_board = FacingBoardPose(tilt, centre, {0, 0, rng.Uniform(0.45, 0.55)});
     GrayImage img;
     ASSERT_TRUE(RenderFrame(k, {b}, o, &noise, &img, nullptr));
     for (const TagDetection& d : detector->Detect(img)) {
