@@ -34,7 +34,11 @@ class AdaptiveOde {
   // d/dt state at (t, y) in `segment`. Returns false if a depth is <= 0 or non-finite.
   bool Derivative(double t, int segment, const State& y, State* dy) {
     ++evaluations_;
-    source_.Measure(t, segment, &frame_);
+    // Held frames change only at breakpoints: measure once per segment, not at every stage.
+    if (!source_.HeldWithinSegments() || segment != measured_segment_) {
+      source_.Measure(t, segment, &frame_);
+      measured_segment_ = segment;
+    }
     const Vector16d theta = y.col(0);
     // G = W_bar^T W_bar assembled from per-point outer products X = x_bar x_bar^T:
     //   blocks (r, r) = sum X; (r, z) = -sum p_hat_r X; (z, z) = sum |p_hat|^2 X.
@@ -84,6 +88,7 @@ class AdaptiveOde {
   const MeasurementSource& source_;
   double alpha_;
   Frame frame_;
+  int measured_segment_ = -1;
   long evaluations_ = 0;
 };
 

@@ -48,6 +48,9 @@ class MeasurementSource {
   virtual const std::vector<double>& Breakpoints() const = 0;
   // Measurements at time t in segment `segment` (b_segment <= t <= b_segment+1).
   virtual void Measure(double t, int segment, Frame* frame) const = 0;
+  // True when Measure() depends on the segment only (held frames): callers may measure once per
+  // segment.
+  virtual bool HeldWithinSegments() const = 0;
   virtual int NumFrames() const = 0;
   virtual void GetFrame(int k, Frame* frame) const = 0;
 };
@@ -84,6 +87,7 @@ class OracleSource final : public MeasurementSource {
   double Duration() const override { return scene_.duration_s; }
   const std::vector<double>& Breakpoints() const override { return breakpoints_; }
   void Measure(double t, int segment, Frame* frame) const override;
+  bool HeldWithinSegments() const override { return options_.sample_rate_hz > 0; }
   int NumFrames() const override { return static_cast<int>(frame_times_.size()); }
   void GetFrame(int k, Frame* frame) const override;
 

@@ -79,6 +79,7 @@ class RenderedSource final : public MeasurementSource {
   double Duration() const override { return scene_.duration_s; }
   const std::vector<double>& Breakpoints() const override { return breakpoints_; }
   void Measure(double t, int segment, Frame* frame) const override { *frame = frames_[segment]; }
+  bool HeldWithinSegments() const override { return true; }
   int NumFrames() const override { return static_cast<int>(frames_.size()); }
   void GetFrame(int k, Frame* frame) const override { *frame = frames_[k]; }
   const DetectionStats& stats() const { return stats_; }
