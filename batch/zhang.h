@@ -32,4 +32,10 @@ struct ZhangResult : MethodSummary {
 
 ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOptions& options);
 
+// OpenCV's own thread pool (TBB) splits calibrateCamera's sums differently from run to run, so
+// results differ by ~1e-9 relative; calibench parallelises over trials instead. Call this once,
+// before starting worker threads, to keep every result bit-reproducible (CalibrateZhang calls
+// it too, for single-threaded users).
+void UseSequentialOpenCv();
+
 }  // namespace calibench

@@ -291,7 +291,8 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
                    ScenarioConfig* s) {
   r.CheckKeys(node, field,
               {"name", "description", "case", "duration_s", "seed", "trials", "truth", "image_size",
-               "points", "motion", "measurements", "noise", "rendering", "methods", "reference"});
+               "points", "motion", "measurements", "noise", "rendering", "methods", "reference",
+               "sweep_point"});
   r.If(node, "image_size", field, [&](auto n, auto f) {
     if (!n.IsSequence() || n.size() != 2) r.Fail(n, f, "expected [width, height]");
     s->image_width = static_cast<int>(r.Integer(n[0], f + "[0]"));
@@ -357,6 +358,18 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     r.If(n, "ceres", f, [&](auto m, auto g) { ParseCeres(r, m, g, &s->ceres); });
   });
   r.If(node, "reference", field, [&](auto n, auto f) { ParseReference(r, n, f, &s->reference); });
+  r.If(node, "sweep_point", field, [&](auto n, auto f) {  // Written by ResolvedYaml.
+    r.CheckKeys(n, f,
+                {"sweep", "index", "measurement_index", "params", "adaptive_key", "batch_key"});
+    SweepPoint& p = s->sweep_point;
+    r.If(n, "sweep", f, [&](auto m, auto g) { p.sweep = r.String(m, g); });
+    r.If(n, "index", f, [&](auto m, auto g) { p.index = static_cast<int>(r.Integer(m, g)); });
+    r.If(n, "measurement_index", f,
+         [&](auto m, auto g) { p.measurement_index = static_cast<int>(r.Integer(m, g)); });
+    r.If(n, "params", f, [&](auto m, auto g) { p.params = r.String(m, g); });
+    r.If(n, "adaptive_key", f, [&](auto m, auto g) { p.adaptive_key = r.String(m, g); });
+    r.If(n, "batch_key", f, [&](auto m, auto g) { p.batch_key = r.String(m, g); });
+  });
 }
 
 using config_internal::LoadYaml;
@@ -371,9 +384,12 @@ void LoadFile(const std::string& path, int depth, RunConfig* config) {
 
 // Loads the scenario of a scenario file (following `base:`) into *s.
 void LoadScenarioFile(const YAML::Node& root, const std::string& path, int depth,
-                      ScenarioConfig* s) {
+                      ScenarioConfig* s, bool is_base = false) {
   const Reader r(path);
-  r.CheckKeys(root, "", {"base", "scenario"});
+  r.CheckKeys(root, "", {"base", "scenario", "sweep"});
+  if (is_base && root["sweep"].IsDefined()) {
+    r.Fail(root["sweep"], "sweep", "only the scenario file that is run may sweep, not a base");
+  }
   if (root["base"].IsDefined()) {
     const std::string base = r.String(root["base"], "base");
     const std::string base_path = (fs::path(path).parent_path() / base).lexically_normal().string();
@@ -383,11 +399,23 @@ void LoadScenarioFile(const YAML::Node& root, const std::string& path, int depth
     if (!base_root.IsMap() || !base_root["scenario"].IsDefined()) {
       r.Fail(root["base"], "base", "'" + base_path + "' is not a scenario file");
     }
-    LoadScenarioFile(base_root, base_path, depth + 1, s);
+    LoadScenarioFile(base_root, base_path, depth + 1, s, /*is_base=*/true);
   }
   if (!root["scenario"].IsDefined()) r.Fail(root, "scenario", "missing (a scenario file needs it)");
   ParseScenario(r, root["scenario"], "scenario", s);
   s->source_file = path;
+}
+
+// The `key` section in force for a scenario file: its own, or its base chain's nearest one.
+YAML::Node EffectiveSection(const YAML::Node& root, const std::string& path, const std::string& key,
+                            int depth = 0) {
+  if (root["scenario"].IsDefined() && root["scenario"][key].IsDefined()) {
+    return root["scenario"][key];
+  }
+  if (!root["base"].IsDefined() || depth > 16) return YAML::Node(YAML::NodeType::Map);
+  const std::string base_path =
+      (fs::path(path).parent_path() / root["base"].Scalar()).lexically_normal().string();
+  return EffectiveSection(LoadYaml(ReadFile(base_path), base_path), base_path, key, depth + 1);
 }
 
 void Finish(const Reader& r, const YAML::Node& at, const std::string& field, ScenarioConfig* s) {
@@ -407,12 +435,50 @@ void Finish(const Reader& r, const YAML::Node& at, const std::string& field, Sce
     r.Fail(at, field + "." + why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
 }
 
+// One scenario per point of the file's `sweep:`, each the swept scenario plus its override.
+void ExpandSweptScenario(const Reader& r, const YAML::Node& root, const std::string& path,
+                         const ScenarioConfig& swept, RunConfig* config) {
+  if (swept.name.empty()) r.Fail(root["scenario"], "scenario.name", "missing: every scenario needs a name");
+  const std::vector<config_internal::SweepAxis> axes = config_internal::ParseSweep(r, root["sweep"]);
+  std::vector<config_internal::SweepPointSpec> points;
+  try {
+    points = config_internal::ExpandSweep(axes, swept.name, [&](const std::string& key) {
+      return EffectiveSection(root, path, key);
+    });
+  } catch (const ConfigError& e) {
+    throw ConfigError(path + ": sweep: " + e.what());
+  }
+  for (const config_internal::SweepPointSpec& spec : points) {
+    ScenarioConfig s = swept;
+    const std::string field = "sweep point '" + spec.point.params + "'";
+    try {
+      ParseScenario(r, spec.override_node, field, &s);
+      s.name = spec.name;
+      s.sweep_point = spec.point;
+      Finish(r, spec.override_node, field, &s);
+    } catch (const ConfigError& e) {
+      // The override is built in memory: its line and column say nothing, the field does.
+      std::string what = e.what();
+      const size_t at = what.find(field);
+      throw ConfigError(path + ": " + (at == std::string::npos ? what : what.substr(at)));
+    } catch (const YAML::Exception& e) {
+      throw ConfigError(path + ": " + field + ": " + e.what());
+    }
+    config->scenarios.push_back(std::move(s));
+  }
+}
+
 void LoadNode(const YAML::Node& root, const std::string& path, int depth, RunConfig* config) {
   const Reader r(path);
   r.ExpectMap(root, "(top level)");
   if (!root["scenarios"].IsDefined()) {
     ScenarioConfig s;
     LoadScenarioFile(root, path, depth, &s);
+    if (root["sweep"].IsDefined()) {
+      ExpandSweptScenario(r, root, path, s, config);
+      return;
+    }
+    s.sweep_point.sweep = s.name;
     Finish(r, root["scenario"], "scenario", &s);
     config->scenarios.push_back(std::move(s));
     return;
@@ -430,6 +496,7 @@ void LoadNode(const YAML::Node& root, const std::string& path, int depth, RunCon
       ScenarioConfig s;
       ParseScenario(r, list[i], field, &s);
       s.source_file = path;
+      if (s.sweep_point.sweep.empty()) s.sweep_point.sweep = s.name;
       Finish(r, list[i], field, &s);
       config->scenarios.push_back(std::move(s));
     }

@@ -164,6 +164,17 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
     }
     out << YAML::EndMap;
   }
+  const SweepPoint& p = s.sweep_point;
+  if (p.measurement_index >= 0) {
+    out << YAML::Key << "sweep_point" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "sweep" << YAML::Value << p.sweep;
+    out << YAML::Key << "index" << YAML::Value << p.index;
+    out << YAML::Key << "measurement_index" << YAML::Value << p.measurement_index;
+    out << YAML::Key << "params" << YAML::Value << p.params;
+    out << YAML::Key << "adaptive_key" << YAML::Value << p.adaptive_key;
+    out << YAML::Key << "batch_key" << YAML::Value << p.batch_key;
+    out << YAML::EndMap;
+  }
   out << YAML::EndMap;
 }
 

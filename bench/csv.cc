@@ -25,6 +25,47 @@ std::string CsvLine(const std::vector<std::string>& fields) {
   return line + "\n";
 }
 
+bool CsvReader::Next(std::vector<std::string>* fields, std::string* why) {
+  fields->clear();
+  if (why) why->clear();
+  if (in_->peek() == std::char_traits<char>::eof()) return false;
+  ++record_;
+  std::string field;
+  bool quoted = false;
+  bool was_quoted = false;
+  char c;
+  while (in_->get(c)) {
+    if (quoted) {
+      if (c != '"') {
+        field += c;
+      } else if (in_->peek() == '"') {
+        in_->get(c);
+        field += '"';
+      } else {
+        quoted = false;
+      }
+      continue;
+    }
+    if (c == '"' && field.empty() && !was_quoted) {
+      quoted = was_quoted = true;
+    } else if (c == ',') {
+      fields->push_back(field);
+      field.clear();
+      was_quoted = false;
+    } else if (c == '\n') {
+      fields->push_back(field);
+      return true;
+    } else if (c != '\r') {
+      field += c;
+    }
+  }
+  if (why) {
+    *why = "record " + std::to_string(record_) +
+           (quoted ? ": unterminated quoted field" : ": the last line has no newline (cut short?)");
+  }
+  return false;
+}
+
 bool WriteFileAtomically(const std::string& path, const std::string& contents, std::string* why) {
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   auto fail = [&](const std::string& what) {

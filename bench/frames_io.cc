@@ -62,7 +62,7 @@ bool WriteRenderedFrames(const ScenarioConfig& s, const FramesOptions& o, const 
   const auto renderer =
       SceneRenderer::Create(scene, s.aprilgrids, s.RenderingOptions().render, why);
   if (!renderer) return false;
-  const uint64_t trial_seed = TrialSeed(s.seed, static_cast<uint64_t>(o.trial));
+  const uint64_t trial_seed = s.TrialSeedOf(o.trial);
   std::string csv =
       CsvLine({"frame", "time_s", "point_id", "tag_id", "corner", "u_px", "v_px", "in_view"});
   GrayImage image;
@@ -109,7 +109,7 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
     }
     const SceneTruth scene = shortened.MakeScene();
     const auto source = RenderedSource::Create(scene, s.aprilgrids, s.RenderingOptions(),
-                                               TrialSeed(s.seed, o.trial), why);
+                                               s.TrialSeedOf(o.trial), why);
     if (!source) return false;
     *stats = source->stats();
     return true;

@@ -2,7 +2,11 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -11,62 +15,97 @@
 #include "bench/config_io.h"
 #include "bench/csv.h"
 #include "bench/frames_io.h"
+#include "bench/run_dir.h"
 #include "bench/runner.h"
 #include "bench/table.h"
 
 namespace {
 
-void ProgressBar(int done, int total) {
+void ProgressBar(long done, long total) {
   const int width = 40;
-  const int filled = total ? width * done / total : width;
-  std::fprintf(stderr, "\r[%s%s] %d/%d trials", std::string(filled, '#').c_str(),
+  const int filled = total ? static_cast<int>(width * done / total) : width;
+  std::fprintf(stderr, "\r[%s%s] %ld/%ld tasks", std::string(filled, '#').c_str(),
                std::string(width - filled, '.').c_str(), done, total);
   if (done == total) std::fprintf(stderr, "\n");
   std::fflush(stderr);
 }
 
-int Run(const std::string& config_path, const std::string& out_dir, int threads, bool quiet) {
+struct RunArgs {
+  std::string config_path, out_dir, shard = "1/1";
+  int threads = 0;
+  bool quiet = false, resume = false;
+};
+
+int Run(const RunArgs& args) {
   calibench::RunConfig config;
   std::string why;
-  if (!calibench::LoadRunConfig(config_path, &config, &why)) {
+  if (!calibench::LoadRunConfig(args.config_path, &config, &why)) {
     std::cerr << "calibench: invalid configuration: " << why << "\n";
     return 2;
   }
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec) {
-    std::cerr << "calibench: " << out_dir
-              << ": cannot create the output directory: " << ec.message() << "\n";
-    return 3;
+  calibench::RunDirOptions options;
+  if (!options.shard.Parse(args.shard, &why)) {
+    std::cerr << "calibench: " << why << "\n";
+    return 2;
   }
   for (const calibench::ScenarioConfig& s : config.scenarios) {
-    if (s.truth.allow_improper_rotation) {
+    if (s.truth.allow_improper_rotation && s.sweep_point.index == 0) {
       std::cerr << "calibench: warning: scenario '" << s.name
                 << "': truth R_C is allowed to be improper (det = -1), to reproduce a source "
                    "that printed such a matrix; no real camera has one\n";
     }
   }
-  const std::string resolved_path = out_dir + "/config.resolved.yaml";
-  if (!calibench::WriteFileAtomically(resolved_path, calibench::ResolvedYaml(config), &why)) {
-    std::cerr << "calibench: " << why << "\n";
+  options.out_dir = args.out_dir;
+  options.threads = args.threads;
+  options.resume = args.resume;
+  if (!args.quiet && ::isatty(STDERR_FILENO)) options.progress = ProgressBar;
+  const calibench::RunDirSummary summary = calibench::RunToDirectory(config, options);
+  if (!summary.ok) {
+    std::cerr << "calibench: " << summary.message << "\n";
     return 3;
   }
-  calibench::RunOptions options;
-  options.threads = threads;
-  if (!quiet && ::isatty(STDERR_FILENO)) options.progress = ProgressBar;
-  const std::vector<calibench::RunRow> rows = calibench::RunScenarios(config.scenarios, options);
-
-  std::string csv = calibench::CsvLine(calibench::RunRowHeader());
-  for (const calibench::RunRow& row : rows) csv += calibench::CsvLine(calibench::RunRowFields(row));
-  const std::string table = calibench::ThesisTable(config.scenarios, rows);
-  if (!calibench::WriteFileAtomically(out_dir + "/runs.csv", csv, &why) ||
-      !calibench::WriteFileAtomically(out_dir + "/table.md", table, &why)) {
-    std::cerr << "calibench: " << why << "\n";
-    return 3;
+  if (!args.quiet) {
+    std::ifstream table(args.out_dir + "/table.md");
+    std::cout << table.rdbuf();
   }
-  if (!quiet) std::cout << table;
-  std::cerr << "calibench: wrote " << rows.size() << " rows to " << out_dir << "/runs.csv\n";
+  std::cerr << "calibench: " << args.out_dir << ": " << summary.tasks_run << " tasks run";
+  if (summary.tasks_resumed > 0) std::cerr << ", " << summary.tasks_resumed << " resumed";
+  std::cerr << " (shard " << options.shard.ToString() << ", " << summary.tasks_total
+            << " tasks), " << summary.rows_written << " rows written in " << summary.wall_s
+            << " s" << (summary.message.empty() ? "" : "; " + summary.message) << "\n";
   return 0;
+}
+
+int Merge(const std::vector<std::string>& dirs, const std::string& out_dir) {
+  std::string why;
+  if (!calibench::MergeRunDirectories(dirs, out_dir, &why)) {
+    std::cerr << "calibench: merge: " << why << "\n";
+    return 3;
+  }
+  std::cerr << "calibench: merged " << dirs.size() << " shards into " << out_dir << "\n";
+  return 0;
+}
+
+// The report is a Python script (matplotlib, scipy, pandas): found beside the sources, or at
+// $CALIBENCH_REPORT_SCRIPT.
+int Report(const std::vector<std::string>& dirs, const std::string& out_dir) {
+  const char* env = std::getenv("CALIBENCH_REPORT_SCRIPT");
+  const std::string script =
+      env != nullptr ? env : std::string(CALIBENCH_SOURCE_DIR) + "/scripts/report.py";
+  if (!std::filesystem::exists(script)) {
+    std::cerr << "calibench: report: " << script
+              << ": not found (set CALIBENCH_REPORT_SCRIPT to scripts/report.py)\n";
+    return 2;
+  }
+  std::vector<std::string> argv = {"/usr/bin/python3", script, "--out", out_dir};
+  argv.insert(argv.end(), dirs.begin(), dirs.end());
+  std::vector<char*> c_argv;
+  for (std::string& a : argv) c_argv.push_back(a.data());
+  c_argv.push_back(nullptr);
+  std::cout.flush();
+  ::execv(c_argv[0], c_argv.data());
+  std::cerr << "calibench: report: cannot run /usr/bin/python3: " << std::strerror(errno) << "\n";
+  return 2;
 }
 
 struct CalibrateArgs {
@@ -186,18 +225,33 @@ void AddFramesOptions(CLI::App* command, FramesArgs* args) {
 int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   CLI::App app{"calibench: adaptive vs batch camera calibration, on identical data"};
   app.require_subcommand(1);
-  std::string config_path, out_dir;
-  int threads = 0;
-  bool quiet = false;
-  CLI::App* run = app.add_subcommand("run", "Run the scenarios of a YAML config");
-  run->add_option("config", config_path, "Scenario file or entry point (YAML)")
+  RunArgs run_args;
+  CLI::App* run = app.add_subcommand("run", "Run the scenarios and sweeps of a YAML config");
+  run->add_option("config", run_args.config_path, "Scenario file or entry point (YAML)")
       ->required()
       ->check(CLI::ExistingFile);
-  run->add_option("--out", out_dir, "Output directory (runs.csv, config.resolved.yaml, table.md)")
+  run->add_option("--out", run_args.out_dir,
+                  "Output directory (runs.csv, summary.csv, timings.csv, curves.csv, table.md)")
       ->required();
-  run->add_option("--threads", threads, "Worker threads (0: all cores)")
+  run->add_option("--threads", run_args.threads, "Worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
-  run->add_flag("--quiet", quiet, "No table on stdout, no progress bar");
+  run->add_flag("--quiet", run_args.quiet, "No table on stdout, no progress bar");
+  run->add_flag("--resume", run_args.resume,
+                "Continue an interrupted run in --out (kill -9 included)");
+  run->add_option("--shard", run_args.shard, "Run only slice K of N (K/N); see `merge`");
+  std::vector<std::string> merge_dirs, report_dirs;
+  std::string merge_out, report_out;
+  CLI::App* merge = app.add_subcommand("merge", "Combine the shard directories of one sweep");
+  merge->add_option("dirs", merge_dirs, "Shard output directories 1/N..N/N")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  merge->add_option("--out", merge_out, "Merged output directory")->required();
+  CLI::App* report = app.add_subcommand(
+      "report", "Plots and paired tests of run directories (report.md + PNGs; Python)");
+  report->add_option("dirs", report_dirs, "Run output directories")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  report->add_option("--out", report_out, "Report directory (default: FIRST_DIR/report)");
   CalibrateArgs cal;
   CLI::App* calibrate =
       app.add_subcommand("calibrate", "Calibrate a camera from point files or from images");
@@ -224,7 +278,11 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
                      "Read frames + corners.csv from here (default: render in memory)");
   CLI11_PARSE(app, argc, argv);
   try {
-    if (run->parsed()) return Run(config_path, out_dir, threads, quiet);
+    if (run->parsed()) return Run(run_args);
+    if (merge->parsed()) return Merge(merge_dirs, merge_out);
+    if (report->parsed()) {
+      return Report(report_dirs, report_out.empty() ? report_dirs[0] + "/report" : report_out);
+    }
     if (render->parsed()) return RenderOrDetect(render_args, true);
     if (detect->parsed()) return RenderOrDetect(detect_args, false);
     if (calibrate->parsed()) {

@@ -72,7 +72,20 @@ Vector16d TrueTheta(const ScenarioConfig& s) {
   return ThetaFromCamera(s.truth.intrinsics, s.truth.ParentFromCam().Inverse());
 }
 
-RunRow RunAdaptive(const ScenarioConfig& s, const MeasurementSource& source, RunRow row) {
+// Every n-th of `samples`, at most `max_samples` of them, always keeping the last.
+std::vector<std::pair<double, double>> Thin(const std::vector<std::pair<double, double>>& samples,
+                                            int max_samples) {
+  if (max_samples < 2 || static_cast<int>(samples.size()) <= max_samples) return samples;
+  std::vector<std::pair<double, double>> kept;
+  const double stride = static_cast<double>(samples.size() - 1) / (max_samples - 1);
+  for (int i = 0; i < max_samples; ++i) {
+    kept.push_back(samples[static_cast<size_t>(std::lround(i * stride))]);
+  }
+  return kept;
+}
+
+RunRow RunAdaptive(const ScenarioConfig& s, const MeasurementSource& source, RunRow row,
+                   const MethodSelection& selection) {
   row.method = "adaptive";
   const Vector16d theta_true = TrueTheta(s);
   const CameraSpec& init = s.adaptive.initial;
@@ -82,8 +95,11 @@ RunRow RunAdaptive(const ScenarioConfig& s, const MeasurementSource& source, Run
   double last_above = -1.0;
   double first_after = 0.0;
   bool pending = false;
+  std::vector<std::pair<double, double>> curve;
   auto observer = [&](double t, const Vector16d& theta_hat) {
-    if (ThetaError(theta_true, theta_hat) >= tol) {
+    const double error = ThetaError(theta_true, theta_hat);
+    if (selection.record_curve) curve.emplace_back(t, error);
+    if (error >= tol) {
       last_above = t;
       pending = true;
     } else if (pending) {
@@ -98,6 +114,7 @@ RunRow RunAdaptive(const ScenarioConfig& s, const MeasurementSource& source, Run
   row.steps = summary.iterations;
   row.wall_ms = summary.wall_ms;
   row.theta_err_norm = ThetaError(theta_true, summary.theta_hat);
+  row.curve = Thin(curve, selection.curve_samples);
   if (!summary.IsUsable()) return row;
   row.converge_time_s = pending ? kUnset : (last_above < 0 ? 0.0 : first_after);
   row.pe_min_eig = PersistentExcitationIndex(summary.information, summary.theta_hat);
@@ -421,10 +438,12 @@ std::vector<std::string> EnabledMethods(const ScenarioConfig& s) {
 
 std::vector<RunRow> RunMethods(const ScenarioConfig& s, const SceneTruth& scene,
                                const MeasurementSource& source, const RunRow& base,
-                               ScenarioShared* shared) {
+                               ScenarioShared* shared, const MethodSelection& selection) {
   std::vector<RunRow> rows;
-  if (s.adaptive.enabled) rows.push_back(RunAdaptive(s, source, base));
-  if (s.dlt.enabled || s.ceres.enabled || s.zhang.enabled) {
+  if (s.adaptive.enabled && selection.adaptive) {
+    rows.push_back(RunAdaptive(s, source, base, selection));
+  }
+  if (selection.batch && (s.dlt.enabled || s.ceres.enabled || s.zhang.enabled)) {
     const FrameViews frames = ReadFrames(source);
     DltResult dlt;
     ZhangExtrinsics zhang;

@@ -22,9 +22,17 @@ namespace calibench {
 // Method names (as in the `method` column) the scenario enables, in row order.
 std::vector<std::string> EnabledMethods(const ScenarioConfig& s);
 
+// Which of the enabled methods to run (a measurement group copies the others' rows).
+struct MethodSelection {
+  bool adaptive = true;
+  bool batch = true;           // dlt, zhang, zhang_handeye, ceres.
+  bool record_curve = false;   // Keep the adaptive run's ||theta~||(t) in RunRow::curve.
+  int curve_samples = 300;     // At most this many samples (evenly spaced in recorded time).
+};
+
 // `shared` (may be null) holds what every trial of the scenario would compute alike.
 std::vector<RunRow> RunMethods(const ScenarioConfig& s, const SceneTruth& scene,
                                const MeasurementSource& source, const RunRow& base,
-                               ScenarioShared* shared);
+                               ScenarioShared* shared, const MethodSelection& selection = {});
 
 }  // namespace calibench

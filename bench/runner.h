@@ -1,7 +1,10 @@
-// Runs scenarios: every (scenario, trial) builds its measurement source once from
-// TrialSeed(seed, trial), runs every enabled method on it, and yields one RunRow per method.
-// Trials run in parallel; rows come back in (scenario, trial, method) order whatever the thread
-// count, and every number in them is independent of it.
+// Runs scenarios: every (measurement group, trial) builds its measurement source once from
+// ScenarioConfig::TrialSeedOf(trial), runs every enabled method of every scenario of the group on
+// it, and yields one RunRow per (scenario, method). A group is one scenario, or the consecutive
+// points of a sweep that differ only in methods' settings (SweepPoint::measurement_index); inside
+// it a method whose settings equal an earlier point's is not run again: its rows are copied.
+// Trials run in parallel; rows come back in (group, trial, scenario, method) order whatever the
+// thread count, and every number in runs.csv is independent of it (timings go to timings.csv).
 #pragma once
 
 #include <array>
@@ -19,6 +22,9 @@ namespace calibench {
 // (estimate - truth); NaN where a figure does not apply or the method failed.
 struct RunRow {
   std::string scenario;
+  std::string sweep;   // SweepPoint::sweep, index and params.
+  int point = 0;
+  std::string params;
   int trial = 0;
   uint64_t seed = 0;
   std::string method;
@@ -41,16 +47,28 @@ struct RunRow {
          crlb_v0 = kUnset;
   int improper = 0;  // 1 when the recovered rotation is a reflection.
   long steps = 0;    // Integrator steps / solver iterations.
-  double wall_ms = kUnset;
   // detections: rendered (the same for every method of a trial; NaN / -1 for oracle).
   double detect_rate = kUnset;    // Tags detected / tags fully in the image.
   double corner_rms_px = kUnset;  // Detected corners vs exact projections.
   int frames_no_detection = -1;
-  double measure_ms = kUnset;  // Wall time spent producing the measurements (render + detect).
+  // Not in runs.csv (they vary from run to run): timings.csv and curves.csv.
+  double wall_ms = kUnset;     // The method's own wall time; 0 when copied (reused).
+  double measure_ms = kUnset;  // Producing the group's measurements (render + detect).
+  bool reused = false;         // Copied from an earlier point of the group with equal settings.
+  // ||theta~||(t) of the adaptive run, when recorded (RunGroupTrial's record_curve).
+  std::vector<std::pair<double, double>> curve;
 };
 
+// runs.csv: header and fields; ParseRunRow is the inverse (false naming the bad column).
 const std::vector<std::string>& RunRowHeader();
 std::vector<std::string> RunRowFields(const RunRow& row);
+bool ParseRunRow(const std::vector<std::string>& header, const std::vector<std::string>& fields,
+                 RunRow* row, std::string* why);
+// timings.csv (scenario, trial, method, wall_ms, measure_ms, reused) and curves.csv (scenario,
+// trial, method, t_s, theta_err_norm).
+const std::vector<std::string>& TimingHeader();
+std::vector<std::string> TimingFields(const RunRow& row);
+const std::vector<std::string>& CurveHeader();
 
 // Results the trials of one scenario share, computed once by whichever trial needs them first.
 // They depend on the scenario alone, so their values do not depend on which trial or thread
@@ -65,6 +83,18 @@ struct ScenarioShared {
 // (optional) lets the scenario's trials share per-scenario work.
 std::vector<RunRow> RunTrial(const ScenarioConfig& scenario, int trial,
                              ScenarioShared* shared = nullptr);
+
+// The measurement groups of `scenarios`: runs of consecutive indices sharing measurements.
+std::vector<std::vector<int>> MeasurementGroups(const std::vector<ScenarioConfig>& scenarios);
+
+struct GroupTrialOptions {
+  bool record_curve = false;  // Keep the adaptive runs' ||theta~||(t) (RunRow::curve).
+  int curve_samples = 300;    // At most this many (t, ||theta~||) pairs per run.
+};
+// One trial of one measurement group: the measurements once, then every scenario's methods.
+// `shared[j]` (optional) belongs to group[j].
+std::vector<RunRow> RunGroupTrial(const std::vector<const ScenarioConfig*>& group, int trial,
+                                  ScenarioShared* shared, const GroupTrialOptions& options);
 
 struct RunOptions {
   int threads = 0;  // 0: all cores.

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/random.h"
+
 namespace calibench {
 
 CameraSpec AdaptiveMethodConfig::ThesisInitialGuess() {
@@ -20,6 +22,14 @@ bool Reference::Any() const {
   return std::isfinite(fku_px) || std::isfinite(fkv_px) || std::isfinite(phi_deg) ||
          std::isfinite(u0_px) || std::isfinite(v0_px) || x_c.allFinite() ||
          std::isfinite(theta_err_below);
+}
+
+uint64_t ScenarioConfig::TrialSeedOf(int trial) const {
+  const auto t = static_cast<uint64_t>(trial);
+  if (sweep_point.measurement_index < 0) return TrialSeed(seed, t);
+  const uint64_t point_seed =
+      Mix64(seed ^ (0x5bd1e9955bd1e995ULL * (1 + static_cast<uint64_t>(sweep_point.measurement_index))));
+  return TrialSeed(point_seed, t);
 }
 
 SceneTruth ScenarioConfig::MakeScene() const {

@@ -78,6 +78,19 @@ struct Reference {
   bool Any() const;
 };
 
+// Where a scenario sits in a sweep (config_io.h, `sweep:`). A sweep expands one scenario into the
+// cartesian product of its axes; the points that differ only in `methods.*` fields form one
+// measurement group: they share measurement_index, hence the trial seeds and the measurements.
+struct SweepPoint {
+  std::string sweep;           // The swept scenario's own name (= name when not swept).
+  int index = 0;               // Position in the product (method axes vary fastest).
+  int measurement_index = -1;  // Position among the measurement points; -1: not swept.
+  std::string params;          // "field=value;field=value" (empty when not swept).
+  // The values of the axes that touch the adaptive method / the batch methods (dlt, zhang,
+  // ceres): two points of a group with equal keys give the same rows for those methods.
+  std::string adaptive_key, batch_key;
+};
+
 struct ScenarioConfig {
   std::string name;
   std::string description;
@@ -111,7 +124,12 @@ struct ScenarioConfig {
   ZhangMethodConfig zhang;
   CeresMethodConfig ceres;
   Reference reference;
+  SweepPoint sweep_point;
 
+  // The seed of Monte Carlo trial `trial`: TrialSeed(seed, trial), or for a sweep point
+  // TrialSeed(PointSeed(seed, measurement_index), trial), so the method-only points of a group
+  // see the same draws and every measurement point its own.
+  uint64_t TrialSeedOf(int trial) const;
   // The ground truth scene (motion integrated over duration_s).
   SceneTruth MakeScene() const;
   // The planar boards (PlanarBoard or AprilGrid) in point order; empty for other point sets.
