@@ -383,8 +383,8 @@ void LoadFile(const std::string& path, int depth, RunConfig* config) {
 }
 
 // Loads the scenario of a scenario file (following `base:`) into *s.
-void LoadScenarioFile(const YAML::Node& root, const std::string& path, int depth,
-                      ScenarioConfig* s, bool is_base = false) {
+void LoadScenarioFile(const YAML::Node& root, const std::string& path, int depth, ScenarioConfig* s,
+                      bool is_base = false) {
   const Reader r(path);
   r.CheckKeys(root, "", {"base", "scenario", "sweep"});
   if (is_base && root["sweep"].IsDefined()) {
@@ -438,8 +438,10 @@ void Finish(const Reader& r, const YAML::Node& at, const std::string& field, Sce
 // One scenario per point of the file's `sweep:`, each the swept scenario plus its override.
 void ExpandSweptScenario(const Reader& r, const YAML::Node& root, const std::string& path,
                          const ScenarioConfig& swept, RunConfig* config) {
-  if (swept.name.empty()) r.Fail(root["scenario"], "scenario.name", "missing: every scenario needs a name");
-  const std::vector<config_internal::SweepAxis> axes = config_internal::ParseSweep(r, root["sweep"]);
+  if (swept.name.empty())
+    r.Fail(root["scenario"], "scenario.name", "missing: every scenario needs a name");
+  const std::vector<config_internal::SweepAxis> axes =
+      config_internal::ParseSweep(r, root["sweep"]);
   std::vector<config_internal::SweepPointSpec> points;
   try {
     points = config_internal::ExpandSweep(axes, swept.name, [&](const std::string& key) {

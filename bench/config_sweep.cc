@@ -15,7 +15,7 @@ namespace {
 // The scenario keys an axis may start with ("name" keys the rows; sweep_point is ours).
 const std::set<std::string>& SweepableKeys() {
   static const std::set<std::string> keys = {
-      "description", "case",  "duration_s",   "seed",  "trials",    "truth",   "image_size",
+      "description", "case",   "duration_s",   "seed",  "trials",    "truth",   "image_size",
       "points",      "motion", "measurements", "noise", "rendering", "methods", "reference"};
   return keys;
 }
@@ -69,7 +69,8 @@ std::vector<YAML::Node> RangeValues(const Reader& r, const YAML::Node& range,
     if (!(factor > 1)) r.Fail(range["log_step"], field + ".log_step", "must be > 1");
     if (!(from > 0)) r.Fail(range["from"], field + ".from", "must be > 0 with log_step");
     for (double v = from; v <= to * (1 + 1e-9); v *= factor) {
-      if (static_cast<int>(values.size()) >= kMaxValues) r.Fail(range, field, "more than 10000 values");
+      if (static_cast<int>(values.size()) >= kMaxValues)
+        r.Fail(range, field, "more than 10000 values");
       values.emplace_back(FormatNumber(v));
     }
   }
@@ -102,7 +103,8 @@ void SetPath(YAML::Node node, const std::vector<std::string>& path, size_t from,
         if (current[key].IsDefined() && !current[key].IsNull() && !current[key].IsSequence()) {
           throw ConfigError("'" + key + "' is not a mapping");
         }
-        if (!current[key].IsDefined() || current[key].IsNull()) current[key] = YAML::Node(YAML::NodeType::Map);
+        if (!current[key].IsDefined() || current[key].IsNull())
+          current[key] = YAML::Node(YAML::NodeType::Map);
       }
       current.reset(current[key]);
     }
@@ -135,7 +137,8 @@ std::vector<SweepAxis> ParseSweep(const Reader& r, const YAML::Node& node) {
     axis.field = r.String(item["field"], f + ".field");
     axis.path = SplitPath(axis.field);
     for (const std::string& part : axis.path) {
-      if (part.empty()) r.Fail(item["field"], f + ".field", "empty component in '" + axis.field + "'");
+      if (part.empty())
+        r.Fail(item["field"], f + ".field", "empty component in '" + axis.field + "'");
     }
     if (!SweepableKeys().count(axis.path[0])) {
       r.Fail(item["field"], f + ".field",
@@ -176,7 +179,9 @@ std::vector<SweepPointSpec> ExpandSweep(
     total *= a.values.size();
     if (a.family == SweepAxis::kMeasurement) measurement_total *= a.values.size();
   }
-  if (total > 100000) throw ConfigError("the product of the axes has " + std::to_string(total) + " points (at most 100000)");
+  if (total > 100000)
+    throw ConfigError("the product of the axes has " + std::to_string(total) +
+                      " points (at most 100000)");
   const size_t per_measurement = total / measurement_total;
   std::vector<SweepPointSpec> points;
   std::vector<size_t> digit(axes.size(), 0);

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <string>
 
@@ -70,9 +70,9 @@ int Run(const RunArgs& args) {
   }
   std::cerr << "calibench: " << args.out_dir << ": " << summary.tasks_run << " tasks run";
   if (summary.tasks_resumed > 0) std::cerr << ", " << summary.tasks_resumed << " resumed";
-  std::cerr << " (shard " << options.shard.ToString() << ", " << summary.tasks_total
-            << " tasks), " << summary.rows_written << " rows written in " << summary.wall_s
-            << " s" << (summary.message.empty() ? "" : "; " + summary.message) << "\n";
+  std::cerr << " (shard " << options.shard.ToString() << ", " << summary.tasks_total << " tasks), "
+            << summary.rows_written << " rows written in " << summary.wall_s << " s"
+            << (summary.message.empty() ? "" : "; " + summary.message) << "\n";
   return 0;
 }
 

@@ -25,9 +25,9 @@ std::vector<std::string> EnabledMethods(const ScenarioConfig& s);
 // Which of the enabled methods to run (a measurement group copies the others' rows).
 struct MethodSelection {
   bool adaptive = true;
-  bool batch = true;           // dlt, zhang, zhang_handeye, ceres.
-  bool record_curve = false;   // Keep the adaptive run's ||theta~||(t) in RunRow::curve.
-  int curve_samples = 300;     // At most this many samples (evenly spaced in recorded time).
+  bool batch = true;          // dlt, zhang, zhang_handeye, ceres.
+  bool record_curve = false;  // Keep the adaptive run's ||theta~||(t) in RunRow::curve.
+  int curve_samples = 300;    // At most this many samples (evenly spaced in recorded time).
 };
 
 // `shared` (may be null) holds what every trial of the scenario would compute alike.

@@ -150,8 +150,9 @@ class PartialWriter {
 };
 
 std::string HeaderBlock(int file) {
-  const std::vector<std::string>& header =
-      file == 0 ? RunRowHeader() : file == 1 ? TimingHeader() : CurveHeader();
+  const std::vector<std::string>& header = file == 0   ? RunRowHeader()
+                                           : file == 1 ? TimingHeader()
+                                                       : CurveHeader();
   return CsvLine(header);
 }
 
@@ -277,8 +278,8 @@ bool Finalize(const RunConfig& config, const std::string& dir, std::string* why)
 bool ShardSpec::Parse(const std::string& text, std::string* why) {
   int k = 0, n = 0;
   char slash = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &k, &slash, &n, &extra) != 3 || slash != '/' ||
-      n < 1 || k < 1 || k > n) {
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &k, &slash, &n, &extra) != 3 || slash != '/' || n < 1 ||
+      k < 1 || k > n) {
     if (why) *why = "--shard: expected K/N with 1 <= K <= N, got '" + text + "'";
     return false;
   }
@@ -323,7 +324,8 @@ RunDirSummary RunToDirectory(const RunConfig& config, const RunDirOptions& optio
   bool fresh = true;
   if (options.resume && (fs::exists(partial + "/tasks.idx") || fs::exists(dir + "/tasks.idx"))) {
     if (Slurp(resolved_path) != resolved) {
-      return fail(resolved_path + ": --resume: the configuration differs from the interrupted "
+      return fail(resolved_path +
+                  ": --resume: the configuration differs from the interrupted "
                   "run's; run without --resume to start over");
     }
     if (!fs::exists(partial + "/tasks.idx")) {  // Finished before: only check and re-finalise.
@@ -410,8 +412,8 @@ RunDirSummary RunToDirectory(const RunConfig& config, const RunDirOptions& optio
         for (int i : groups[task.group]) members.push_back(&config.scenarios[i]);
         GroupTrialOptions trial_options;
         trial_options.record_curve = task.trial < options.curve_trials;
-        std::vector<RunRow> rows = RunGroupTrial(members, task.trial,
-                                                 &shared[groups[task.group][0]], trial_options);
+        std::vector<RunRow> rows =
+            RunGroupTrial(members, task.trial, &shared[groups[task.group][0]], trial_options);
         std::lock_guard<std::mutex> lock(mutex);
         ready.emplace(k, std::move(rows));
         while (!stop && !ready.empty() && ready.begin()->first == next_commit) {

@@ -39,7 +39,7 @@ struct RunDirOptions {
   int threads = 0;      // 0: all cores. The files do not depend on it.
   bool resume = false;  // Continue DIR/run.partial instead of starting over.
   ShardSpec shard;
-  int curve_trials = 1;  // Record ||theta~||(t) for trials below this (curves.csv).
+  int curve_trials = 1;        // Record ||theta~||(t) for trials below this (curves.csv).
   int max_buffered_tasks = 0;  // Finished tasks waiting for an earlier one; 0: 4 x threads.
   std::function<void(long done, long total)> progress;  // Serialised; done counts resumed tasks.
   // Testing: stop after writing this many tasks, leaving run.partial as a kill would (-1: off).
@@ -48,7 +48,7 @@ struct RunDirOptions {
 
 struct RunDirSummary {
   bool ok = false;
-  std::string message;  // Why not ok (file, reason), or a note ("already complete").
+  std::string message;     // Why not ok (file, reason), or a note ("already complete").
   long tasks_total = 0;    // Tasks of this shard.
   long tasks_resumed = 0;  // Found complete in run.partial.
   long tasks_run = 0;

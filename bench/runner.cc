@@ -5,11 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <memory>
-#include <type_traits>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 
 #include "batch/zhang.h"
 #include "bench/methods.h"
@@ -78,6 +78,7 @@ const std::vector<Column>& Columns() {
       Text("sweep", &RunRow::sweep),
       Int("point", &RunRow::point),
       Text("params", &RunRow::params),
+      Int("n_points", &RunRow::n_points),
       Int("trial", &RunRow::trial),
       Int("seed", &RunRow::seed),
       Text("method", &RunRow::method),
@@ -146,7 +147,9 @@ std::vector<std::string> RunRowFields(const RunRow& r) {
 bool ParseRunRow(const std::vector<std::string>& header, const std::vector<std::string>& fields,
                  RunRow* row, std::string* why) {
   if (header.size() != fields.size()) {
-    if (why) *why = std::to_string(fields.size()) + " fields, the header has " + std::to_string(header.size());
+    if (why)
+      *why = std::to_string(fields.size()) + " fields, the header has " +
+             std::to_string(header.size());
     return false;
   }
   for (size_t i = 0; i < header.size(); ++i) {
@@ -168,8 +171,8 @@ const std::vector<std::string>& TimingHeader() {
 }
 
 std::vector<std::string> TimingFields(const RunRow& r) {
-  return {r.scenario, std::to_string(r.trial), r.method, Format(r.wall_ms), Format(r.measure_ms),
-          r.reused ? "1" : "0"};
+  return {r.scenario,        std::to_string(r.trial), r.method,
+          Format(r.wall_ms), Format(r.measure_ms),    r.reused ? "1" : "0"};
 }
 
 const std::vector<std::string>& CurveHeader() {
@@ -187,7 +190,8 @@ std::unique_ptr<MeasurementSource> MakeSource(const ScenarioConfig& s, const Sce
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<MeasurementSource> source;
   if (s.detections == "rendered") {
-    auto rendered = RenderedSource::Create(scene, s.aprilgrids, s.RenderingOptions(), base->seed, why);
+    auto rendered =
+        RenderedSource::Create(scene, s.aprilgrids, s.RenderingOptions(), base->seed, why);
     if (rendered) {
       const DetectionStats& stats = rendered->stats();
       base->detect_rate = stats.DetectionRate();
@@ -209,19 +213,20 @@ RunRow BaseRow(const ScenarioConfig& s, int trial) {
   base.sweep = s.sweep_point.sweep.empty() ? s.name : s.sweep_point.sweep;
   base.point = s.sweep_point.index;
   base.params = s.sweep_point.params;
+  base.n_points = static_cast<int>(s.points.size());
   base.trial = trial;
   base.seed = s.TrialSeedOf(trial);
   return base;
 }
 
 // Rows `from` relabelled as scenario `s`'s (copied, not run again).
-void AppendCopies(const std::vector<RunRow>& from, const RunRow& base,
-                  std::vector<RunRow>* rows) {
+void AppendCopies(const std::vector<RunRow>& from, const RunRow& base, std::vector<RunRow>* rows) {
   for (RunRow row : from) {
     row.scenario = base.scenario;
     row.sweep = base.sweep;
     row.point = base.point;
     row.params = base.params;
+    row.n_points = base.n_points;
     row.wall_ms = 0.0;
     row.measure_ms = base.measure_ms;
     row.reused = true;
@@ -285,7 +290,8 @@ std::vector<RunRow> RunGroupTrial(const std::vector<const ScenarioConfig*>& grou
       }
       return -1;
     };
-    const int adaptive_from = same_as([](const ScenarioConfig& c) { return c.sweep_point.adaptive_key; });
+    const int adaptive_from =
+        same_as([](const ScenarioConfig& c) { return c.sweep_point.adaptive_key; });
     const int batch_from = same_as([](const ScenarioConfig& c) { return c.sweep_point.batch_key; });
     MethodSelection selection;
     selection.adaptive = adaptive_from < 0;
@@ -308,7 +314,8 @@ std::vector<RunRow> RunScenarios(const std::vector<ScenarioConfig>& scenarios,
   const std::vector<std::vector<int>> groups = MeasurementGroups(scenarios);
   std::vector<std::pair<int, int>> tasks;  // (group, trial)
   for (size_t g = 0; g < groups.size(); ++g) {
-    for (int t = 0; t < scenarios[groups[g][0]].trials; ++t) tasks.emplace_back(static_cast<int>(g), t);
+    for (int t = 0; t < scenarios[groups[g][0]].trials; ++t)
+      tasks.emplace_back(static_cast<int>(g), t);
   }
   std::vector<std::vector<RunRow>> results(tasks.size());
   std::vector<ScenarioShared> shared(scenarios.size());

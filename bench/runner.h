@@ -22,9 +22,10 @@ namespace calibench {
 // (estimate - truth); NaN where a figure does not apply or the method failed.
 struct RunRow {
   std::string scenario;
-  std::string sweep;   // SweepPoint::sweep, index and params.
+  std::string sweep;  // SweepPoint::sweep, index and params.
   int point = 0;
   std::string params;
+  int n_points = 0;  // Feature points of the scenario (all boards' corners).
   int trial = 0;
   uint64_t seed = 0;
   std::string method;

@@ -27,8 +27,8 @@ bool Reference::Any() const {
 uint64_t ScenarioConfig::TrialSeedOf(int trial) const {
   const auto t = static_cast<uint64_t>(trial);
   if (sweep_point.measurement_index < 0) return TrialSeed(seed, t);
-  const uint64_t point_seed =
-      Mix64(seed ^ (0x5bd1e9955bd1e995ULL * (1 + static_cast<uint64_t>(sweep_point.measurement_index))));
+  const uint64_t point_seed = Mix64(
+      seed ^ (0x5bd1e9955bd1e995ULL * (1 + static_cast<uint64_t>(sweep_point.measurement_index))));
   return TrialSeed(point_seed, t);
 }
 

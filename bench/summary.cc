@@ -40,8 +40,8 @@ struct Pair {
 
 const std::vector<std::string>& SummaryMetrics() {
   static const std::vector<std::string> metrics = {
-      "theta_err_norm", "err_fku",       "err_fkv",       "err_phi_deg",    "err_u0",
-      "err_v0",         "rot_err_deg",   "err_xc_norm",   "rms_reproj_px",  "converge_time_s"};
+      "theta_err_norm", "err_fku",     "err_fkv",     "err_phi_deg",   "err_u0",
+      "err_v0",         "rot_err_deg", "err_xc_norm", "rms_reproj_px", "converge_time_s"};
   return metrics;
 }
 
@@ -122,8 +122,8 @@ bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::s
     return false;
   }
   std::string out = CsvLine({"scenario", "sweep", "point", "params", "method", "metric", "n",
-                             "n_failed", "n_used", "median", "mean", "std", "p2_5", "p97_5",
-                             "rmse", "crlb", "rmse_over_crlb"});
+                             "n_failed", "n_used", "median", "mean", "std", "p2_5", "p97_5", "rmse",
+                             "crlb", "rmse_over_crlb"});
   for (const Pair& p : pairs) {
     for (size_t m = 0; m < metrics.size(); ++m) {
       const std::vector<double>& v = p.values[m];

@@ -1,0 +1,287 @@
+// The sweep harness: expansion of `sweep:`, shared measurements, the run directory (streaming,
+// thread-count independence, shards and merge, resume) and summary.csv against an independent
+// computation from runs.csv.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "bench/config_io.h"
+#include "bench/csv.h"
+#include "bench/run_dir.h"
+#include "bench/runner.h"
+#include "bench/stats.h"
+#include "bench/summary.h"
+
+namespace calibench {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kSmall = std::string(CALIBENCH_SOURCE_DIR) + "/tests/bench/sweeps/small.yaml";
+
+long col_of(const std::vector<std::string>& header, const std::string& name) {
+  return std::find(header.begin(), header.end(), name) - header.begin();
+}
+
+RunConfig LoadSmall() {
+  RunConfig config;
+  std::string why;
+  EXPECT_TRUE(LoadRunConfig(kSmall, &config, &why)) << why;
+  return config;
+}
+
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string TempDir(const std::string& name) {
+  const std::string dir = testing::TempDir() + "calibench_sweep_" + name;
+  fs::remove_all(dir);
+  return dir;
+}
+
+TEST(Sweep, ExpandsTheCartesianProductWithMethodAxesFastest) {
+  const RunConfig config = LoadSmall();
+  ASSERT_EQ(config.scenarios.size(), 6u);  // 2 noise levels x 3 gains.
+  const double sigma[] = {0.25, 0.25, 0.25, 0.5, 0.5, 0.5};
+  const double alpha[] = {300, 1000, 3000, 300, 1000, 3000};
+  for (int i = 0; i < 6; ++i) {
+    const ScenarioConfig& s = config.scenarios[i];
+    EXPECT_EQ(s.sweep_point.sweep, "small");
+    EXPECT_EQ(s.sweep_point.index, i);
+    EXPECT_EQ(s.sweep_point.measurement_index, i / 3);
+    EXPECT_DOUBLE_EQ(s.measurements.noise.pixel_sigma_px, sigma[i]);
+    EXPECT_DOUBLE_EQ(s.adaptive.options.alpha, alpha[i]);
+    EXPECT_EQ(s.points.size(), 30u);
+    EXPECT_EQ(s.points, config.scenarios[0].points)
+        << "geometry is the scenario's, not the point's";
+  }
+  EXPECT_EQ(config.scenarios[1].name,
+            "small[noise.pixel_sigma_px=0.25,methods.adaptive.alpha=1000]");
+  EXPECT_EQ(config.scenarios[1].sweep_point.adaptive_key, "methods.adaptive.alpha=1000;");
+  EXPECT_EQ(config.scenarios[1].sweep_point.batch_key, "");
+  // A measurement group shares its trial seeds; measurement points draw their own.
+  EXPECT_EQ(config.scenarios[0].TrialSeedOf(2), config.scenarios[2].TrialSeedOf(2));
+  EXPECT_NE(config.scenarios[0].TrialSeedOf(2), config.scenarios[3].TrialSeedOf(2));
+  EXPECT_NE(config.scenarios[0].TrialSeedOf(2), config.scenarios[0].TrialSeedOf(3));
+  EXPECT_EQ(MeasurementGroups(config.scenarios),
+            (std::vector<std::vector<int>>{{0, 1, 2}, {3, 4, 5}}));
+}
+
+RunConfig FromString(const std::string& yaml) {
+  RunConfig config;
+  std::string why;
+  EXPECT_TRUE(LoadRunConfigFromString(
+      yaml, std::string(CALIBENCH_SOURCE_DIR) + "/tests/bench/sweeps/x.yaml", &config, &why))
+      << why;
+  return config;
+}
+
+std::string SweepError(const std::string& sweep) {
+  RunConfig config;
+  std::string why;
+  EXPECT_FALSE(LoadRunConfigFromString(
+      "base: ../../../configs/thesis/sim03.yaml\nscenario: {name: e}\nsweep:\n" + sweep,
+      std::string(CALIBENCH_SOURCE_DIR) + "/tests/bench/sweeps/x.yaml", &config, &why));
+  return why;
+}
+
+TEST(Sweep, RangesAndWholeSectionFields) {
+  const std::string head =
+      "base: ../../../configs/thesis/sim03.yaml\nscenario: {name: r}\nsweep:\n";
+  // Linear range: 0, 0.25, ..., 1 (5 values; the end is included despite rounding).
+  RunConfig c =
+      FromString(head + "  - {field: noise.pixel_sigma_px, range: {from: 0, to: 1, step: 0.25}}\n");
+  ASSERT_EQ(c.scenarios.size(), 5u);
+  EXPECT_DOUBLE_EQ(c.scenarios[4].measurements.noise.pixel_sigma_px, 1.0);
+  // Log range: 10, 100, 1000, 10000.
+  c = FromString(
+      head + "  - {field: methods.adaptive.alpha, range: {from: 10, to: 10000, log_step: 10}}\n");
+  ASSERT_EQ(c.scenarios.size(), 4u);
+  EXPECT_DOUBLE_EQ(c.scenarios[3].adaptive.options.alpha, 10000.0);
+  // points and motion come from the base chain as whole sections: the preset and count survive.
+  c = FromString(head +
+                 "  - {field: points.count, values: [4, 6]}\n  - {field: motion.preset, values: "
+                 "[small, large]}\n");
+  ASSERT_EQ(c.scenarios.size(), 4u);
+  EXPECT_EQ(c.scenarios[0].points.size(), 4u);
+  EXPECT_EQ(c.scenarios[3].points.size(), 6u);
+  EXPECT_EQ(c.scenarios[1].motion_preset, "large");
+  // The resolved configuration reads back to the same sweep points.
+  RunConfig again;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfigFromString(ResolvedYaml(c), "resolved.yaml", &again, &why)) << why;
+  ASSERT_EQ(again.scenarios.size(), 4u);
+  EXPECT_EQ(again.scenarios[3].name, c.scenarios[3].name);
+  EXPECT_EQ(again.scenarios[3].sweep_point.params, c.scenarios[3].sweep_point.params);
+  EXPECT_EQ(again.scenarios[3].sweep_point.measurement_index, 3);
+}
+
+TEST(Sweep, BadAxesNameTheFileFieldAndReason) {
+  std::string why = SweepError("  - {field: noise.pixel_sigma, values: [1]}\n");
+  EXPECT_NE(why.find("x.yaml"), std::string::npos) << why;
+  EXPECT_NE(why.find("pixel_sigma"), std::string::npos) << why;
+  why = SweepError("  - {field: colour, values: [1]}\n");
+  EXPECT_NE(why.find("'colour' is not a scenario field"), std::string::npos) << why;
+  why = SweepError("  - {field: noise.pixel_sigma_px, range: {from: 1, to: 0, step: 1}}\n");
+  EXPECT_NE(why.find("from <= to"), std::string::npos) << why;
+  why = SweepError("  - {field: methods.adaptive.alpha, range: {from: 0, to: 10, log_step: 10}}\n");
+  EXPECT_NE(why.find("must be > 0 with log_step"), std::string::npos) << why;
+  why = SweepError("  - {field: noise.pixel_sigma_px, values: [-1]}\n");
+  EXPECT_NE(why.find("noise.pixel_sigma_px=-1"), std::string::npos) << why;
+  why = SweepError("  - {field: trials, values: []}\n");
+  EXPECT_NE(why.find("non-empty list"), std::string::npos) << why;
+}
+
+// Method-only points reuse the group's measurements and the batch rows: the copies equal what a
+// standalone run of that point computes.
+TEST(Sweep, GroupSharesMeasurementsAndBatchRows) {
+  const RunConfig config = LoadSmall();
+  std::vector<const ScenarioConfig*> group = {&config.scenarios[0], &config.scenarios[1],
+                                              &config.scenarios[2]};
+  const std::vector<RunRow> rows = RunGroupTrial(group, 1, nullptr, GroupTrialOptions());
+  ASSERT_EQ(rows.size(), 9u);  // 3 points x (adaptive, dlt, ceres).
+  const std::vector<RunRow> alone = RunTrial(config.scenarios[2], 1);
+  ASSERT_EQ(alone.size(), 3u);
+  for (int m = 0; m < 3; ++m) {
+    std::vector<std::string> shared = RunRowFields(rows[6 + m]), own = RunRowFields(alone[m]);
+    EXPECT_EQ(shared, own) << alone[m].method;
+  }
+  EXPECT_FALSE(rows[6].reused);  // adaptive runs at every gain...
+  EXPECT_TRUE(rows[7].reused);   // ...dlt and ceres once.
+  EXPECT_TRUE(rows[8].reused);
+  EXPECT_NE(rows[0].theta_err_norm, rows[6].theta_err_norm);
+  EXPECT_EQ(rows[1].fku, rows[7].fku);
+}
+
+TEST(RunDir, FilesDoNotDependOnThreadsShardsOrInterruptions) {
+  const RunConfig config = LoadSmall();
+  RunDirOptions one;
+  one.out_dir = TempDir("t1");
+  one.threads = 1;
+  ASSERT_TRUE(RunToDirectory(config, one).ok);
+  const std::string runs = Slurp(one.out_dir + "/runs.csv");
+  const std::string summary = Slurp(one.out_dir + "/summary.csv");
+  EXPECT_EQ(std::count(runs.begin(), runs.end(), '\n'), 1 + 6 * 4 * 3);
+  EXPECT_FALSE(fs::exists(one.out_dir + "/run.partial"));
+
+  RunDirOptions two = one;
+  two.out_dir = TempDir("t2");
+  two.threads = 2;
+  two.max_buffered_tasks = 1;  // The tightest window still gives the same bytes.
+  ASSERT_TRUE(RunToDirectory(config, two).ok);
+  EXPECT_EQ(Slurp(two.out_dir + "/runs.csv"), runs);
+  EXPECT_EQ(Slurp(two.out_dir + "/summary.csv"), summary);
+  EXPECT_EQ(Slurp(two.out_dir + "/curves.csv"), Slurp(one.out_dir + "/curves.csv"));
+
+  std::vector<std::string> shards;
+  for (int k = 1; k <= 3; ++k) {
+    RunDirOptions o;
+    o.out_dir = TempDir("shard" + std::to_string(k));
+    o.shard.index = k;
+    o.shard.count = 3;
+    o.threads = 2;
+    const RunDirSummary s = RunToDirectory(config, o);
+    ASSERT_TRUE(s.ok) << s.message;
+    EXPECT_EQ(s.tasks_total, k == 3 ? 2 : 3);  // 8 tasks: 0 3 6 | 1 4 7 | 2 5.
+    shards.push_back(o.out_dir);
+  }
+  std::string why;
+  const std::string merged = TempDir("merged");
+  ASSERT_TRUE(MergeRunDirectories({shards[2], shards[0], shards[1]}, merged, &why)) << why;
+  EXPECT_EQ(Slurp(merged + "/runs.csv"), runs);
+  EXPECT_EQ(Slurp(merged + "/summary.csv"), summary);
+  EXPECT_FALSE(MergeRunDirectories({shards[0], shards[1]}, TempDir("m2"), &why));
+  EXPECT_NE(why.find("3 shards"), std::string::npos) << why;
+
+  // Interrupted after 3 tasks, with a torn row appended as a kill mid-write would leave it.
+  RunDirOptions cut = two;
+  cut.out_dir = TempDir("cut");
+  cut.stop_after_tasks = 3;
+  EXPECT_FALSE(RunToDirectory(config, cut).ok);
+  { std::ofstream(cut.out_dir + "/run.partial/runs.csv", std::ios::app) << "small[torn,0,"; }
+  cut.stop_after_tasks = -1;
+  cut.resume = true;
+  const RunDirSummary resumed = RunToDirectory(config, cut);
+  ASSERT_TRUE(resumed.ok) << resumed.message;
+  EXPECT_EQ(resumed.tasks_resumed, 3);
+  EXPECT_EQ(resumed.tasks_run, 5);
+  EXPECT_EQ(Slurp(cut.out_dir + "/runs.csv"), runs);
+  EXPECT_EQ(Slurp(cut.out_dir + "/summary.csv"), summary);
+  // Resuming with another configuration is refused, naming the file.
+  RunConfig other = config;
+  other.scenarios[0].trials = 5;
+  cut.out_dir = TempDir("cut2");
+  cut.resume = false;
+  cut.stop_after_tasks = 1;
+  RunToDirectory(config, cut);
+  cut.resume = true;
+  cut.stop_after_tasks = -1;
+  const RunDirSummary refused = RunToDirectory(other, cut);
+  EXPECT_FALSE(refused.ok);
+  EXPECT_NE(refused.message.find("config.resolved.yaml"), std::string::npos) << refused.message;
+}
+
+// summary.csv against the statistics computed here from runs.csv's own column.
+TEST(Summary, MatchesAnIndependentComputation) {
+  const RunConfig config = LoadSmall();
+  RunDirOptions o;
+  o.out_dir = TempDir("summary");
+  ASSERT_TRUE(RunToDirectory(config, o).ok);
+  std::ifstream runs(o.out_dir + "/runs.csv");
+  CsvReader reader(&runs);
+  std::vector<std::string> header, fields;
+  std::string why;
+  ASSERT_TRUE(reader.Next(&header, &why));
+  const auto col = [&](const std::string& n) {
+    return std::find(header.begin(), header.end(), n) - header.begin();
+  };
+  std::vector<double> errors, crlb;
+  const std::string scenario = config.scenarios[4].name;
+  while (reader.Next(&fields, &why)) {
+    if (fields[col("scenario")] != scenario || fields[col("method")] != "ceres") continue;
+    errors.push_back(std::stod(fields[col("err_fku")]));
+    crlb.push_back(std::stod(fields[col("crlb_fku")]));
+  }
+  ASSERT_EQ(errors.size(), 4u);
+  double sum_sq = 0;
+  for (double e : errors) sum_sq += e * e;
+  std::ifstream summary(o.out_dir + "/summary.csv");
+  CsvReader s(&summary);
+  ASSERT_TRUE(s.Next(&header, &why));
+  bool found = false;
+  while (s.Next(&fields, &why)) {
+    if (fields[0] != scenario || fields[col_of(header, "method")] != "ceres" ||
+        fields[col_of(header, "metric")] != "err_fku") {
+      continue;
+    }
+    found = true;
+    EXPECT_EQ(fields[col_of(header, "n")], "4");
+    EXPECT_EQ(fields[col_of(header, "n_failed")], "0");
+    // %.10g in the file: 1e-9 relative.
+    EXPECT_NEAR(std::stod(fields[col_of(header, "median")]), Median(errors),
+                1e-9 * std::abs(Median(errors)) + 1e-15);
+    EXPECT_NEAR(std::stod(fields[col_of(header, "p97_5")]), Quantile(errors, 0.975), 1e-9);
+    EXPECT_NEAR(std::stod(fields[col_of(header, "rmse")]), std::sqrt(sum_sq / 4), 1e-9);
+    EXPECT_NEAR(std::stod(fields[col_of(header, "crlb")]), Median(crlb), 1e-9);
+  }
+  EXPECT_TRUE(found);
+}
+
+TEST(Csv, ReaderHandlesQuotesAndReportsCutRecords) {
+  std::istringstream in("a,\"b,\"\"c\"\"\nd\",e\nf,g");
+  CsvReader reader(&in);
+  std::vector<std::string> fields;
+  std::string why;
+  ASSERT_TRUE(reader.Next(&fields, &why));
+  EXPECT_EQ(fields, (std::vector<std::string>{"a", "b,\"c\"\nd", "e"}));
+  EXPECT_FALSE(reader.Next(&fields, &why));
+  EXPECT_NE(why.find("no newline"), std::string::npos) << why;
+}
+
+}  // namespace
+}  // namespace calibench
