@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -444,8 +445,11 @@ void ExpandSweptScenario(const Reader& r, const YAML::Node& root, const std::str
       config_internal::ParseSweep(r, root["sweep"]);
   std::vector<config_internal::SweepPointSpec> points;
   try {
+    std::map<std::string, YAML::Node> sections;  // Read once, not once per point.
     points = config_internal::ExpandSweep(axes, swept.name, [&](const std::string& key) {
-      return EffectiveSection(root, path, key);
+      auto it = sections.find(key);
+      if (it == sections.end()) it = sections.emplace(key, EffectiveSection(root, path, key)).first;
+      return it->second;
     });
   } catch (const ConfigError& e) {
     throw ConfigError(path + ": sweep: " + e.what());
