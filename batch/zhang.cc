@@ -33,12 +33,8 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
   std::string why;
   if (!options.Check(&why)) return finish(MethodStatus::kFailed, "zhang options: " + why);
 
-  // cv::Mat buffers (OpenCV allocates them 64-byte aligned): calibrateCamera reads its input in
-  // place with SIMD code whose rounding depends on the buffers' alignment, so std::vector input
-  // (16-byte aligned, wherever the heap puts it) made results differ in the last digits from run
-  // to run. With aligned input they are bit-reproducible.
-  std::vector<cv::Mat> object_points;
-  std::vector<cv::Mat> image_points;
+  std::vector<std::vector<cv::Point3f>> object_points;
+  std::vector<std::vector<cv::Point2f>> image_points;
   for (size_t v = 0; v < planar_views.size(); v += options.view_stride) {
     const View& view = planar_views[v];
     if (view.points.size() < 4) continue;
@@ -52,8 +48,8 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
       obj.emplace_back(view.points[i].x(), view.points[i].y(), 0.f);
       img.emplace_back(view.pixels[i].x(), view.pixels[i].y());
     }
-    object_points.push_back(cv::Mat(obj, /*copyData=*/true));
-    image_points.push_back(cv::Mat(img, /*copyData=*/true));
+    object_points.push_back(std::move(obj));
+    image_points.push_back(std::move(img));
     result.used_views.push_back(static_cast<int>(v));
   }
   if (object_points.size() < 2) {
@@ -113,8 +109,8 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
     for (int i = 0; i < 3; ++i) pose.translation[i] = tvecs[v].at<double>(i);
     result.cam_from_board.push_back(pose);
     const double e = per_view_errors.at<double>(static_cast<int>(v));
-    sum_sq += e * e * static_cast<double>(object_points[v].total());
-    count += static_cast<long>(object_points[v].total());
+    sum_sq += e * e * static_cast<double>(object_points[v].size());
+    count += static_cast<long>(object_points[v].size());
   }
   result.rms_reproj_px = std::sqrt(sum_sq / count);
   return finish(MethodStatus::kOk, "OpenCV fixes the skew: phi reported as 90 deg");

@@ -32,10 +32,10 @@ struct ZhangResult : MethodSummary {
 
 ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOptions& options);
 
-// OpenCV's own thread pool (TBB) splits calibrateCamera's sums differently from run to run, so
-// results differ by ~1e-9 relative; calibench parallelises over trials instead. Call this once,
-// before starting worker threads, to keep every result bit-reproducible (CalibrateZhang calls
-// it too, for single-threaded users).
+// OpenCV's own thread pool (TBB) splits calibrateCamera's sums differently from run to run;
+// calibench parallelises over trials instead. Call this once, before starting worker threads
+// (CalibrateZhang calls it too). It removes that source of run-to-run differences, not all: the
+// results still depend on the heap's history in the last digits (README, reproducibility).
 void UseSequentialOpenCv();
 
 }  // namespace calibench

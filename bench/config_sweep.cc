@@ -84,14 +84,17 @@ std::string ValueText(const YAML::Node& value) {
   return out.c_str();
 }
 
+bool IsIndex(const std::string& key) {
+  return !key.empty() && key.find_first_not_of("0123456789") == std::string::npos;
+}
+
 // Sets `path` inside `node`, creating mappings on the way; numeric components index sequences.
 void SetPath(YAML::Node node, const std::vector<std::string>& path, size_t from,
              const YAML::Node& value) {
   YAML::Node current = node;
   for (size_t i = from; i + 1 < path.size(); ++i) {
     const std::string& key = path[i];
-    const bool index = !key.empty() && key.find_first_not_of("0123456789") == std::string::npos;
-    if (current.IsSequence() && index) {
+    if (current.IsSequence() && IsIndex(key)) {
       const size_t k = std::stoul(key);
       if (k >= current.size()) {
         throw ConfigError("index " + key + " is past the end of a list of " +
@@ -110,8 +113,7 @@ void SetPath(YAML::Node node, const std::vector<std::string>& path, size_t from,
     }
   }
   const std::string& last = path.back();
-  const bool index = !last.empty() && last.find_first_not_of("0123456789") == std::string::npos;
-  if (current.IsSequence() && index) {
+  if (current.IsSequence() && IsIndex(last)) {
     const size_t k = std::stoul(last);
     if (k >= current.size()) throw ConfigError("index " + last + " is past the end of a list");
     current[k] = YAML::Clone(value);

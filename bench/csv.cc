@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -23,6 +24,13 @@ std::string CsvLine(const std::vector<std::string>& fields) {
     line += '"';
   }
   return line + "\n";
+}
+
+std::string FormatNumber(double value) {
+  if (std::isnan(value)) return "nan";
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.10g", value);
+  return buf;
 }
 
 bool CsvReader::Next(std::vector<std::string>* fields, std::string* why) {

@@ -9,6 +9,8 @@
 namespace calibench {
 
 std::string CsvLine(const std::vector<std::string>& fields);
+// A number as calibench's CSV files write it: "%.10g", or "nan".
+std::string FormatNumber(double value);
 // Writes `contents` to `path` atomically. Returns false with a reason naming the path.
 bool WriteFileAtomically(const std::string& path, const std::string& contents, std::string* why);
 

@@ -6,18 +6,14 @@
 #include <array>
 #include <cerrno>
 #include <chrono>
-#include <condition_variable>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <mutex>
 #include <set>
 #include <sstream>
-#include <thread>
 
-#include "batch/zhang.h"
 #include "bench/csv.h"
 #include "bench/runner.h"
 #include "bench/summary.h"
@@ -31,12 +27,6 @@ namespace fs = std::filesystem;
 constexpr const char* kPartial = "run.partial";
 // The streamed files, in the order a task's blocks are appended (tasks.idx comes after them).
 constexpr const char* kStreamed[3] = {"runs.csv", "timings.csv", "curves.csv"};
-
-struct Task {
-  int group = 0;
-  int trial = 0;
-  long index = 0;  // Global task index (before sharding).
-};
 
 // One finished task in tasks.idx: the end offsets of its blocks in the three streamed files.
 struct IndexEntry {
@@ -156,8 +146,9 @@ std::string HeaderBlock(int file) {
   return CsvLine(header);
 }
 
-// Creates run.partial with the three headers and tasks.idx's header and -1 entry.
-bool CreatePartial(const std::string& partial, const std::string& index_header, std::string* why) {
+// Creates run.partial with the three headers and tasks.idx's header and -1 entry (*headers).
+bool CreatePartial(const std::string& partial, const std::string& index_header, IndexEntry* headers,
+                   std::string* why) {
   std::error_code ec;
   fs::remove_all(partial, ec);
   fs::create_directories(partial, ec);
@@ -165,13 +156,13 @@ bool CreatePartial(const std::string& partial, const std::string& index_header, 
     *why = partial + ": cannot create: " + ec.message();
     return false;
   }
-  IndexEntry headers;
+  *headers = IndexEntry();
   for (int f = 0; f < 3; ++f) {
     const std::string block = HeaderBlock(f);
-    headers.end[f] = static_cast<long>(block.size());
+    headers->end[f] = static_cast<long>(block.size());
     if (!WriteFileAtomically(partial + "/" + kStreamed[f], block, why)) return false;
   }
-  return WriteFileAtomically(partial + "/tasks.idx", index_header + IndexLine(headers), why);
+  return WriteFileAtomically(partial + "/tasks.idx", index_header + IndexLine(*headers), why);
 }
 
 // Cuts the streamed files and tasks.idx back to the last complete task; *last is that entry.
@@ -305,15 +296,15 @@ RunDirSummary RunToDirectory(const RunConfig& config, const RunDirOptions& optio
   if (ec) return fail(dir + ": cannot create the output directory: " + ec.message());
 
   const std::vector<std::vector<int>> groups = MeasurementGroups(config.scenarios);
-  std::vector<Task> tasks;  // This shard's.
-  long total = 0;
-  for (size_t g = 0; g < groups.size(); ++g) {
-    for (int t = 0; t < config.scenarios[groups[g][0]].trials; ++t, ++total) {
-      if (options.shard.Owns(total)) tasks.push_back({static_cast<int>(g), t, total});
-    }
-  }
+  const std::vector<TrialTask> all_tasks = ListTasks(config.scenarios, groups);
+  const long total = static_cast<long>(all_tasks.size());
+  std::vector<TrialTask> tasks;  // This shard's.
   std::vector<long> owned;
-  for (const Task& t : tasks) owned.push_back(t.index);
+  for (const TrialTask& t : all_tasks) {
+    if (!options.shard.Owns(t.index)) continue;
+    tasks.push_back(t);
+    owned.push_back(t.index);
+  }
   summary.tasks_total = static_cast<long>(tasks.size());
   const std::string index_header = IndexHeader(options.shard, total);
   const std::string resolved = ResolvedYaml(config);
@@ -350,10 +341,7 @@ RunDirSummary RunToDirectory(const RunConfig& config, const RunDirOptions& optio
   }
   if (fresh) {
     if (!WriteFileAtomically(resolved_path, resolved, &why)) return fail(why);
-    if (!CreatePartial(partial, index_header, &why)) return fail(why);
-    last.end[0] = static_cast<long>(HeaderBlock(0).size());
-    last.end[1] = static_cast<long>(HeaderBlock(1).size());
-    last.end[2] = static_cast<long>(HeaderBlock(2).size());
+    if (!CreatePartial(partial, index_header, &last, &why)) return fail(why);
   }
 
   const long first = summary.tasks_resumed;
@@ -361,75 +349,33 @@ RunDirSummary RunToDirectory(const RunConfig& config, const RunDirOptions& optio
   if (count > 0) {
     PartialWriter writer;
     if (!writer.Open(partial, last, &why)) return fail(why);
-    int threads = options.threads > 0 ? options.threads
-                                      : static_cast<int>(std::thread::hardware_concurrency());
-    threads = std::max(1, std::min<int>(threads, static_cast<int>(count)));
-    const long window = options.max_buffered_tasks > 0 ? options.max_buffered_tasks : 4L * threads;
-    std::vector<ScenarioShared> shared(config.scenarios.size());
-    std::mutex mutex;
-    std::condition_variable cv;
-    long next_task = first, next_commit = first;
-    std::map<long, std::vector<RunRow>> ready;
-    bool stop = false;
+    TaskRunOptions run_options;
+    run_options.threads = options.threads;
+    run_options.max_buffered_tasks = options.max_buffered_tasks;
+    run_options.curve_trials = options.curve_trials;
+    const std::vector<TrialTask> remaining(tasks.begin() + first, tasks.end());
     std::string error;
-    auto commit = [&](const std::vector<RunRow>& rows) {  // Under the lock, in task order.
+    auto commit = [&](size_t position, std::vector<RunRow>&& rows) {
       std::string blocks[3];
       for (const RunRow& r : rows) {
         blocks[0] += CsvLine(RunRowFields(r));
         blocks[1] += CsvLine(TimingFields(r));
         for (const auto& [t, e] : r.curve) {
-          char t_text[32], e_text[32];
-          std::snprintf(t_text, sizeof(t_text), "%.10g", t);
-          std::snprintf(e_text, sizeof(e_text), "%.10g", e);
-          blocks[2] += CsvLine({r.scenario, std::to_string(r.trial), r.method, t_text, e_text});
+          blocks[2] += CsvLine(
+              {r.scenario, std::to_string(r.trial), r.method, FormatNumber(t), FormatNumber(e)});
         }
       }
-      if (!writer.Append(tasks[next_commit].index, blocks, &error)) {
-        stop = true;
-        return;
-      }
+      if (!writer.Append(remaining[position].index, blocks, &error)) return false;
       summary.rows_written += static_cast<long>(rows.size());
       ++summary.tasks_run;
-      if (options.progress) options.progress(next_commit + 1, summary.tasks_total);
+      if (options.progress) options.progress(first + summary.tasks_run, summary.tasks_total);
       if (options.stop_after_tasks >= 0 && summary.tasks_run >= options.stop_after_tasks) {
-        stop = true;
         error = "stopped after " + std::to_string(summary.tasks_run) + " tasks (testing)";
+        return false;
       }
+      return true;
     };
-    auto worker = [&] {
-      while (true) {
-        long k;
-        {
-          std::unique_lock<std::mutex> lock(mutex);
-          cv.wait(lock, [&] {
-            return stop || next_task >= summary.tasks_total || next_task < next_commit + window;
-          });
-          if (stop || next_task >= summary.tasks_total) return;
-          k = next_task++;
-        }
-        const Task& task = tasks[k];
-        std::vector<const ScenarioConfig*> members;
-        for (int i : groups[task.group]) members.push_back(&config.scenarios[i]);
-        GroupTrialOptions trial_options;
-        trial_options.record_curve = task.trial < options.curve_trials;
-        std::vector<RunRow> rows =
-            RunGroupTrial(members, task.trial, &shared[groups[task.group][0]], trial_options);
-        std::lock_guard<std::mutex> lock(mutex);
-        ready.emplace(k, std::move(rows));
-        while (!stop && !ready.empty() && ready.begin()->first == next_commit) {
-          commit(ready.begin()->second);
-          ready.erase(ready.begin());
-          ++next_commit;
-        }
-        cv.notify_all();
-      }
-    };
-    UseSequentialOpenCv();  // Before the workers start: bit-reproducible zhang rows.
-    std::vector<std::thread> pool;
-    // Every task runs on a spawned thread, never on the main one: OpenCV's calibrateCamera
-    // gives results that differ in the last digits between the two kinds of thread.
-    for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
-    for (std::thread& t : pool) t.join();
+    RunTasksInOrder(config.scenarios, groups, remaining, run_options, commit);
     if (!writer.Close() && error.empty()) error = partial + ": closing the files failed";
     if (!error.empty()) return fail(error);
   }
@@ -500,9 +446,8 @@ bool MergeRunDirectories(const std::vector<std::string>& shard_dirs, const std::
     return false;
   }
   if (!WriteFileAtomically(out_dir + "/config.resolved.yaml", resolved, why)) return false;
-  if (!CreatePartial(partial, IndexHeader(whole, total), why)) return false;
   IndexEntry last;
-  for (int f = 0; f < 3; ++f) last.end[f] = static_cast<long>(HeaderBlock(f).size());
+  if (!CreatePartial(partial, IndexHeader(whole, total), &last, why)) return false;
   PartialWriter writer;
   if (!writer.Open(partial, last, why)) return false;
   std::map<int, std::array<std::ifstream, 3>> streams;

@@ -1,29 +1,24 @@
 #include "bench/runner.h"
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <thread>
 #include <type_traits>
 
 #include "batch/zhang.h"
+#include "bench/csv.h"
 #include "bench/methods.h"
 #include "core/random.h"
 
 namespace calibench {
 namespace {
-
-std::string Format(double v) {
-  if (std::isnan(v)) return "nan";
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.10g", v);
-  return buf;
-}
 
 // One runs.csv column: its name, how to write it and how to read it back.
 struct Column {
@@ -55,7 +50,7 @@ bool ParseInt(const std::string& text, Int* v) {
 }
 
 Column Num(const char* name, double RunRow::*field) {
-  return {name, [field](const RunRow& r) { return Format(r.*field); },
+  return {name, [field](const RunRow& r) { return FormatNumber(r.*field); },
           [field](const std::string& t, RunRow* r) { return ParseDouble(t, &(r->*field)); }};
 }
 template <typename Integer>
@@ -171,8 +166,12 @@ const std::vector<std::string>& TimingHeader() {
 }
 
 std::vector<std::string> TimingFields(const RunRow& r) {
-  return {r.scenario,        std::to_string(r.trial), r.method,
-          Format(r.wall_ms), Format(r.measure_ms),    r.reused ? "1" : "0"};
+  return {r.scenario,
+          std::to_string(r.trial),
+          r.method,
+          FormatNumber(r.wall_ms),
+          FormatNumber(r.measure_ms),
+          r.reused ? "1" : "0"};
 }
 
 const std::vector<std::string>& CurveHeader() {
@@ -309,45 +308,84 @@ std::vector<RunRow> RunGroupTrial(const std::vector<const ScenarioConfig*>& grou
   return rows;
 }
 
-std::vector<RunRow> RunScenarios(const std::vector<ScenarioConfig>& scenarios,
-                                 const RunOptions& options) {
-  const std::vector<std::vector<int>> groups = MeasurementGroups(scenarios);
-  std::vector<std::pair<int, int>> tasks;  // (group, trial)
+std::vector<TrialTask> ListTasks(const std::vector<ScenarioConfig>& scenarios,
+                                 const std::vector<std::vector<int>>& groups) {
+  std::vector<TrialTask> tasks;
   for (size_t g = 0; g < groups.size(); ++g) {
-    for (int t = 0; t < scenarios[groups[g][0]].trials; ++t)
-      tasks.emplace_back(static_cast<int>(g), t);
-  }
-  std::vector<std::vector<RunRow>> results(tasks.size());
-  std::vector<ScenarioShared> shared(scenarios.size());
-  std::atomic<size_t> next{0};
-  std::atomic<int> done{0};
-  std::mutex progress_mutex;
-  auto worker = [&] {
-    for (size_t k = next++; k < tasks.size(); k = next++) {
-      const std::vector<int>& group = groups[tasks[k].first];
-      std::vector<const ScenarioConfig*> members;
-      for (int i : group) members.push_back(&scenarios[i]);
-      results[k] = RunGroupTrial(members, tasks[k].second, &shared[group[0]], GroupTrialOptions());
-      const int finished = ++done;
-      if (options.progress) {
-        std::lock_guard<std::mutex> lock(progress_mutex);
-        options.progress(finished, static_cast<int>(tasks.size()));
-      }
+    for (int t = 0; t < scenarios[groups[g][0]].trials; ++t) {
+      tasks.push_back({static_cast<int>(g), t, static_cast<long>(tasks.size())});
     }
-  };
+  }
+  return tasks;
+}
+
+void RunTasksInOrder(
+    const std::vector<ScenarioConfig>& scenarios, const std::vector<std::vector<int>>& groups,
+    const std::vector<TrialTask>& tasks, const TaskRunOptions& options,
+    const std::function<bool(size_t position, std::vector<RunRow>&& rows)>& commit) {
+  if (tasks.empty()) return;
   int threads =
       options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::max(1, std::min<int>(threads, static_cast<int>(tasks.size())));
-  UseSequentialOpenCv();  // Before the workers start: bit-reproducible zhang rows.
+  const size_t window = options.max_buffered_tasks > 0
+                            ? static_cast<size_t>(options.max_buffered_tasks)
+                            : 4 * static_cast<size_t>(threads);
+  std::vector<ScenarioShared> shared(scenarios.size());
+  std::mutex mutex;
+  std::condition_variable cv;
+  size_t next_task = 0, next_commit = 0;
+  std::map<size_t, std::vector<RunRow>> ready;
+  bool stop = false;
+  auto worker = [&] {
+    while (true) {
+      size_t k;
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        cv.wait(lock, [&] {
+          return stop || next_task >= tasks.size() || next_task < next_commit + window;
+        });
+        if (stop || next_task >= tasks.size()) return;
+        k = next_task++;
+      }
+      const TrialTask& task = tasks[k];
+      const std::vector<int>& group = groups[task.group];
+      std::vector<const ScenarioConfig*> members;
+      for (int i : group) members.push_back(&scenarios[i]);
+      GroupTrialOptions trial_options;
+      trial_options.record_curve = task.trial < options.curve_trials;
+      std::vector<RunRow> rows =
+          RunGroupTrial(members, task.trial, &shared[group[0]], trial_options);
+      std::lock_guard<std::mutex> lock(mutex);
+      ready.emplace(k, std::move(rows));
+      while (!stop && !ready.empty() && ready.begin()->first == next_commit) {
+        stop = !commit(next_commit, std::move(ready.begin()->second));
+        ready.erase(ready.begin());
+        ++next_commit;
+      }
+      cv.notify_all();
+    }
+  };
+  UseSequentialOpenCv();  // Before the workers start.
   std::vector<std::thread> pool;
-  // Every task runs on a spawned thread, never on the main one: OpenCV's calibrateCamera
-  // gives results that differ in the last digits between the two kinds of thread.
   for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
   for (std::thread& t : pool) t.join();
+}
+
+std::vector<RunRow> RunScenarios(const std::vector<ScenarioConfig>& scenarios,
+                                 const RunOptions& options) {
+  const std::vector<std::vector<int>> groups = MeasurementGroups(scenarios);
+  const std::vector<TrialTask> tasks = ListTasks(scenarios, groups);
+  TaskRunOptions run_options;
+  run_options.threads = options.threads;
   std::vector<RunRow> rows;
-  for (std::vector<RunRow>& r : results) {
-    for (RunRow& row : r) rows.push_back(std::move(row));
-  }
+  RunTasksInOrder(
+      scenarios, groups, tasks, run_options, [&](size_t position, std::vector<RunRow>&& task_rows) {
+        for (RunRow& row : task_rows) rows.push_back(std::move(row));
+        if (options.progress) {
+          options.progress(static_cast<int>(position + 1), static_cast<int>(tasks.size()));
+        }
+        return true;
+      });
   return rows;
 }
 

@@ -97,6 +97,30 @@ struct GroupTrialOptions {
 std::vector<RunRow> RunGroupTrial(const std::vector<const ScenarioConfig*>& group, int trial,
                                   ScenarioShared* shared, const GroupTrialOptions& options);
 
+// One unit of work: a trial of a measurement group; `index` numbers a config's tasks in order.
+struct TrialTask {
+  int group = 0;
+  int trial = 0;
+  long index = 0;
+};
+// Every task of `scenarios` (grouped by MeasurementGroups), in order.
+std::vector<TrialTask> ListTasks(const std::vector<ScenarioConfig>& scenarios,
+                                 const std::vector<std::vector<int>>& groups);
+
+struct TaskRunOptions {
+  int threads = 0;              // 0: all cores.
+  long max_buffered_tasks = 0;  // Finished tasks waiting for an earlier one; 0: 4 x threads.
+  int curve_trials = 0;         // Record ||theta~||(t) for trials below this.
+};
+// Runs `tasks` in parallel and hands each task's rows to `commit(position, rows)` in list order,
+// serialised. When commit returns false no further task starts. Tasks run on spawned threads only:
+// OpenCV's calibrateCamera gives results that differ in the last digits between the main thread
+// and spawned ones.
+void RunTasksInOrder(
+    const std::vector<ScenarioConfig>& scenarios, const std::vector<std::vector<int>>& groups,
+    const std::vector<TrialTask>& tasks, const TaskRunOptions& options,
+    const std::function<bool(size_t position, std::vector<RunRow>&& rows)>& commit);
+
 struct RunOptions {
   int threads = 0;  // 0: all cores.
   // Called after each finished trial with (done, total); from the worker threads, serialised.

@@ -14,13 +14,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string Format(double v) {
-  if (std::isnan(v)) return "nan";
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.10g", v);
-  return buf;
-}
-
 // The crlb_* column of an err_* metric, or "" when it has none.
 std::string CrlbColumn(const std::string& metric) {
   for (const char* name : {"fku", "fkv", "phi_deg", "u0", "v0"}) {
@@ -142,9 +135,10 @@ bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::s
       const double crlb = Median(p.crlb[m]);
       out += CsvLine({p.scenario, p.sweep, p.point, p.params, p.method, metrics[m],
                       std::to_string(p.n), std::to_string(p.n_failed), std::to_string(v.size()),
-                      Format(Median(v)), Format(mean), Format(std), Format(Quantile(v, 0.025)),
-                      Format(Quantile(v, 0.975)), Format(rmse), Format(crlb),
-                      Format(crlb > 0 ? rmse / crlb : kNaN)});
+                      FormatNumber(Median(v)), FormatNumber(mean), FormatNumber(std),
+                      FormatNumber(Quantile(v, 0.025)), FormatNumber(Quantile(v, 0.975)),
+                      FormatNumber(rmse), FormatNumber(crlb),
+                      FormatNumber(crlb > 0 ? rmse / crlb : kNaN)});
     }
   }
   *summary_csv = std::move(out);

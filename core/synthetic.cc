@@ -80,6 +80,15 @@ Rigid3 FacingBoardPose(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board
   return cam_from_board;
 }
 
+BoardView SixByFiveTagGrid() {
+  BoardView b;
+  b.grid.tag_rows = 5;
+  b.grid.tag_cols = 6;
+  b.grid.tag_size_m = 0.04;
+  b.family = TagFamily::Create("tag36h11", nullptr);
+  return b;
+}
+
 SyntheticBoardViews MakeBoardViews(const CameraIntrinsics& intrinsics,
                                    const SyntheticBoardOptions& o, Rng* rng) {
   SyntheticBoardViews out;

@@ -13,6 +13,7 @@
 #include "core/motion.h"
 #include "core/pose.h"
 #include "core/random.h"
+#include "core/render.h"
 #include "core/scene.h"
 #include "core/view.h"
 
@@ -64,6 +65,9 @@ struct SyntheticBoardViews {
 // `board_point` at `point_in_cam`.
 Rigid3 FacingBoardPose(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board_point,
                        const Eigen::Vector3d& point_in_cam);
+
+// A 6 x 5 tag36h11 AprilGrid of 4 cm tags to render (cam_from_board left at identity).
+BoardView SixByFiveTagGrid();
 
 // Corners row by row: (c * spacing, r * spacing, 0).
 std::vector<Eigen::Vector3d> BoardPoints(int rows, int cols, double spacing_m);

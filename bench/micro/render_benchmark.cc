@@ -12,11 +12,7 @@ namespace calibench {
 namespace {
 
 BoardView GridView() {
-  BoardView b;
-  b.grid.tag_rows = 5;
-  b.grid.tag_cols = 6;
-  b.grid.tag_size_m = 0.04;
-  b.family = TagFamily::Create("tag36h11", nullptr);
+  BoardView b = SixByFiveTagGrid();
   b.cam_from_board = FacingBoardPose({0.3, -0.2, 0.1}, {0.15, 0.125, 0}, {0, 0, 0.5});
   return b;
 }

@@ -17,19 +17,9 @@ constexpr double kBiasTolPx = 0.05;  // |mean error| per axis: the half-pixel of
 constexpr double kRefinedRmsTolPx = 0.05;
 constexpr double kRefinedBiasTolPx = 0.02;
 
-// A 6 x 5 tag36h11 grid of 4 cm tags (pose set per frame by the tests).
-BoardView SixByFiveGrid() {
-  BoardView b;
-  b.grid.tag_rows = 5;
-  b.grid.tag_cols = 6;
-  b.grid.tag_size_m = 0.04;
-  b.family = TagFamily::Create("tag36h11", nullptr);
-  return b;
-}
-
 TEST(AprilTagDetector, RenderDetectRoundTrip) {
   const CameraIntrinsics k{600, 600, 90, 319.5, 239.5};
-  BoardView b = SixByFiveGrid();
+  BoardView b = SixByFiveTagGrid();
   std::string why;
   const auto detector = AprilTagDetector::Create({}, &why);
   ASSERT_NE(detector, nullptr) << why;
@@ -113,7 +103,7 @@ class CornerAccuracy : public ::testing::TestWithParam<Degradation> {};
 
 TEST_P(CornerAccuracy, RefinementBeatsRawUnderNoiseAndBlur) {
   const CameraIntrinsics k{600, 600, 90, 319.5, 239.5};
-  BoardView b = SixByFiveGrid();
+  BoardView b = SixByFiveTagGrid();
   const auto detector = AprilTagDetector::Create({}, nullptr);
   const std::vector<Eigen::Vector3d> corners = b.grid.CornersInBoard();
   const Eigen::Vector3d centre(3 * b.grid.Pitch(), 2.5 * b.grid.Pitch(), 0);
