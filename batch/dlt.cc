@@ -1,6 +1,8 @@
 #include "batch/dlt.h"
 
 #include <Eigen/SVD>
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -28,6 +30,18 @@ DltResult EstimateDlt(const std::vector<Eigen::Vector3d>& points,
   if (n < 6) {
     return finish(MethodStatus::kFailed,
                   "the DLT needs at least 6 correspondences, got " + std::to_string(n));
+  }
+  {  // Repeated views of the same points (a static scene pooled over frames) add no constraint.
+    std::vector<std::array<double, 3>> distinct;
+    distinct.reserve(points.size());
+    for (const Eigen::Vector3d& p : points) distinct.push_back({p.x(), p.y(), p.z()});
+    std::sort(distinct.begin(), distinct.end());
+    const long count = std::unique(distinct.begin(), distinct.end()) - distinct.begin();
+    if (count < 6) {
+      return finish(MethodStatus::kFailed, "the DLT needs at least 6 distinct points, got " +
+                                               std::to_string(count) + " (in " + std::to_string(n) +
+                                               " correspondences)");
+    }
   }
 
   // Normalisation.

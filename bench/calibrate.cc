@@ -122,6 +122,25 @@ std::string FormatImageReport(const ImageFolderReport& images, const std::vector
   }
   out << images.used << " of " << images.images.size() << " images used; " << outliers
       << " outlier view(s)\n";
+  if (images.tags_possible > 0) {
+    std::snprintf(line, sizeof(line),
+                  "aprilgrid: %ld of %ld possible tags detected (detection rate %.3f), %ld ids not "
+                  "on the grid\n",
+                  images.tags_detected, images.tags_possible, images.DetectionRate(),
+                  images.unknown_tags);
+    out << line;
+    if (images.DetectionRate() < kLowDetectionRate) {
+      out << "WARNING: low detection rate: check tagFamily, codeOffset and tagCols / tagRows of "
+             "the target YAML against the printed target\n";
+    }
+  }
+  if (report.ceres.IsUsable() && report.ceres.rms_reproj_px > kHighReprojectionPx) {
+    std::snprintf(line, sizeof(line),
+                  "WARNING: reprojection RMS %.3f px > %.1f px: the target geometry does not fit "
+                  "the images (check tagSize / tagSpacing or the board spacings and size)\n",
+                  report.ceres.rms_reproj_px, kHighReprojectionPx);
+    out << line;
+  }
   return out.str();
 }
 

@@ -32,6 +32,10 @@ std::string FormatCalibrateReport(const CalibrateReport& report, const PointData
 // Per image: used or why not, points, per-view RMS and an outlier flag (view RMS above
 // kOutlierFactor times the median view RMS). `used_index` maps data views to report images.
 constexpr double kOutlierFactor = 3.0;
+// A calibration whose reprojection RMS exceeds this is flagged: detected corners are good to
+// ~0.1 px and real lenses fit to < 0.5 px with a matching model, so > 1 px means the target
+// geometry (spacing, size) or the lens model does not match the images.
+constexpr double kHighReprojectionPx = 1.0;
 std::string FormatImageReport(const ImageFolderReport& images, const std::vector<int>& used_index,
                               const CalibrateReport& report);
 

@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -74,13 +75,17 @@ void ParsePoints(const Reader& r, const YAML::Node& node, const std::string& fie
   s->points_preset.clear();
   s->boards.clear();
   s->aprilgrids.clear();
+  s->board_rpy_deg.clear();
+  s->aprilgrid_rpy_deg.clear();
   if (has_grids) {
     const YAML::Node list = node["aprilgrids"];
     const std::string f = Reader::Join(field, "aprilgrids");
     if (!list.IsSequence() || list.size() == 0) r.Fail(list, f, "expected a non-empty list");
     for (size_t i = 0; i < list.size(); ++i) {
       AprilGrid g;
-      config_internal::ParseAprilGrid(r, list[i], f + "[" + std::to_string(i) + "]", &g);
+      Eigen::Vector3d rpy_deg;
+      config_internal::ParseAprilGrid(r, list[i], f + "[" + std::to_string(i) + "]", &g, &rpy_deg);
+      s->aprilgrid_rpy_deg.push_back(rpy_deg);
       const std::vector<Eigen::Vector3d> corners = g.CornersInPointsFrame();
       s->points.insert(s->points.end(), corners.begin(), corners.end());
       s->aprilgrids.push_back(g);
@@ -97,19 +102,20 @@ void ParsePoints(const Reader& r, const YAML::Node& node, const std::string& fie
       const std::string bf = f + "[" + std::to_string(i) + "]";
       r.CheckKeys(list[i], bf, {"rows", "cols", "spacing_m", "origin", "rpy_deg"});
       PlanarBoard b;
-      r.If(list[i], "rows", bf,
-           [&](auto n, auto g) { b.rows = static_cast<int>(r.Integer(n, g)); });
-      r.If(list[i], "cols", bf,
-           [&](auto n, auto g) { b.cols = static_cast<int>(r.Integer(n, g)); });
+      r.If(list[i], "rows", bf, [&](auto n, auto g) { b.rows = r.Int(n, g); });
+      r.If(list[i], "cols", bf, [&](auto n, auto g) { b.cols = r.Int(n, g); });
       r.If(list[i], "spacing_m", bf, [&](auto n, auto g) { b.spacing_m = r.Double(n, g); });
       r.If(list[i], "origin", bf,
            [&](auto n, auto g) { b.points_from_board.translation = r.Vector3(n, g); });
+      Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();
       r.If(list[i], "rpy_deg", bf, [&](auto n, auto g) {
-        b.points_from_board.rotation = FromRollPitchYawDeg(r.Vector3(n, g));
+        rpy_deg = r.Vector3(n, g);
+        b.points_from_board.rotation = FromRollPitchYawDeg(rpy_deg);
       });
       std::string why;
       if (!b.Check(&why)) r.Fail(list[i], bf, why);
       s->boards.push_back(b);
+      s->board_rpy_deg.push_back(rpy_deg);
     }
     s->points_preset = "boards";
     s->points = RigCorners(s->boards);
@@ -237,11 +243,11 @@ void ParseZhang(const Reader& r, const YAML::Node& node, const std::string& fiel
                    &z->model);
   });
   r.If(node, "view_stride", field, [&](auto n, auto f) {
-    z->view_stride = static_cast<int>(r.Integer(n, f));
+    z->view_stride = r.Int(n, f);
     if (z->view_stride < 1) r.Fail(n, f, "must be >= 1");
   });
   r.If(node, "max_views", field, [&](auto n, auto f) {
-    z->max_views = static_cast<int>(r.Integer(n, f));
+    z->max_views = r.Int(n, f);
     if (z->max_views < 0) r.Fail(n, f, "must be >= 0 (0: all)");
   });
 }
@@ -264,8 +270,7 @@ void ParseCeres(const Reader& r, const YAML::Node& node, const std::string& fiel
     o.loss = r.Choice(n, f, {"none", "huber", "cauchy"});
   });
   r.If(node, "loss_scale_px", field, [&](auto n, auto f) { o.loss_scale_px = r.Double(n, f); });
-  r.If(node, "max_iterations", field,
-       [&](auto n, auto f) { o.max_iterations = static_cast<int>(r.Integer(n, f)); });
+  r.If(node, "max_iterations", field, [&](auto n, auto f) { o.max_iterations = r.Int(n, f); });
   std::string why;
   if (!o.Check(&why)) r.Fail(node, field, why);
 }
@@ -296,8 +301,8 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
                "sweep_point"});
   r.If(node, "image_size", field, [&](auto n, auto f) {
     if (!n.IsSequence() || n.size() != 2) r.Fail(n, f, "expected [width, height]");
-    s->image_width = static_cast<int>(r.Integer(n[0], f + "[0]"));
-    s->image_height = static_cast<int>(r.Integer(n[1], f + "[1]"));
+    s->image_width = r.Int(n[0], f + "[0]");
+    s->image_height = r.Int(n[1], f + "[1]");
     if (s->image_width < 1 || s->image_height < 1) r.Fail(n, f, "must be positive");
   });
   r.If(node, "name", field, [&](auto n, auto f) { s->name = r.String(n, f); });
@@ -313,21 +318,29 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
   });
   r.If(node, "duration_s", field, [&](auto n, auto f) {
     s->duration_s = r.Double(n, f);
-    if (!(s->duration_s > 0)) r.Fail(n, f, "must be > 0");
+    if (!(s->duration_s > 0 && std::isfinite(s->duration_s))) {
+      r.Fail(n, f, "must be positive and finite");
+    }
   });
   r.If(node, "seed", field, [&](auto n, auto f) { s->seed = r.Unsigned(n, f); });
   r.If(node, "trials", field, [&](auto n, auto f) {
     const long trials = r.Integer(n, f);
     if (trials < 1) r.Fail(n, f, "must be >= 1, got " + std::to_string(trials));
+    if (trials > kMaxTrials) {
+      r.Fail(n, f, "at most " + std::to_string(kMaxTrials) + " per scenario (split the seeds)");
+    }
     s->trials = static_cast<int>(trials);
   });
   r.If(node, "truth", field, [&](auto n, auto f) { ParseCamera(r, n, f, &s->truth); });
   r.If(node, "points", field, [&](auto n, auto f) { ParsePoints(r, n, f, s); });
   r.If(node, "motion", field, [&](auto n, auto f) { ParseMotion(r, n, f, s); });
   r.If(node, "measurements", field, [&](auto n, auto f) {
-    r.CheckKeys(n, f, {"detections", "sample_rate_hz", "eval_rate_hz"});
+    r.CheckKeys(n, f, {"detections", "sample_rate_hz", "eval_rate_hz", "outside_image"});
     r.If(n, "detections", f, [&](auto m, auto g) {
       s->detections = r.Choice(m, g, {"oracle", "rendered"});
+    });
+    r.If(n, "outside_image", f, [&](auto m, auto g) {
+      s->outside_image = r.Choice(m, g, {"fail", "keep"});
     });
     r.If(n, "sample_rate_hz", f,
          [&](auto m, auto g) { s->measurements.sample_rate_hz = r.Double(m, g); });
@@ -344,8 +357,7 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     r.If(n, "point_sigma_m", f, [&](auto m, auto g) { noise.point_sigma_m = r.Double(m, g); });
     r.If(n, "pixel_sigma_px", f, [&](auto m, auto g) { noise.pixel_sigma_px = r.Double(m, g); });
     r.If(n, "hold_s", f, [&](auto m, auto g) { noise.hold_s = r.Double(m, g); });
-    r.If(n, "hold_frames", f,
-         [&](auto m, auto g) { noise.hold_frames = static_cast<int>(r.Integer(m, g)); });
+    r.If(n, "hold_frames", f, [&](auto m, auto g) { noise.hold_frames = r.Int(m, g); });
     std::string why;
     if (!noise.Check(&why)) r.Fail(n, f, why);
   });
@@ -364,9 +376,8 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
                 {"sweep", "index", "measurement_index", "params", "adaptive_key", "batch_key"});
     SweepPoint& p = s->sweep_point;
     r.If(n, "sweep", f, [&](auto m, auto g) { p.sweep = r.String(m, g); });
-    r.If(n, "index", f, [&](auto m, auto g) { p.index = static_cast<int>(r.Integer(m, g)); });
-    r.If(n, "measurement_index", f,
-         [&](auto m, auto g) { p.measurement_index = static_cast<int>(r.Integer(m, g)); });
+    r.If(n, "index", f, [&](auto m, auto g) { p.index = r.Int(m, g); });
+    r.If(n, "measurement_index", f, [&](auto m, auto g) { p.measurement_index = r.Int(m, g); });
     r.If(n, "params", f, [&](auto m, auto g) { p.params = r.String(m, g); });
     r.If(n, "adaptive_key", f, [&](auto m, auto g) { p.adaptive_key = r.String(m, g); });
     r.If(n, "batch_key", f, [&](auto m, auto g) { p.batch_key = r.String(m, g); });

@@ -16,7 +16,8 @@
 //     image_size: [640, 480]
 //     motion: {preset: small}  |  {v_const, v_cos, v_sin, w_const, w_cos, w_sin: [3],
 //              frequency_rad_s, frame: auto | body | world}
-//     measurements: {detections: oracle | rendered, sample_rate_hz: 0, eval_rate_hz: 10}
+//     measurements: {detections: oracle | rendered, sample_rate_hz: 0, eval_rate_hz: 10,
+//                    outside_image: fail | keep}   (oracle: a projection outside image_size)
 //     noise: {point_sigma_m, pixel_sigma_px, hold_s, hold_frames}
 //     rendering: {supersample, blur_sigma_px, noise_sigma_gray, ..., detector: {...}}
 //     (config_parsers.h) methods: {adaptive: {enabled, alpha, gamma0, rtol, max_step_s,

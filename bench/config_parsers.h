@@ -13,9 +13,10 @@
 namespace calibench {
 namespace config_internal {
 
-// {family, tag_rows, tag_cols, tag_size_m, tag_spacing, first_id, origin: [3], rpy_deg: [3]}.
+// {family, tag_rows, tag_cols, tag_size_m, tag_spacing, first_id, origin: [3], rpy_deg: [3]};
+// *rpy_deg gets the angles as written (0 when absent).
 void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& field,
-                    AprilGrid* grid);
+                    AprilGrid* grid, Eigen::Vector3d* rpy_deg);
 // rendering: {supersample, blur_sigma_px, noise_sigma_gray, background_gray, black_gray,
 //             white_gray, threads, refine_corners,
 //             detector: {quad_decimate, quad_sigma, refine_edges, decode_sharpening, threads,

@@ -6,25 +6,24 @@
 namespace calibench {
 namespace config_internal {
 
-void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& field,
-                    AprilGrid* g) {
+void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& field, AprilGrid* g,
+                    Eigen::Vector3d* rpy_deg) {
   r.CheckKeys(node, field,
               {"family", "tag_rows", "tag_cols", "tag_size_m", "tag_spacing", "first_id", "origin",
                "rpy_deg"});
   r.If(node, "family", field,
        [&](auto n, auto f) { g->family = r.Choice(n, f, TagFamily::Names()); });
-  r.If(node, "tag_rows", field,
-       [&](auto n, auto f) { g->tag_rows = static_cast<int>(r.Integer(n, f)); });
-  r.If(node, "tag_cols", field,
-       [&](auto n, auto f) { g->tag_cols = static_cast<int>(r.Integer(n, f)); });
+  r.If(node, "tag_rows", field, [&](auto n, auto f) { g->tag_rows = r.Int(n, f); });
+  r.If(node, "tag_cols", field, [&](auto n, auto f) { g->tag_cols = r.Int(n, f); });
   r.If(node, "tag_size_m", field, [&](auto n, auto f) { g->tag_size_m = r.Double(n, f); });
   r.If(node, "tag_spacing", field, [&](auto n, auto f) { g->tag_spacing = r.Double(n, f); });
-  r.If(node, "first_id", field,
-       [&](auto n, auto f) { g->first_id = static_cast<int>(r.Integer(n, f)); });
+  r.If(node, "first_id", field, [&](auto n, auto f) { g->first_id = r.Int(n, f); });
   r.If(node, "origin", field,
        [&](auto n, auto f) { g->points_from_board.translation = r.Vector3(n, f); });
+  *rpy_deg = Eigen::Vector3d::Zero();
   r.If(node, "rpy_deg", field, [&](auto n, auto f) {
-    g->points_from_board.rotation = FromRollPitchYawDeg(r.Vector3(n, f));
+    *rpy_deg = r.Vector3(n, f);
+    g->points_from_board.rotation = FromRollPitchYawDeg(*rpy_deg);
   });
   std::string why;
   if (!g->Check(&why)) r.Fail(node, field, why);
@@ -36,8 +35,7 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
               {"supersample", "blur_sigma_px", "noise_sigma_gray", "background_gray", "black_gray",
                "white_gray", "threads", "refine_corners", "detector"});
   RenderOptions& ro = o->render;
-  r.If(node, "supersample", field,
-       [&](auto n, auto f) { ro.supersample = static_cast<int>(r.Integer(n, f)); });
+  r.If(node, "supersample", field, [&](auto n, auto f) { ro.supersample = r.Int(n, f); });
   r.If(node, "blur_sigma_px", field, [&](auto n, auto f) { ro.blur_sigma_px = r.Double(n, f); });
   r.If(node, "noise_sigma_gray", field,
        [&](auto n, auto f) { ro.noise_sigma_gray = r.Double(n, f); });
@@ -45,8 +43,7 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
        [&](auto n, auto f) { ro.background_gray = r.Double(n, f); });
   r.If(node, "black_gray", field, [&](auto n, auto f) { ro.black_gray = r.Double(n, f); });
   r.If(node, "white_gray", field, [&](auto n, auto f) { ro.white_gray = r.Double(n, f); });
-  r.If(node, "threads", field,
-       [&](auto n, auto f) { o->threads = static_cast<int>(r.Integer(n, f)); });
+  r.If(node, "threads", field, [&](auto n, auto f) { o->threads = r.Int(n, f); });
   r.If(node, "refine_corners", field,
        [&](auto n, auto f) { o->detection.refine_corners = r.Bool(n, f); });
   r.If(node, "detector", field, [&](const YAML::Node& d, const std::string& df) {
@@ -58,9 +55,8 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
     r.If(d, "quad_sigma", df, [&](auto n, auto f) { a.quad_sigma = r.Double(n, f); });
     r.If(d, "refine_edges", df, [&](auto n, auto f) { a.refine_edges = r.Bool(n, f); });
     r.If(d, "decode_sharpening", df, [&](auto n, auto f) { a.decode_sharpening = r.Double(n, f); });
-    r.If(d, "threads", df, [&](auto n, auto f) { a.threads = static_cast<int>(r.Integer(n, f)); });
-    r.If(d, "max_hamming", df,
-         [&](auto n, auto f) { a.max_hamming = static_cast<int>(r.Integer(n, f)); });
+    r.If(d, "threads", df, [&](auto n, auto f) { a.threads = r.Int(n, f); });
+    r.If(d, "max_hamming", df, [&](auto n, auto f) { a.max_hamming = r.Int(n, f); });
     std::string why;
     if (!a.Check(&why)) r.Fail(d, df, why);
   });
@@ -72,9 +68,17 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
 }  // namespace config_internal
 
 bool LoadTargetYaml(const std::string& path, CalibrationTarget* target, std::string* why) {
+  std::string text;
+  const bool read = config_internal::CatchConfigErrors(
+      path, why, [&] { text = config_internal::ReadFile(path); });
+  return read && LoadTargetYamlFromString(text, path, target, why);
+}
+
+bool LoadTargetYamlFromString(const std::string& yaml, const std::string& path,
+                              CalibrationTarget* target, std::string* why) {
   using config_internal::Reader;
   return config_internal::CatchConfigErrors(path, why, [&] {
-    const YAML::Node root = config_internal::LoadYaml(config_internal::ReadFile(path), path);
+    const YAML::Node root = config_internal::LoadYaml(yaml, path);
     const Reader r(path);
     r.ExpectMap(root, "(top level)");
     if (!root["target_type"].IsDefined()) r.Fail(root, "target_type", "missing");
@@ -90,14 +94,13 @@ bool LoadTargetYaml(const std::string& path, CalibrationTarget* target, std::str
                   {"target_type", "tagCols", "tagRows", "tagSize", "tagSpacing", "tagFamily",
                    "codeOffset"});
       t.type = CalibrationTarget::Type::kAprilGrid;
-      t.grid.tag_cols = static_cast<int>(r.Integer(required("tagCols"), "tagCols"));
-      t.grid.tag_rows = static_cast<int>(r.Integer(required("tagRows"), "tagRows"));
+      t.grid.tag_cols = r.Int(required("tagCols"), "tagCols");
+      t.grid.tag_rows = r.Int(required("tagRows"), "tagRows");
       t.grid.tag_size_m = r.Double(required("tagSize"), "tagSize");
       t.grid.tag_spacing = r.Double(required("tagSpacing"), "tagSpacing");
       r.If(root, "tagFamily", "",
            [&](auto n, auto f) { t.grid.family = r.Choice(n, f, TagFamily::Names()); });
-      r.If(root, "codeOffset", "",
-           [&](auto n, auto f) { t.grid.first_id = static_cast<int>(r.Integer(n, f)); });
+      r.If(root, "codeOffset", "", [&](auto n, auto f) { t.grid.first_id = r.Int(n, f); });
       std::string reason;
       if (!t.grid.Check(&reason)) r.Fail(root, "(target)", reason);
     } else {
@@ -105,8 +108,8 @@ bool LoadTargetYaml(const std::string& path, CalibrationTarget* target, std::str
           root, "",
           {"target_type", "targetCols", "targetRows", "rowSpacingMeters", "colSpacingMeters"});
       t.type = CalibrationTarget::Type::kCheckerboard;
-      t.cols = static_cast<int>(r.Integer(required("targetCols"), "targetCols"));
-      t.rows = static_cast<int>(r.Integer(required("targetRows"), "targetRows"));
+      t.cols = r.Int(required("targetCols"), "targetCols");
+      t.rows = r.Int(required("targetRows"), "targetRows");
       t.row_spacing_m = r.Double(required("rowSpacingMeters"), "rowSpacingMeters");
       t.col_spacing_m = r.Double(required("colSpacingMeters"), "colSpacingMeters");
       if (t.cols < 2 || t.rows < 2) {

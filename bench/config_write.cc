@@ -12,7 +12,7 @@ void EmitVector(YAML::Emitter& out, const Eigen::Vector3d& v) {
   out << YAML::Flow << YAML::BeginSeq << v[0] << v[1] << v[2] << YAML::EndSeq;
 }
 
-void EmitAprilGrid(YAML::Emitter& out, const AprilGrid& g) {
+void EmitAprilGrid(YAML::Emitter& out, const AprilGrid& g, const Eigen::Vector3d& rpy_deg) {
   out << YAML::Flow << YAML::BeginMap << YAML::Key << "family" << YAML::Value << g.family
       << YAML::Key << "tag_rows" << YAML::Value << g.tag_rows << YAML::Key << "tag_cols"
       << YAML::Value << g.tag_cols << YAML::Key << "tag_size_m" << YAML::Value << g.tag_size_m
@@ -20,7 +20,7 @@ void EmitAprilGrid(YAML::Emitter& out, const AprilGrid& g) {
       << YAML::Value << g.first_id << YAML::Key << "origin" << YAML::Value;
   EmitVector(out, g.points_from_board.translation);
   out << YAML::Key << "rpy_deg" << YAML::Value;
-  EmitVector(out, RollPitchYawDeg(g.points_from_board.rotation));
+  EmitVector(out, rpy_deg);
   out << YAML::EndMap;
 }
 
@@ -73,19 +73,26 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
   out << YAML::Key << "points" << YAML::Value << YAML::BeginMap;
   if (!s.boards.empty()) {
     out << YAML::Key << "boards" << YAML::Value << YAML::BeginSeq;
-    for (const PlanarBoard& b : s.boards) {
+    for (size_t i = 0; i < s.boards.size(); ++i) {
+      const PlanarBoard& b = s.boards[i];
       out << YAML::Flow << YAML::BeginMap << YAML::Key << "rows" << YAML::Value << b.rows
           << YAML::Key << "cols" << YAML::Value << b.cols << YAML::Key << "spacing_m" << YAML::Value
           << b.spacing_m << YAML::Key << "origin" << YAML::Value;
       EmitVector(out, b.points_from_board.translation);
       out << YAML::Key << "rpy_deg" << YAML::Value;
-      EmitVector(out, RollPitchYawDeg(b.points_from_board.rotation));
+      EmitVector(out, i < s.board_rpy_deg.size() ? s.board_rpy_deg[i]
+                                                 : RollPitchYawDeg(b.points_from_board.rotation));
       out << YAML::EndMap;
     }
     out << YAML::EndSeq;
   } else if (!s.aprilgrids.empty()) {
     out << YAML::Key << "aprilgrids" << YAML::Value << YAML::BeginSeq;
-    for (const AprilGrid& g : s.aprilgrids) EmitAprilGrid(out, g);
+    for (size_t i = 0; i < s.aprilgrids.size(); ++i) {
+      const AprilGrid& g = s.aprilgrids[i];
+      EmitAprilGrid(out, g,
+                    i < s.aprilgrid_rpy_deg.size() ? s.aprilgrid_rpy_deg[i]
+                                                   : RollPitchYawDeg(g.points_from_board.rotation));
+    }
     out << YAML::EndSeq;
   } else {
     out << YAML::Key << "list" << YAML::Value << YAML::BeginSeq;
@@ -108,7 +115,8 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
   out << YAML::Key << "measurements" << YAML::Value << YAML::BeginMap << YAML::Key << "detections"
       << YAML::Value << s.detections << YAML::Key << "sample_rate_hz" << YAML::Value
       << s.measurements.sample_rate_hz << YAML::Key << "eval_rate_hz" << YAML::Value
-      << s.measurements.eval_rate_hz << YAML::EndMap;
+      << s.measurements.eval_rate_hz << YAML::Key << "outside_image" << YAML::Value
+      << s.outside_image << YAML::EndMap;
   const NoiseOptions& n = s.measurements.noise;
   out << YAML::Key << "noise" << YAML::Value << YAML::BeginMap << YAML::Key << "point_sigma_m"
       << YAML::Value << n.point_sigma_m << YAML::Key << "pixel_sigma_px" << YAML::Value

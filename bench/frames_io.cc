@@ -146,6 +146,14 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
       if (why) *why = path + ": unreadable (listed in corners.csv)";
       return false;
     }
+    if (gray.cols != s.image_width || gray.rows != s.image_height) {
+      if (why) {
+        *why = path + ": image is " + std::to_string(gray.cols) + " x " +
+               std::to_string(gray.rows) + " px, but scenario '" + s.name + "' has image_size [" +
+               std::to_string(s.image_width) + ", " + std::to_string(s.image_height) + "]";
+      }
+      return false;
+    }
     DetectionCounts counts;
     const std::vector<Observation> obs =
         detector->Detect(gray.data, gray.cols, gray.rows, static_cast<int>(gray.step), &counts);

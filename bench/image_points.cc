@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -41,7 +42,8 @@ bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, View* vie
     found = cv::findChessboardCornersSB(gray, pattern, corners);
     *how = "findChessboardCornersSB";
   }
-  if (!found || corners.size() != static_cast<size_t>(t.cols * t.rows)) return false;
+  if (!found || corners.size() != static_cast<size_t>(t.cols) * static_cast<size_t>(t.rows))
+    return false;
   for (int r = 0; r < t.rows; ++r) {
     for (int c = 0; c < t.cols; ++c) {
       view->points.emplace_back(c * t.col_spacing_m, r * t.row_spacing_m, 0.0);
@@ -94,7 +96,11 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
     }
     View view;
     if (gray.empty()) {
-      r.reason = "unreadable (not an image, truncated or empty)";
+      std::error_code size_ec;
+      const auto bytes = fs::file_size(file, size_ec);
+      r.reason = size_ec      ? "unreadable: " + size_ec.message()
+                 : bytes == 0 ? "unreadable: empty file (0 bytes)"
+                              : "unreadable: cannot be decoded (not an image, or truncated)";
     } else if (!size.empty() && gray.size() != size) {
       r.reason = "size " + std::to_string(gray.cols) + "x" + std::to_string(gray.rows) +
                  " differs from the first image's " + std::to_string(size.width) + "x" +
@@ -112,6 +118,7 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
         view.pixels.push_back(o.pixel);
       }
       report->tags_detected += counts.tags;
+      report->tags_possible += target.grid.NumTags();
       report->unknown_tags += counts.unknown_tags;
       r.reason = std::to_string(counts.tags) + " tags";
       if (counts.unknown_tags > 0) {
@@ -138,6 +145,14 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
     if (why) {
       *why = dir + ": the target was found in none of " + std::to_string(files.size()) +
              " images (check the target YAML: type, size, family, spacing)";
+      if (target.type == CalibrationTarget::Type::kAprilGrid) {
+        char rate[160];
+        std::snprintf(rate, sizeof(rate),
+                      "; %ld of %ld possible tags detected (detection rate %.3f), %ld unknown ids",
+                      report->tags_detected, report->tags_possible, report->DetectionRate(),
+                      report->unknown_tags);
+        *why += rate;
+      }
     }
     return false;
   }

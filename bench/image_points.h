@@ -32,7 +32,16 @@ struct ImageFolderReport {
   std::vector<ImageResult> images;  // One per image file, in name order.
   int used = 0;
   long tags_detected = 0, unknown_tags = 0;  // aprilgrid only.
+  long tags_possible = 0;  // aprilgrid: the grid's tags x readable images of the right size.
+  // aprilgrid: tags_detected / tags_possible (0 when nothing was readable). A rate far below the
+  // share of the grid the images show means the target YAML does not match (tagFamily,
+  // codeOffset, tagCols / tagRows).
+  double DetectionRate() const {
+    return tags_possible > 0 ? static_cast<double>(tags_detected) / tags_possible : 0.0;
+  }
 };
+// Below this detection rate FormatImageReport and LoadImagePoints's error say so.
+constexpr double kLowDetectionRate = 0.5;
 
 // Views (target points in the board frame, their pixels) of every usable image; data->views[i]
 // comes from report->images[used_index[i]]. Returns false with *why naming the folder or target

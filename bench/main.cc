@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -223,6 +224,9 @@ void AddFramesOptions(CLI::App* command, FramesArgs* args) {
 
 // CLI11 throws from setup only on a programming error (a duplicate option name).
 int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
+  // A file-size limit (ulimit -f) then fails the write with EFBIG, which is reported and resumable,
+  // instead of killing the process.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"calibench: adaptive vs batch camera calibration, on identical data"};
   app.require_subcommand(1);
   RunArgs run_args;

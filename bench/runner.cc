@@ -199,7 +199,12 @@ std::unique_ptr<MeasurementSource> MakeSource(const ScenarioConfig& s, const Sce
     }
     source = std::move(rendered);
   } else {
-    source = OracleSource::Create(scene, s.measurements, base->seed, why);
+    OracleOptions oracle = s.measurements;
+    if (s.outside_image == "fail") {
+      oracle.require_in_image_width = s.image_width;
+      oracle.require_in_image_height = s.image_height;
+    }
+    source = OracleSource::Create(scene, oracle, base->seed, why);
   }
   base->measure_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -255,8 +260,11 @@ std::vector<std::vector<int>> MeasurementGroups(const std::vector<ScenarioConfig
   return groups;
 }
 
-std::vector<RunRow> RunGroupTrial(const std::vector<const ScenarioConfig*>& group, int trial,
-                                  ScenarioShared* shared, const GroupTrialOptions& options) {
+namespace {
+
+std::vector<RunRow> RunGroupTrialUnguarded(const std::vector<const ScenarioConfig*>& group,
+                                           int trial, ScenarioShared* shared,
+                                           const GroupTrialOptions& options) {
   const ScenarioConfig& first = *group.front();
   RunRow base = BaseRow(first, trial);
   std::string why;
@@ -308,6 +316,29 @@ std::vector<RunRow> RunGroupTrial(const std::vector<const ScenarioConfig*>& grou
   return rows;
 }
 
+}  // namespace
+
+std::vector<RunRow> RunGroupTrial(const std::vector<const ScenarioConfig*>& group, int trial,
+                                  ScenarioShared* shared, const GroupTrialOptions& options) {
+  std::string error;
+  try {
+    return RunGroupTrialUnguarded(group, trial, shared, options);
+  } catch (const std::exception& e) {  // e.g. std::bad_alloc: this trial fails, the sweep goes on.
+    error = std::string("internal error: ") + e.what();
+  }
+  std::vector<RunRow> rows;
+  for (const ScenarioConfig* s : group) {
+    for (const std::string& method : EnabledMethods(*s)) {
+      RunRow failed = BaseRow(*s, trial);
+      failed.method = method;
+      failed.status = "failed";
+      failed.message = error;
+      rows.push_back(failed);
+    }
+  }
+  return rows;
+}
+
 std::vector<TrialTask> ListTasks(const std::vector<ScenarioConfig>& scenarios,
                                  const std::vector<std::vector<int>>& groups) {
   std::vector<TrialTask> tasks;
@@ -350,6 +381,7 @@ void RunTasksInOrder(
       const TrialTask& task = tasks[k];
       const std::vector<int>& group = groups[task.group];
       std::vector<const ScenarioConfig*> members;
+      members.reserve(group.size());
       for (int i : group) members.push_back(&scenarios[i]);
       GroupTrialOptions trial_options;
       trial_options.record_curve = task.trial < options.curve_trials;
@@ -367,6 +399,7 @@ void RunTasksInOrder(
   };
   UseSequentialOpenCv();  // Before the workers start.
   std::vector<std::thread> pool;
+  pool.reserve(threads);
   for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
   for (std::thread& t : pool) t.join();
 }

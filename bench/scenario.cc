@@ -1,6 +1,7 @@
 #include "bench/scenario.h"
 
 #include <cmath>
+#include <sstream>
 
 #include "core/random.h"
 
@@ -75,7 +76,8 @@ bool ScenarioConfig::Check(std::string* why) const {
     return false;
   };
   if (trials < 1) return fail("trials", "must be >= 1, got " + std::to_string(trials));
-  if (!(duration_s > 0 && std::isfinite(duration_s))) return fail("duration_s", "must be > 0");
+  if (!(duration_s > 0 && std::isfinite(duration_s)))
+    return fail("duration_s", "must be positive and finite");
   if (!truth.intrinsics.Check(&reason)) return fail("truth.intrinsics", reason);
   if (!CheckRotation(truth.r_c, 1e-9, truth.allow_improper_rotation, &reason)) {
     return fail("truth.R_C", reason);
@@ -83,6 +85,19 @@ bool ScenarioConfig::Check(std::string* why) const {
   if (points.empty()) return fail("points", "at least one feature point is needed");
   if (!motion.Check(&reason)) return fail("motion", reason);
   if (!measurements.Check(&reason)) return fail("measurements", reason);
+  // Frames per trial of each time grid, against kMaxFramesPerTrial.
+  const bool continuous_noise = measurements.noise.Active() && measurements.sample_rate_hz == 0;
+  const std::pair<const char*, double> grids[] = {
+      {"measurements.sample_rate_hz", duration_s * measurements.sample_rate_hz},
+      {"measurements.eval_rate_hz", duration_s * measurements.eval_rate_hz},
+      {"noise.hold_s", continuous_noise ? duration_s / measurements.noise.hold_s : 0.0}};
+  for (const auto& [field, frames] : grids) {
+    if (frames <= kMaxFramesPerTrial) continue;
+    std::ostringstream msg;
+    msg << "gives " << frames << " frames (or noise draws) in duration_s = " << duration_s
+        << " s, more than " << kMaxFramesPerTrial << " per trial";
+    return fail(field, msg.str());
+  }
   if (detections == "rendered") {
     if (aprilgrids.empty()) {
       return fail("points",

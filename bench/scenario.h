@@ -21,6 +21,12 @@
 
 namespace calibench {
 
+// Sizes beyond which a scenario is refused rather than run out of memory or time: a trial's
+// frames (duration x sample rate, or x eval rate, or / noise hold for continuous sources) and the
+// trials of one scenario.
+constexpr double kMaxFramesPerTrial = 1e7;
+constexpr long kMaxTrials = 1'000'000;
+
 constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
 
 // A camera: intrinsics plus its pose in the parent frame, (R_C, x_C) as the thesis writes them.
@@ -106,6 +112,9 @@ struct ScenarioConfig {
   std::string points_preset;
   std::vector<PlanarBoard> boards;    // points: {boards: [...]}: the points are the rig's corners.
   std::vector<AprilGrid> aprilgrids;  // points: {aprilgrids: [...]}: the tags' corners.
+  // The rpy_deg each board / grid was given (the resolved YAML writes these, not angles recovered
+  // from the rotation, which may differ in the last digit and would not round-trip exactly).
+  std::vector<Eigen::Vector3d> board_rpy_deg, aprilgrid_rpy_deg;
   // points: {random: {count, min, max}}: uniform in the box, drawn once from the config seed.
   Eigen::Vector3d random_min = Eigen::Vector3d::Zero(), random_max = Eigen::Vector3d::Zero();
   int points_count = 10;  // With a preset: how many of its points (the first ones).
@@ -116,6 +125,9 @@ struct ScenarioConfig {
   // oracle: exact projections + noise (OracleSource); rendered: frames rendered at
   // measurements.sample_rate_hz, detected and matched (RenderedSource; needs aprilgrids).
   std::string detections = "oracle";
+  // oracle: a projection outside image_size is an error (fail: the trial fails, naming the point)
+  // or measured anyway (keep: the thesis's model, with no image bound).
+  std::string outside_image = "fail";
   OracleOptions measurements;       // sample rate, eval rate and noise (noise: oracle only).
   RenderedSourceOptions rendering;  // rendered: frame_rate_hz = measurements.sample_rate_hz.
 

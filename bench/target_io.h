@@ -24,5 +24,8 @@ struct CalibrationTarget {
 };
 
 bool LoadTargetYaml(const std::string& path, CalibrationTarget* target, std::string* why);
+// Same, from YAML text (`path` names it in messages).
+bool LoadTargetYamlFromString(const std::string& yaml, const std::string& path,
+                              CalibrationTarget* target, std::string* why);
 
 }  // namespace calibench

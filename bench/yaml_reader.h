@@ -6,7 +6,10 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -21,7 +24,22 @@ class ConfigError : public std::runtime_error {
 };
 
 // The text of a file; ConfigError naming it when it cannot be opened.
+// A configuration is a small text file: a device, a FIFO or a directory (e.g. `base: /dev/zero`)
+// would hang or mislead the parser, so only regular files up to kMaxConfigBytes are read.
+constexpr std::uintmax_t kMaxConfigBytes = 16u << 20;
+
 inline std::string ReadFile(const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) {
+    throw ConfigError(path + ": (file): cannot open for reading: no such file");
+  }
+  if (!std::filesystem::is_regular_file(status)) {
+    throw ConfigError(path + ": (file): not a regular file");
+  }
+  if (std::filesystem::file_size(path, ec) > kMaxConfigBytes) {
+    throw ConfigError(path + ": (file): larger than 16 MiB; not a configuration");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError(path + ": (file): cannot open for reading");
   std::ostringstream text;
@@ -101,7 +119,9 @@ class Reader {
       std::string best;
       size_t best_distance = 3;
       for (const std::string& a : allowed) {
-        const size_t d = EditDistance(key, a);
+        // A dropped unit suffix (pixel_sigma for pixel_sigma_px) counts as a near miss too.
+        const bool prefix = key.size() >= 4 && a.compare(0, key.size(), key) == 0;
+        const size_t d = prefix ? 1 : EditDistance(key, a);
         if (d < best_distance) best_distance = d, best = a;
       }
       std::string list;
@@ -133,6 +153,14 @@ class Reader {
   }
   long Integer(const YAML::Node& node, const std::string& field) const {
     return Scalar<long>(node, field, "an integer");
+  }
+  // An integer that fits an int (a long parsed, then range-checked: never wraps).
+  int Int(const YAML::Node& node, const std::string& field) const {
+    const long value = Integer(node, field);
+    if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max()) {
+      Fail(node, field, "integer " + node.Scalar() + " out of range");
+    }
+    return static_cast<int>(value);
   }
   uint64_t Unsigned(const YAML::Node& node, const std::string& field) const {
     // yaml-cpp wraps "-1" to a huge unsigned value: refuse a sign outright.

@@ -38,6 +38,10 @@ bool OracleOptions::Check(std::string* why) const {
     msg << "sample_rate_hz must be >= 0 (0 = continuous), got " << sample_rate_hz;
   } else if (!(eval_rate_hz > 0 && std::isfinite(eval_rate_hz))) {
     msg << "eval_rate_hz must be > 0, got " << eval_rate_hz;
+  } else if (require_in_image_width < 0 || require_in_image_height < 0 ||
+             (require_in_image_width > 0) != (require_in_image_height > 0)) {
+    msg << "the required image size must be both positive or both 0, got " << require_in_image_width
+        << " x " << require_in_image_height;
   } else if (!noise.Check(why)) {
     return false;
   }
@@ -71,8 +75,25 @@ std::unique_ptr<OracleSource> OracleSource::Create(const SceneTruth& scene,
   for (int k = 0; k <= 2000; ++k) checks.push_back(duration * k / 2000.0);
   std::vector<Eigen::Vector3d> points;
   std::vector<Eigen::Vector2d> pixels;
+  const int width = options.require_in_image_width, height = options.require_in_image_height;
   for (double t : checks) {
     if (!scene.Observe(t, &points, &pixels, why)) return nullptr;
+    if (width <= 0) continue;
+    for (size_t i = 0; i < pixels.size(); ++i) {
+      const Eigen::Vector2d& p = pixels[i];
+      if (p.x() >= -0.5 && p.y() >= -0.5 && p.x() <= width - 0.5 && p.y() <= height - 0.5) {
+        continue;
+      }
+      if (why) {
+        std::ostringstream msg;
+        msg << "feature point " << i << " projects outside the " << width << " x " << height
+            << " image at t = " << t << " s (pixel " << p.x() << ", " << p.y()
+            << "); a camera could not see it (measurements.outside_image: keep measures it "
+               "anyway)";
+        *why = msg.str();
+      }
+      return nullptr;
+    }
   }
 
   if (options.noise.Active()) {

@@ -73,13 +73,17 @@ struct OracleOptions {
   double sample_rate_hz = 0.0;  // 0: continuous measurements; > 0: frames held between samples.
   double eval_rate_hz = 10.0;   // Continuous sources: frame grid for batch methods and metrics.
   NoiseOptions noise;
+  // > 0: every exact projection must fall inside the image, [-0.5, width - 0.5] x
+  // [-0.5, height - 0.5] (pixel centres at integers), or Create() refuses the scene: a camera
+  // could not see the point. 0: no bound (the thesis's model, where every point is measured).
+  int require_in_image_width = 0, require_in_image_height = 0;
   bool Check(std::string* why) const;
 };
 
 class OracleSource final : public MeasurementSource {
  public:
-  // Returns nullptr and says why when the options are invalid or a point is behind the camera at
-  // any frame time or at any of 2000 instants spread over the duration.
+  // Returns nullptr and says why when the options are invalid or a point is behind the camera (or
+  // outside a required image) at any frame time or at any of 2000 instants over the duration.
   static std::unique_ptr<OracleSource> Create(const SceneTruth& scene, const OracleOptions& options,
                                               uint64_t trial_seed, std::string* why);
 

@@ -1,6 +1,7 @@
 #include "detect/frame_detector.h"
 
 #include <algorithm>
+#include <map>
 
 #include "core/tag_family.h"
 
@@ -69,9 +70,16 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
   DetectionCounts local;
   std::vector<Observation> observations;
   const GrayImageView view(pixels, width, height, stride);
-  for (TagDetection& tag : detector_->Detect(pixels, width, height, stride)) {
+  std::vector<TagDetection> tags = detector_->Detect(pixels, width, height, stride);
+  std::map<int, int> times_seen;
+  for (const TagDetection& tag : tags) ++times_seen[tag.id];
+  for (TagDetection& tag : tags) {
     if (PointId(tag.id, 0) < 0) {
       ++local.unknown_tags;
+      continue;
+    }
+    if (times_seen[tag.id] > 1) {  // Which of them is the grid's tag is unknown: drop them all.
+      ++local.duplicate_tags;
       continue;
     }
     bool near_border = false;

@@ -40,6 +40,9 @@ struct DetectionCounts {
   int unknown_tags = 0;    // Detected ids that are on no grid.
   int unrefined_tags = 0;  // Tags whose refinement was refused (raw corners kept).
   int border_tags = 0;     // Tags dropped for touching the image border.
+  // Detections of an id found more than once in the image (a false positive, or a tag printed
+  // twice): all dropped, since which one is the grid's is unknown.
+  int duplicate_tags = 0;
 };
 
 class FrameDetector {

@@ -12,6 +12,7 @@
 #include "core/random.h"
 #include "core/render.h"
 #include "core/synthetic.h"
+#include "tests/common/rendered_folder.h"
 #include "tests/common/test_data.h"
 
 namespace calibench {
@@ -104,40 +105,8 @@ TEST(CalibrateImages, RenderedAprilGridRecoversTheCamera) {
   const CameraIntrinsics truth{600, 605, 90, 322, 238, -0.1, 0.02};
   AprilGrid grid;
   grid.tag_size_m = 0.03;
-  const auto family = TagFamily::Create(grid.family, nullptr);
-  const auto renderer = FrameRenderer::Create(truth, RenderOptions(), nullptr);
-  ASSERT_TRUE(family && renderer);
   const std::string dir = testing::TempDir() + "/rendered_grid";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  const double extent = grid.tag_cols * grid.Pitch() - grid.Pitch() + grid.tag_size_m;
-  const Eigen::Vector3d centre(extent / 2, extent / 2, 0);
-  Rng rng(2024);
-  int written = 0;
-  for (int attempt = 0; written < 12 && attempt < 200; ++attempt) {
-    BoardView view{grid, family, {}};
-    // Board facing the camera (board z towards it), tilted up to 35 degrees, 0.45-0.6 m away.
-    const Eigen::Vector3d tilt(rng.Uniform(-0.6, 0.6), rng.Uniform(-0.6, 0.6),
-                               rng.Uniform(-0.4, 0.4));
-    const double distance = rng.Uniform(0.45, 0.6);
-    const Eigen::Vector3d at(rng.Uniform(-0.05, 0.05), rng.Uniform(-0.04, 0.04), distance);
-    // ExpSO3(tilt) D = D ExpSO3(D tilt) for D = diag(1, -1, -1).
-    view.cam_from_board = FacingBoardPose({tilt.x(), -tilt.y(), -tilt.z()}, centre, at);
-    bool inside = true;
-    for (const Eigen::Vector3d& p : grid.CornersInBoard()) {
-      Eigen::Vector2d pixel;
-      inside &= ProjectPoint(truth, view.cam_from_board * p, &pixel) && pixel.x() > 5 &&
-                pixel.y() > 5 && pixel.x() < 634 && pixel.y() < 474;
-    }
-    if (!inside) continue;
-    RenderOptions options;
-    options.noise_sigma_gray = 1.0;
-    const auto noisy = FrameRenderer::Create(truth, options, nullptr);
-    GrayImage image;
-    ASSERT_TRUE(noisy->Render({view}, &rng, &image, nullptr));
-    const cv::Mat mat(image.height, image.width, CV_8UC1, image.pixels.data());
-    ASSERT_TRUE(cv::imwrite(dir + "/view" + std::to_string(written++) + ".png", mat));
-  }
+  const int written = WriteRenderedAprilGridFolder(dir, truth, grid, RenderedFolderOptions());
   ASSERT_EQ(written, 12);
   ImageFolderReport images;
   const CalibrateReport r = CalibrateFolder(

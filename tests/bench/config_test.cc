@@ -1,24 +1,19 @@
 #include <gtest/gtest.h>
 
 #include "bench/config_io.h"
+#include "tests/common/scenario_yaml.h"
 
 namespace calibench {
 namespace {
 
 const std::string kThesisDir = std::string(CALIBENCH_SOURCE_DIR) + "/configs/thesis/";
 
-// A valid minimal scenario; tests splice one faulty line into it.
-// `truth_lines` replaces the R_C and x_C lines of the truth.
-std::string Scenario(const std::string& extra = "",
-                     const std::string& truth_lines =
-                         "    R_C: [[-1, 0, 0], [0, 0, 1], [0, 1, 0]]\n    x_C: [0, -2, 0.5]\n") {
-  return "scenario:\n"
-         "  name: t\n"
-         "  duration_s: 10\n" +
-         extra +
-         "  truth:\n"
-         "    intrinsics: {fku_px: 800, fkv_px: 810, phi_deg: 88, u0_px: 320, v0_px: 240}\n" +
-         truth_lines + "  points: {preset: thesis, count: 10}\n";
+// The minimal scenario with `extra` lines; `truth_lines` replaces the R_C and x_C lines.
+std::string Scenario(const std::string& extra = "", const std::string& truth_lines = "") {
+  ScenarioYamlParts parts;
+  parts.extra = extra;
+  if (!truth_lines.empty()) parts.truth_lines = truth_lines;
+  return MinimalScenarioYaml(parts);
 }
 
 std::string LoadError(const std::string& yaml) {

@@ -1,0 +1,220 @@
+// The bad-input matrix: every way a user can hand calibench something wrong, and what must come
+// back. Each case ends either in a refusal whose message names the file, the line (where the input
+// has lines), the field and the reason, or in a result row with status failed / diverged and a
+// reason, while the other rows of the run are still produced. Never a crash, never a silent
+// number. Runtime faults (trials, images, output) are in bad_run_test.cc.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "bench/config_io.h"
+#include "bench/target_io.h"
+#include "tests/common/scenario_yaml.h"
+
+namespace calibench {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string TempPath(const std::string& name) {
+  return (fs::path(testing::TempDir()) / ("bad_input_" + name)).lexically_normal().string();
+}
+
+void Write(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// The minimal scenario (tests/common/scenario_yaml.h) with `extra` lines, `points` and
+// `truth_lines` replacing R_C and x_C.
+std::string Scenario(const std::string& extra = "", const std::string& points = "",
+                     const std::string& truth_lines = "") {
+  ScenarioYamlParts parts;
+  parts.extra = extra;
+  if (!points.empty()) parts.points = points;
+  if (!truth_lines.empty()) parts.truth_lines = truth_lines;
+  return MinimalScenarioYaml(parts);
+}
+
+struct ConfigCase {
+  std::string name;
+  std::string yaml;
+  std::vector<std::string> expected;  // Substrings of the error: location, field, reason.
+};
+
+void PrintTo(const ConfigCase& c, std::ostream* os) { *os << c.name; }
+
+class BadConfig : public testing::TestWithParam<ConfigCase> {};
+
+TEST_P(BadConfig, IsRefusedWithFileLineFieldAndReason) {
+  const ConfigCase& c = GetParam();
+  const std::string path = TempPath(c.name + ".yaml");
+  Write(path, c.yaml);
+  RunConfig config;
+  std::string why;
+  ASSERT_FALSE(LoadRunConfig(path, &config, &why)) << c.yaml;
+  EXPECT_EQ(why.rfind(path, 0), 0u) << "the message must start with the file: " << why;
+  for (const std::string& e : c.expected) {
+    const std::string want = e.find("FILE") == 0 ? path + e.substr(4) : e;
+    EXPECT_NE(why.find(want), std::string::npos) << "missing '" << want << "' in: " << why;
+  }
+}
+
+const std::string kFixedCamera = "  case: fixed_camera\n";
+
+INSTANTIATE_TEST_SUITE_P(
+    Matrix, BadConfig,
+    testing::Values(
+        ConfigCase{"malformed_flow",
+                   "scenario:\n  name: [unclosed\n  trials: 1\n",
+                   {"FILE:3:", "malformed YAML", "end of sequence flow not found"}},
+        ConfigCase{"malformed_indent",
+                   "scenario:\n  name: t\n duration_s: 5\n",
+                   {"FILE:3:", "malformed YAML"}},
+        ConfigCase{"tab_indent", "scenario:\n\tname: t\n", {"FILE:2:", "malformed YAML"}},
+        ConfigCase{"empty_file", "", {"(top level)", "expected a mapping"}},
+        ConfigCase{"misspelt_top_key",
+                   "scenraio: {name: t}\n",
+                   {"FILE:1:", "scenraio", "unknown key", "did you mean 'scenario'"}},
+        ConfigCase{"misspelt_gain",
+                   Scenario("  methods: {adaptive: {alhpa: 5}}\n"),
+                   {"FILE:4:", "scenario.methods.adaptive.alhpa", "did you mean 'alpha'"}},
+        ConfigCase{"misspelt_noise",
+                   Scenario("  noise: {pixel_sigma: 0.5}\n"),
+                   {"FILE:4:", "scenario.noise.pixel_sigma", "did you mean 'pixel_sigma_px'"}},
+        ConfigCase{"wrong_type_integer",
+                   Scenario("  trials: many\n"),
+                   {"FILE:4:", "scenario.trials", "expected an integer, got 'many'"}},
+        ConfigCase{"wrong_type_number",
+                   Scenario("  noise: {pixel_sigma_px: high}\n"),
+                   {"FILE:4:", "scenario.noise.pixel_sigma_px", "expected a number"}},
+        ConfigCase{"wrong_type_vector",
+                   Scenario("", "{preset: thesis, count: 10}", "    x_C: [0, 1]\n"),
+                   {"FILE:6:", "scenario.truth.x_C", "expected a list of 3 numbers"}},
+        ConfigCase{"wrong_type_section",
+                   Scenario("", "5"),
+                   {"FILE:8:", "scenario.points", "expected a mapping"}},
+        ConfigCase{"negative_pixel_sigma",
+                   Scenario("  noise: {pixel_sigma_px: -0.5}\n"),
+                   {"FILE:4:", "scenario.noise", "pixel_sigma_px must be >= 0"}},
+        ConfigCase{"negative_point_sigma",
+                   Scenario("  noise: {point_sigma_m: -1.0e-3}\n"),
+                   {"FILE:4:", "scenario.noise", "point_sigma_m must be >= 0"}},
+        ConfigCase{"phi_zero",
+                   "scenario:\n  name: t\n  truth:\n    intrinsics: {phi_deg: 0}\n",
+                   {"FILE:4:", "scenario.truth.intrinsics", "phi_deg must lie in (0, 180)"}},
+        ConfigCase{"phi_180",
+                   "scenario:\n  name: t\n  truth:\n    intrinsics: {phi_deg: 180}\n",
+                   {"FILE:4:", "scenario.truth.intrinsics", "phi_deg must lie in (0, 180)"}},
+        ConfigCase{"focal_zero",
+                   "scenario:\n  name: t\n  truth:\n    intrinsics: {fku_px: 0}\n",
+                   {"FILE:4:", "scenario.truth.intrinsics", "fku_px"}},
+        ConfigCase{"focal_negative",
+                   "scenario:\n  name: t\n  truth:\n    intrinsics: {fkv_px: -810}\n",
+                   {"FILE:4:", "scenario.truth.intrinsics", "fkv_px"}},
+        ConfigCase{"zero_trials",
+                   Scenario("  trials: 0\n"),
+                   {"FILE:4:", "scenario.trials", "must be >= 1"}},
+        ConfigCase{"trials_beyond_int",
+                   Scenario("  trials: 1000000000000\n"),
+                   {"FILE:4:", "scenario.trials", "at most 1000000"}},
+        ConfigCase{"duration_zero",
+                   "scenario:\n  name: t\n  duration_s: 0\n",
+                   {"FILE:3:", "scenario.duration_s", "must be positive and finite"}},
+        ConfigCase{"duration_infinite",
+                   "scenario:\n  name: t\n  duration_s: .inf\n",
+                   {"FILE:3:", "scenario.duration_s", "must be positive and finite"}},
+        ConfigCase{"frames_beyond_memory",
+                   Scenario("  measurements: {sample_rate_hz: 1.0e12}\n"),
+                   {"scenario.measurements.sample_rate_hz", "frames", "more than 1e+07"}},
+        ConfigCase{"alpha_nan",
+                   Scenario("  methods: {adaptive: {alpha: .nan}}\n"),
+                   {"FILE:4:", "scenario.methods.adaptive", "alpha must be a positive finite"}},
+        ConfigCase{"improper_rotation",
+                   Scenario("", "{preset: thesis, count: 10}",
+                            "    R_C: [[0, 1, 0], [0, 0, 1], [-1, 0, 0]]\n"),
+                   {"FILE:6:", "scenario.truth.R_C", "rotation is improper"}},
+        ConfigCase{"non_orthonormal_rotation",
+                   Scenario("", "{preset: thesis, count: 10}",
+                            "    R_C: [[1, 0.001, 0], [0, 1, 0], [0, 0, 1]]\n"),
+                   {"FILE:6:", "scenario.truth.R_C", "not orthonormal"}},
+        ConfigCase{"image_size_zero",
+                   Scenario("  image_size: [0, 480]\n"),
+                   {"FILE:4:", "scenario.image_size", "must be positive"}},
+        ConfigCase{"thesis_preset_count",
+                   Scenario("", "{preset: thesis, count: 100000000}"),
+                   {"FILE:8:", "scenario.points.count", "1 to 10 points"}},
+        ConfigCase{"rendered_without_tags",
+                   Scenario("  measurements: {detections: rendered, sample_rate_hz: 10}\n"),
+                   {"scenario.points", "detections: rendered needs AprilTag targets"}},
+        ConfigCase{"missing_base",
+                   "base: nowhere.yaml\nscenario: {name: x}\n",
+                   {"FILE:1:7: base: cannot open '", "nowhere.yaml'"}},
+        ConfigCase{"sweep_empty_values",
+                   Scenario() + "sweep:\n  - field: noise.pixel_sigma_px\n    values: []\n",
+                   {"FILE:11:", "sweep[0].values", "expected a non-empty list"}},
+        ConfigCase{"sweep_unknown_field",
+                   Scenario() + "sweep:\n  - field: noise.pixel_sigmaa\n    values: [1]\n",
+                   {"noise.pixel_sigmaa", "unknown key"}},
+        ConfigCase{"duplicate_names",
+                   "scenarios:\n  - " + std::string("{name: a, points: {preset: thesis}}\n") +
+                       "  - {name: a, points: {preset: thesis}}\n",
+                   {"scenario.name", "'a' is used by two scenarios"}}),
+    [](const testing::TestParamInfo<ConfigCase>& info) { return info.param.name; });
+
+TEST(BadConfigFile, CycleDirectoryAndDevicesAreRefused) {
+  const std::string self = TempPath("self_base.yaml");
+  Write(self, "base: bad_input_self_base.yaml\nscenario: {name: x}\n");
+  RunConfig config;
+  std::string why;
+  EXPECT_FALSE(LoadRunConfig(self, &config, &why));
+  EXPECT_NE(why.find(self + ":1:7: base: nesting deeper than 16 (a cycle?)"), std::string::npos)
+      << why;
+
+  const std::string dir = TempPath("dir.yaml");
+  fs::create_directories(dir);
+  EXPECT_FALSE(LoadRunConfig(dir, &config, &why));
+  EXPECT_NE(why.find(dir + ": (file): not a regular file"), std::string::npos) << why;
+
+  // `base: /dev/zero` would otherwise read forever.
+  const std::string device = TempPath("device_base.yaml");
+  Write(device, "base: /dev/zero\nscenario: {name: x}\n");
+  EXPECT_FALSE(LoadRunConfig(device, &config, &why));
+  EXPECT_NE(why.find("/dev/zero: (file): not a regular file"), std::string::npos) << why;
+}
+
+TEST(BadTarget, KalibrTargetYamlErrorsNameLineFieldReason) {
+  struct Case {
+    std::string name, yaml, expected;
+  };
+  const Case cases[] = {
+      {"unknown_type", "target_type: 'circlegrid'\n",
+       ":1:14: target_type: 'circlegrid' is not one of: aprilgrid, checkerboard"},
+      {"misspelt_key",
+       "target_type: aprilgrid\ntagCols: 6\ntagRows: 6\ntagSize: 0.1\ntagSpacng: 0.3\n",
+       ":5:1: tagSpacng: unknown key (did you mean 'tagSpacing'?)"},
+      {"negative_cols",
+       "target_type: aprilgrid\ntagCols: -3\ntagRows: 6\ntagSize: 0.1\ntagSpacing: 0.3\n",
+       "(target)"},
+      {"zero_spacing",
+       "target_type: checkerboard\ntargetCols: 9\ntargetRows: 6\nrowSpacingMeters: 0\n"
+       "colSpacingMeters: 0.02\n",
+       "rowSpacingMeters: spacings must be > 0"},
+      {"unknown_family",
+       "target_type: aprilgrid\ntagCols: 6\ntagRows: 6\ntagSize: 0.1\ntagSpacing: 0.3\n"
+       "tagFamily: tag99h9\n",
+       ":6:12: tagFamily: 'tag99h9' is not one of"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = TempPath("target_" + c.name + ".yaml");
+    Write(path, c.yaml);
+    CalibrationTarget target;
+    std::string why;
+    EXPECT_FALSE(LoadTargetYaml(path, &target, &why)) << c.name;
+    EXPECT_EQ(why.rfind(path, 0), 0u) << why;
+    EXPECT_NE(why.find(c.expected), std::string::npos) << c.name << ": " << why;
+  }
+}
+
+}  // namespace
+}  // namespace calibench

@@ -1,0 +1,64 @@
+// Test fixture data on disk: a folder of PNG views of an AprilGrid rendered by a known camera
+// (calibrate --images input with a known answer). Poses come from core/synthetic.h.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+
+#include "core/random.h"
+#include "core/render.h"
+#include "core/synthetic.h"
+
+namespace calibench {
+
+struct RenderedFolderOptions {
+  int views = 12;
+  double noise_sigma_gray = 1.0;
+  uint64_t seed = 2024;
+};
+
+// Writes DIR/view<k>.png (k < options.views) of `grid` seen by `truth` from random facing
+// viewpoints (tilt up to ~35 degrees, 0.45-0.6 m, every corner > 5 px inside the 640 x 480 image).
+// Returns the number of views written (< options.views only if poses ran out).
+inline int WriteRenderedAprilGridFolder(const std::string& dir, const CameraIntrinsics& truth,
+                                        const AprilGrid& grid,
+                                        const RenderedFolderOptions& options) {
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto family = TagFamily::Create(grid.family, nullptr);
+  RenderOptions render_options;
+  render_options.noise_sigma_gray = options.noise_sigma_gray;
+  const auto renderer = FrameRenderer::Create(truth, render_options, nullptr);
+  if (!family || !renderer) return 0;
+  const double extent = grid.tag_cols * grid.Pitch() - grid.Pitch() + grid.tag_size_m;
+  const Eigen::Vector3d centre(extent / 2, extent / 2, 0);
+  Rng rng(options.seed);
+  int written = 0;
+  for (int attempt = 0; written < options.views && attempt < 200; ++attempt) {
+    BoardView view{grid, family, {}};
+    const Eigen::Vector3d tilt(rng.Uniform(-0.6, 0.6), rng.Uniform(-0.6, 0.6),
+                               rng.Uniform(-0.4, 0.4));
+    const double distance = rng.Uniform(0.45, 0.6);
+    const Eigen::Vector3d at(rng.Uniform(-0.05, 0.05), rng.Uniform(-0.04, 0.04), distance);
+    // ExpSO3(tilt) D = D ExpSO3(D tilt) for D = diag(1, -1, -1).
+    view.cam_from_board = FacingBoardPose({tilt.x(), -tilt.y(), -tilt.z()}, centre, at);
+    bool inside = true;
+    for (const Eigen::Vector3d& p : grid.CornersInBoard()) {
+      Eigen::Vector2d pixel;
+      inside &= ProjectPoint(truth, view.cam_from_board * p, &pixel) && pixel.x() > 5 &&
+                pixel.y() > 5 && pixel.x() < 634 && pixel.y() < 474;
+    }
+    if (!inside) continue;
+    GrayImage image;
+    if (!renderer->Render({view}, &rng, &image, nullptr)) return written;
+    const cv::Mat mat(image.height, image.width, CV_8UC1, image.pixels.data());
+    if (!cv::imwrite(dir + "/view" + std::to_string(written) + ".png", mat)) return written;
+    ++written;
+  }
+  return written;
+}
+
+}  // namespace calibench
