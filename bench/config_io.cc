@@ -28,27 +28,26 @@ void ParseIntrinsics(const Reader& r, const YAML::Node& node, const std::string&
                      CameraIntrinsics* k) {
   r.CheckKeys(node, field,
               {"fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "k1", "k2", "p1", "p2", "k3"});
-  r.If(node, "fku_px", field, [&](auto n, auto f) { k->fku_px = r.Double(n, f); });
-  r.If(node, "fkv_px", field, [&](auto n, auto f) { k->fkv_px = r.Double(n, f); });
-  r.If(node, "phi_deg", field, [&](auto n, auto f) { k->phi_deg = r.Double(n, f); });
-  r.If(node, "u0_px", field, [&](auto n, auto f) { k->u0_px = r.Double(n, f); });
-  r.If(node, "v0_px", field, [&](auto n, auto f) { k->v0_px = r.Double(n, f); });
-  r.If(node, "k1", field, [&](auto n, auto f) { k->k1 = r.Double(n, f); });
-  r.If(node, "k2", field, [&](auto n, auto f) { k->k2 = r.Double(n, f); });
-  r.If(node, "p1", field, [&](auto n, auto f) { k->p1 = r.Double(n, f); });
-  r.If(node, "p2", field, [&](auto n, auto f) { k->p2 = r.Double(n, f); });
-  r.If(node, "k3", field, [&](auto n, auto f) { k->k3 = r.Double(n, f); });
+  r.Set(node, "fku_px", field, &k->fku_px);
+  r.Set(node, "fkv_px", field, &k->fkv_px);
+  r.Set(node, "phi_deg", field, &k->phi_deg);
+  r.Set(node, "u0_px", field, &k->u0_px);
+  r.Set(node, "v0_px", field, &k->v0_px);
+  r.Set(node, "k1", field, &k->k1);
+  r.Set(node, "k2", field, &k->k2);
+  r.Set(node, "p1", field, &k->p1);
+  r.Set(node, "p2", field, &k->p2);
+  r.Set(node, "k3", field, &k->k3);
   std::string why;
   if (!k->Check(&why)) r.Fail(node, field, why);
 }
 
 void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& field, CameraSpec* c) {
   r.CheckKeys(node, field, {"intrinsics", "R_C", "x_C", "allow_improper_rotation"});
-  r.If(node, "allow_improper_rotation", field,
-       [&](auto n, auto f) { c->allow_improper_rotation = r.Bool(n, f); });
+  r.Set(node, "allow_improper_rotation", field, &c->allow_improper_rotation);
   r.If(node, "intrinsics", field,
        [&](auto n, auto f) { ParseIntrinsics(r, n, f, &c->intrinsics); });
-  r.If(node, "x_C", field, [&](auto n, auto f) { c->x_c = r.Vector3(n, f); });
+  r.Set(node, "x_C", field, &c->x_c);
   r.If(node, "R_C", field, [&](auto n, auto f) { c->r_c = r.Matrix3(n, f); });
   // Checked on every file that sets or opts in, so an override can allow a base's matrix.
   if (node["R_C"].IsDefined() || node["allow_improper_rotation"].IsDefined()) {
@@ -184,13 +183,13 @@ void ParseMotion(const Reader& r, const YAML::Node& node, const std::string& fie
     return;
   }
   TwistProfile& m = s->motion;
-  r.If(node, "v_const", field, [&](auto n, auto f) { m.v_const = r.Vector3(n, f); });
-  r.If(node, "v_cos", field, [&](auto n, auto f) { m.v_cos = r.Vector3(n, f); });
-  r.If(node, "v_sin", field, [&](auto n, auto f) { m.v_sin = r.Vector3(n, f); });
-  r.If(node, "w_const", field, [&](auto n, auto f) { m.w_const = r.Vector3(n, f); });
-  r.If(node, "w_cos", field, [&](auto n, auto f) { m.w_cos = r.Vector3(n, f); });
-  r.If(node, "w_sin", field, [&](auto n, auto f) { m.w_sin = r.Vector3(n, f); });
-  r.If(node, "frequency_rad_s", field, [&](auto n, auto f) { m.frequency_rad_s = r.Double(n, f); });
+  r.Set(node, "v_const", field, &m.v_const);
+  r.Set(node, "v_cos", field, &m.v_cos);
+  r.Set(node, "v_sin", field, &m.v_sin);
+  r.Set(node, "w_const", field, &m.w_const);
+  r.Set(node, "w_cos", field, &m.w_cos);
+  r.Set(node, "w_sin", field, &m.w_sin);
+  r.Set(node, "frequency_rad_s", field, &m.frequency_rad_s);
   std::string frame = "auto";
   r.If(node, "frame", field, [&](auto n, auto f) {
     frame = r.Choice(n, f, {"auto", "body", "world"});
@@ -208,15 +207,14 @@ void ParseAdaptive(const Reader& r, const YAML::Node& node, const std::string& f
               {"enabled", "alpha", "gamma0", "rtol", "max_step_s", "initial_step_s", "max_steps",
                "convergence_tol", "initial"});
   AdaptiveOptions& o = a->options;
-  r.If(node, "enabled", field, [&](auto n, auto f) { a->enabled = r.Bool(n, f); });
-  r.If(node, "alpha", field, [&](auto n, auto f) { o.alpha = r.Double(n, f); });
-  r.If(node, "gamma0", field, [&](auto n, auto f) { o.gamma0 = r.Double(n, f); });
-  r.If(node, "rtol", field, [&](auto n, auto f) { o.rtol = r.Double(n, f); });
-  r.If(node, "max_step_s", field, [&](auto n, auto f) { o.max_step_s = r.Double(n, f); });
-  r.If(node, "initial_step_s", field, [&](auto n, auto f) { o.initial_step_s = r.Double(n, f); });
+  r.Set(node, "enabled", field, &a->enabled);
+  r.Set(node, "alpha", field, &o.alpha);
+  r.Set(node, "gamma0", field, &o.gamma0);
+  r.Set(node, "rtol", field, &o.rtol);
+  r.Set(node, "max_step_s", field, &o.max_step_s);
+  r.Set(node, "initial_step_s", field, &o.initial_step_s);
   r.If(node, "max_steps", field, [&](auto n, auto f) { o.max_steps = r.Integer(n, f); });
-  r.If(node, "convergence_tol", field,
-       [&](auto n, auto f) { a->convergence_tol = r.Double(n, f); });
+  r.Set(node, "convergence_tol", field, &a->convergence_tol);
   r.If(node, "initial", field, [&](auto n, auto f) { ParseCamera(r, n, f, &a->initial); });
   std::string why;
   if (!o.Check(&why)) r.Fail(node, field, why);
@@ -227,9 +225,8 @@ void ParseAdaptive(const Reader& r, const YAML::Node& node, const std::string& f
 void ParseDlt(const Reader& r, const YAML::Node& node, const std::string& field,
               DltMethodConfig* d) {
   r.CheckKeys(node, field, {"enabled", "min_planarity_ratio"});
-  r.If(node, "enabled", field, [&](auto n, auto f) { d->enabled = r.Bool(n, f); });
-  r.If(node, "min_planarity_ratio", field,
-       [&](auto n, auto f) { d->options.min_planarity_ratio = r.Double(n, f); });
+  r.Set(node, "enabled", field, &d->enabled);
+  r.Set(node, "min_planarity_ratio", field, &d->options.min_planarity_ratio);
   std::string why;
   if (!d->options.Check(&why)) r.Fail(node, field, why);
 }
@@ -237,7 +234,7 @@ void ParseDlt(const Reader& r, const YAML::Node& node, const std::string& field,
 void ParseZhang(const Reader& r, const YAML::Node& node, const std::string& field,
                 ZhangMethodConfig* z) {
   r.CheckKeys(node, field, {"enabled", "model", "view_stride", "max_views"});
-  r.If(node, "enabled", field, [&](auto n, auto f) { z->enabled = r.Bool(n, f); });
+  r.Set(node, "enabled", field, &z->enabled);
   r.If(node, "model", field, [&](auto n, auto f) {
     ParseLensModel(r.Choice(n, f, {"pinhole", "pinhole-k2", "pinhole-radtan4", "pinhole-radtan5"}),
                    &z->model);
@@ -258,19 +255,19 @@ void ParseCeres(const Reader& r, const YAML::Node& node, const std::string& fiel
               {"enabled", "init", "model", "estimate_skew", "loss", "loss_scale_px",
                "max_iterations", "autodiff"});
   RefineOptions& o = c->options;
-  r.If(node, "enabled", field, [&](auto n, auto f) { c->enabled = r.Bool(n, f); });
+  r.Set(node, "enabled", field, &c->enabled);
   r.If(node, "init", field, [&](auto n, auto f) { c->init = r.Choice(n, f, {"dlt", "zhang"}); });
   r.If(node, "model", field, [&](auto n, auto f) {
     ParseLensModel(r.Choice(n, f, {"pinhole", "pinhole-k2", "pinhole-radtan4", "pinhole-radtan5"}),
                    &o.model);
   });
-  r.If(node, "estimate_skew", field, [&](auto n, auto f) { o.estimate_skew = r.Bool(n, f); });
-  r.If(node, "autodiff", field, [&](auto n, auto f) { o.autodiff = r.Bool(n, f); });
+  r.Set(node, "estimate_skew", field, &o.estimate_skew);
+  r.Set(node, "autodiff", field, &o.autodiff);
   r.If(node, "loss", field, [&](auto n, auto f) {
     o.loss = r.Choice(n, f, {"none", "huber", "cauchy"});
   });
-  r.If(node, "loss_scale_px", field, [&](auto n, auto f) { o.loss_scale_px = r.Double(n, f); });
-  r.If(node, "max_iterations", field, [&](auto n, auto f) { o.max_iterations = r.Int(n, f); });
+  r.Set(node, "loss_scale_px", field, &o.loss_scale_px);
+  r.Set(node, "max_iterations", field, &o.max_iterations);
   std::string why;
   if (!o.Check(&why)) r.Fail(node, field, why);
 }
@@ -281,15 +278,14 @@ void ParseReference(const Reader& r, const YAML::Node& node, const std::string& 
       node, field,
       {"source", "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "x_C", "theta_err_below"});
   *ref = Reference();
-  r.If(node, "source", field, [&](auto n, auto f) { ref->source = r.String(n, f); });
-  r.If(node, "fku_px", field, [&](auto n, auto f) { ref->fku_px = r.Double(n, f); });
-  r.If(node, "fkv_px", field, [&](auto n, auto f) { ref->fkv_px = r.Double(n, f); });
-  r.If(node, "phi_deg", field, [&](auto n, auto f) { ref->phi_deg = r.Double(n, f); });
-  r.If(node, "u0_px", field, [&](auto n, auto f) { ref->u0_px = r.Double(n, f); });
-  r.If(node, "v0_px", field, [&](auto n, auto f) { ref->v0_px = r.Double(n, f); });
-  r.If(node, "x_C", field, [&](auto n, auto f) { ref->x_c = r.Vector3(n, f); });
-  r.If(node, "theta_err_below", field,
-       [&](auto n, auto f) { ref->theta_err_below = r.Double(n, f); });
+  r.Set(node, "source", field, &ref->source);
+  r.Set(node, "fku_px", field, &ref->fku_px);
+  r.Set(node, "fkv_px", field, &ref->fkv_px);
+  r.Set(node, "phi_deg", field, &ref->phi_deg);
+  r.Set(node, "u0_px", field, &ref->u0_px);
+  r.Set(node, "v0_px", field, &ref->v0_px);
+  r.Set(node, "x_C", field, &ref->x_c);
+  r.Set(node, "theta_err_below", field, &ref->theta_err_below);
 }
 
 // Applies the scenario mapping `node` onto *s (fields absent from `node` keep their values).
@@ -305,8 +301,8 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     s->image_height = r.Int(n[1], f + "[1]");
     if (s->image_width < 1 || s->image_height < 1) r.Fail(n, f, "must be positive");
   });
-  r.If(node, "name", field, [&](auto n, auto f) { s->name = r.String(n, f); });
-  r.If(node, "description", field, [&](auto n, auto f) { s->description = r.String(n, f); });
+  r.Set(node, "name", field, &s->name);
+  r.Set(node, "description", field, &s->description);
   r.If(node, "case", field, [&](auto n, auto f) {
     s->calibration_case = r.Choice(n, f, {"fixed_camera", "moving_camera"}) == "fixed_camera"
                               ? CalibrationCase::kFixedCamera
@@ -342,10 +338,8 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     r.If(n, "outside_image", f, [&](auto m, auto g) {
       s->outside_image = r.Choice(m, g, {"fail", "keep"});
     });
-    r.If(n, "sample_rate_hz", f,
-         [&](auto m, auto g) { s->measurements.sample_rate_hz = r.Double(m, g); });
-    r.If(n, "eval_rate_hz", f,
-         [&](auto m, auto g) { s->measurements.eval_rate_hz = r.Double(m, g); });
+    r.Set(n, "sample_rate_hz", f, &s->measurements.sample_rate_hz);
+    r.Set(n, "eval_rate_hz", f, &s->measurements.eval_rate_hz);
     std::string why;
     OracleOptions check = s->measurements;
     check.noise = NoiseOptions();
@@ -354,10 +348,10 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
   r.If(node, "noise", field, [&](auto n, auto f) {
     r.CheckKeys(n, f, {"point_sigma_m", "pixel_sigma_px", "hold_s", "hold_frames"});
     NoiseOptions& noise = s->measurements.noise;
-    r.If(n, "point_sigma_m", f, [&](auto m, auto g) { noise.point_sigma_m = r.Double(m, g); });
-    r.If(n, "pixel_sigma_px", f, [&](auto m, auto g) { noise.pixel_sigma_px = r.Double(m, g); });
-    r.If(n, "hold_s", f, [&](auto m, auto g) { noise.hold_s = r.Double(m, g); });
-    r.If(n, "hold_frames", f, [&](auto m, auto g) { noise.hold_frames = r.Int(m, g); });
+    r.Set(n, "point_sigma_m", f, &noise.point_sigma_m);
+    r.Set(n, "pixel_sigma_px", f, &noise.pixel_sigma_px);
+    r.Set(n, "hold_s", f, &noise.hold_s);
+    r.Set(n, "hold_frames", f, &noise.hold_frames);
     std::string why;
     if (!noise.Check(&why)) r.Fail(n, f, why);
   });
@@ -375,12 +369,12 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     r.CheckKeys(n, f,
                 {"sweep", "index", "measurement_index", "params", "adaptive_key", "batch_key"});
     SweepPoint& p = s->sweep_point;
-    r.If(n, "sweep", f, [&](auto m, auto g) { p.sweep = r.String(m, g); });
-    r.If(n, "index", f, [&](auto m, auto g) { p.index = r.Int(m, g); });
-    r.If(n, "measurement_index", f, [&](auto m, auto g) { p.measurement_index = r.Int(m, g); });
-    r.If(n, "params", f, [&](auto m, auto g) { p.params = r.String(m, g); });
-    r.If(n, "adaptive_key", f, [&](auto m, auto g) { p.adaptive_key = r.String(m, g); });
-    r.If(n, "batch_key", f, [&](auto m, auto g) { p.batch_key = r.String(m, g); });
+    r.Set(n, "sweep", f, &p.sweep);
+    r.Set(n, "index", f, &p.index);
+    r.Set(n, "measurement_index", f, &p.measurement_index);
+    r.Set(n, "params", f, &p.params);
+    r.Set(n, "adaptive_key", f, &p.adaptive_key);
+    r.Set(n, "batch_key", f, &p.batch_key);
   });
 }
 

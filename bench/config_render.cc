@@ -13,13 +13,12 @@ void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& 
                "rpy_deg"});
   r.If(node, "family", field,
        [&](auto n, auto f) { g->family = r.Choice(n, f, TagFamily::Names()); });
-  r.If(node, "tag_rows", field, [&](auto n, auto f) { g->tag_rows = r.Int(n, f); });
-  r.If(node, "tag_cols", field, [&](auto n, auto f) { g->tag_cols = r.Int(n, f); });
-  r.If(node, "tag_size_m", field, [&](auto n, auto f) { g->tag_size_m = r.Double(n, f); });
-  r.If(node, "tag_spacing", field, [&](auto n, auto f) { g->tag_spacing = r.Double(n, f); });
-  r.If(node, "first_id", field, [&](auto n, auto f) { g->first_id = r.Int(n, f); });
-  r.If(node, "origin", field,
-       [&](auto n, auto f) { g->points_from_board.translation = r.Vector3(n, f); });
+  r.Set(node, "tag_rows", field, &g->tag_rows);
+  r.Set(node, "tag_cols", field, &g->tag_cols);
+  r.Set(node, "tag_size_m", field, &g->tag_size_m);
+  r.Set(node, "tag_spacing", field, &g->tag_spacing);
+  r.Set(node, "first_id", field, &g->first_id);
+  r.Set(node, "origin", field, &g->points_from_board.translation);
   *rpy_deg = Eigen::Vector3d::Zero();
   r.If(node, "rpy_deg", field, [&](auto n, auto f) {
     *rpy_deg = r.Vector3(n, f);
@@ -35,28 +34,25 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
               {"supersample", "blur_sigma_px", "noise_sigma_gray", "background_gray", "black_gray",
                "white_gray", "threads", "refine_corners", "detector"});
   RenderOptions& ro = o->render;
-  r.If(node, "supersample", field, [&](auto n, auto f) { ro.supersample = r.Int(n, f); });
-  r.If(node, "blur_sigma_px", field, [&](auto n, auto f) { ro.blur_sigma_px = r.Double(n, f); });
-  r.If(node, "noise_sigma_gray", field,
-       [&](auto n, auto f) { ro.noise_sigma_gray = r.Double(n, f); });
-  r.If(node, "background_gray", field,
-       [&](auto n, auto f) { ro.background_gray = r.Double(n, f); });
-  r.If(node, "black_gray", field, [&](auto n, auto f) { ro.black_gray = r.Double(n, f); });
-  r.If(node, "white_gray", field, [&](auto n, auto f) { ro.white_gray = r.Double(n, f); });
-  r.If(node, "threads", field, [&](auto n, auto f) { o->threads = r.Int(n, f); });
-  r.If(node, "refine_corners", field,
-       [&](auto n, auto f) { o->detection.refine_corners = r.Bool(n, f); });
+  r.Set(node, "supersample", field, &ro.supersample);
+  r.Set(node, "blur_sigma_px", field, &ro.blur_sigma_px);
+  r.Set(node, "noise_sigma_gray", field, &ro.noise_sigma_gray);
+  r.Set(node, "background_gray", field, &ro.background_gray);
+  r.Set(node, "black_gray", field, &ro.black_gray);
+  r.Set(node, "white_gray", field, &ro.white_gray);
+  r.Set(node, "threads", field, &o->threads);
+  r.Set(node, "refine_corners", field, &o->detection.refine_corners);
   r.If(node, "detector", field, [&](const YAML::Node& d, const std::string& df) {
     r.CheckKeys(d, df,
                 {"quad_decimate", "quad_sigma", "refine_edges", "decode_sharpening", "threads",
                  "max_hamming"});
     AprilTagOptions& a = o->detection.detector;
-    r.If(d, "quad_decimate", df, [&](auto n, auto f) { a.quad_decimate = r.Double(n, f); });
-    r.If(d, "quad_sigma", df, [&](auto n, auto f) { a.quad_sigma = r.Double(n, f); });
-    r.If(d, "refine_edges", df, [&](auto n, auto f) { a.refine_edges = r.Bool(n, f); });
-    r.If(d, "decode_sharpening", df, [&](auto n, auto f) { a.decode_sharpening = r.Double(n, f); });
-    r.If(d, "threads", df, [&](auto n, auto f) { a.threads = r.Int(n, f); });
-    r.If(d, "max_hamming", df, [&](auto n, auto f) { a.max_hamming = r.Int(n, f); });
+    r.Set(d, "quad_decimate", df, &a.quad_decimate);
+    r.Set(d, "quad_sigma", df, &a.quad_sigma);
+    r.Set(d, "refine_edges", df, &a.refine_edges);
+    r.Set(d, "decode_sharpening", df, &a.decode_sharpening);
+    r.Set(d, "threads", df, &a.threads);
+    r.Set(d, "max_hamming", df, &a.max_hamming);
     std::string why;
     if (!a.Check(&why)) r.Fail(d, df, why);
   });

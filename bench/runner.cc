@@ -199,12 +199,7 @@ std::unique_ptr<MeasurementSource> MakeSource(const ScenarioConfig& s, const Sce
     }
     source = std::move(rendered);
   } else {
-    OracleOptions oracle = s.measurements;
-    if (s.outside_image == "fail") {
-      oracle.require_in_image_width = s.image_width;
-      oracle.require_in_image_height = s.image_height;
-    }
-    source = OracleSource::Create(scene, oracle, base->seed, why);
+    source = OracleSource::Create(scene, s.OracleSourceOptions(), base->seed, why);
   }
   base->measure_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -69,6 +69,15 @@ RenderedSourceOptions ScenarioConfig::RenderingOptions() const {
   return o;
 }
 
+OracleOptions ScenarioConfig::OracleSourceOptions() const {
+  OracleOptions o = measurements;
+  if (outside_image == "fail") {
+    o.require_in_image_width = image_width;
+    o.require_in_image_height = image_height;
+  }
+  return o;
+}
+
 bool ScenarioConfig::Check(std::string* why) const {
   std::string reason;
   auto fail = [&](const std::string& field, const std::string& r) {

@@ -153,6 +153,8 @@ struct ScenarioConfig {
   std::vector<BoardLayout> BoardLayouts() const;
   // The rendering options with the scenario's frame rate and image size filled in.
   RenderedSourceOptions RenderingOptions() const;
+  // The oracle options, with the image bound in force when outside_image is "fail".
+  OracleOptions OracleSourceOptions() const;
   bool Check(std::string* why) const;
 };
 

@@ -208,6 +208,25 @@ class Reader {
     if (child.IsDefined() && !child.IsNull()) apply(child, Join(field, key));
   }
 
+  // If `key` is present: *out = its value, read as *out's type (errors name the field).
+  void Set(const YAML::Node& node, const char* key, const std::string& field, double* out) const {
+    If(node, key, field, [&](const YAML::Node& n, const std::string& f) { *out = Double(n, f); });
+  }
+  void Set(const YAML::Node& node, const char* key, const std::string& field, int* out) const {
+    If(node, key, field, [&](const YAML::Node& n, const std::string& f) { *out = Int(n, f); });
+  }
+  void Set(const YAML::Node& node, const char* key, const std::string& field, bool* out) const {
+    If(node, key, field, [&](const YAML::Node& n, const std::string& f) { *out = Bool(n, f); });
+  }
+  void Set(const YAML::Node& node, const char* key, const std::string& field,
+           std::string* out) const {
+    If(node, key, field, [&](const YAML::Node& n, const std::string& f) { *out = String(n, f); });
+  }
+  void Set(const YAML::Node& node, const char* key, const std::string& field,
+           Eigen::Vector3d* out) const {
+    If(node, key, field, [&](const YAML::Node& n, const std::string& f) { *out = Vector3(n, f); });
+  }
+
  private:
   std::string file_;
 };

@@ -54,7 +54,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (s.detections != "oracle" || frames > kMaxFrames || s.points.size() > kMaxPoints) continue;
     const calibench::SceneTruth scene = s.MakeScene();
     const auto source =
-        calibench::OracleSource::Create(scene, s.measurements, s.TrialSeedOf(0), &why);
+        calibench::OracleSource::Create(scene, s.OracleSourceOptions(), s.TrialSeedOf(0), &why);
     Check(source != nullptr || !why.empty(), "no source and no reason", resolved);
   }
   return 0;

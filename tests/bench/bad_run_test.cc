@@ -4,6 +4,7 @@
 // failed (or diverged) row with its reason while the other rows are still produced, or in an error
 // naming the file and the reason. Disk full mid-run: disk_full_test.sh.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -22,9 +23,25 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Per process: CTest runs each test of this file as its own process, in parallel.
 std::string TempPath(const std::string& name) {
-  return (fs::path(testing::TempDir()) / ("bad_run_" + name)).lexically_normal().string();
+  const std::string unique = "bad_run_" + std::to_string(::getpid()) + "_" + name;
+  return (fs::path(testing::TempDir()) / unique).lexically_normal().string();
 }
+
+// Removes this process's files at exit.
+class RemoveTempFiles : public testing::Environment {
+ public:
+  void TearDown() override {
+    const std::string prefix = "bad_run_" + std::to_string(::getpid()) + "_";
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(testing::TempDir(), ec)) {
+      if (entry.path().filename().string().rfind(prefix, 0) == 0) fs::remove_all(entry.path(), ec);
+    }
+  }
+};
+testing::Environment* const kRemoveTempFiles =
+    testing::AddGlobalTestEnvironment(new RemoveTempFiles);
 
 // Thesis camera 1 looking along world +y from (0, -2, 0.5), with `points` and `extra` lines.
 std::string Scenario(const std::string& points, const std::string& extra = "") {
