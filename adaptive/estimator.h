@@ -26,8 +26,8 @@
 #include <functional>
 #include <string>
 
-#include "adaptive/theta.h"
 #include "core/measurements.h"
+#include "core/projection_matrix.h"
 #include "core/status.h"
 
 namespace calibench {

@@ -100,11 +100,6 @@ DltResult EstimateDlt(const std::vector<Eigen::Vector3d>& points,
     return finish(MethodStatus::kFailed, "decomposition: " + why);
   }
   if (result.camera.lambda < 0) result.m = -m;
-  double sum_sq = 0.0;
-  for (int i = 0; i < n; ++i) {
-    sum_sq += ((result.m * points[i].homogeneous()).hnormalized() - pixels[i]).squaredNorm();
-  }
-  result.rms_reproj_px = std::sqrt(sum_sq / n);
   result.iterations = 1;
   return finish(MethodStatus::kOk, "");
 }

@@ -29,7 +29,6 @@ struct DltOptions {
 struct DltResult : MethodSummary {
   Matrix34d m = Matrix34d::Zero();  // Scaled so that the third row of its 3x3 block has unit norm.
   DecomposedCamera camera;
-  double rms_reproj_px = 0.0;
 };
 
 DltResult EstimateDlt(const std::vector<Eigen::Vector3d>& points,

@@ -18,14 +18,13 @@
 #include <string>
 #include <vector>
 
-#include "batch/views.h"
 #include "core/camera.h"
 #include "core/pose.h"
 #include "core/status.h"
+#include "core/view.h"
 
 namespace calibench {
 
-using IntrinsicsArray = std::array<double, PinholeSkewCamera::kNumParams>;
 using IntrinsicsCovariance =
     Eigen::Matrix<double, PinholeSkewCamera::kNumParams, PinholeSkewCamera::kNumParams>;
 

@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "batch/refine.h"
-#include "batch/views.h"
 #include "core/camera.h"
 #include "core/pose.h"
 #include "core/status.h"
+#include "core/view.h"
 
 namespace calibench {
 

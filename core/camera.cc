@@ -1,5 +1,6 @@
 #include "core/camera.h"
 
+#include <algorithm>
 #include <sstream>
 
 namespace calibench {
@@ -70,6 +71,58 @@ bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& poi
                   Eigen::Vector2d* pixel) {
   const std::array<double, 10> params = intrinsics.Params();
   return PinholeSkewCamera::Project(params.data(), point_in_cam.data(), pixel->data());
+}
+
+bool operator==(const CameraIntrinsics& a, const CameraIntrinsics& b) {
+  return a.Params() == b.Params();
+}
+
+const std::vector<LensModelInfo>& LensModels() {
+  static const std::vector<LensModelInfo> models = {
+      {LensModel::kPinhole, "pinhole", {}},
+      {LensModel::kPinholeK2, "pinhole-k2", {5, 6}},
+      {LensModel::kPinholeRadTan4, "pinhole-radtan4", {5, 6, 7, 8}},
+      {LensModel::kPinholeRadTan5, "pinhole-radtan5", {5, 6, 7, 8, 9}},
+  };
+  return models;
+}
+
+const char* ToString(LensModel model) {
+  for (const LensModelInfo& info : LensModels()) {
+    if (info.model == model) return info.name;
+  }
+  return "pinhole";
+}
+
+bool ParseLensModel(const std::string& name, LensModel* model) {
+  for (const LensModelInfo& info : LensModels()) {
+    if (name == info.name) {
+      *model = info.model;
+      return true;
+    }
+  }
+  return false;
+}
+
+std::vector<std::string> LensModelNames() {
+  std::vector<std::string> names;
+  for (const LensModelInfo& info : LensModels()) names.emplace_back(info.name);
+  return names;
+}
+
+std::vector<int> FixedIntrinsics(LensModel model, bool estimate_skew) {
+  std::vector<int> fixed;
+  if (!estimate_skew) fixed.push_back(2);
+  for (const LensModelInfo& info : LensModels()) {
+    if (info.model != model) continue;
+    for (int i = 5; i < PinholeSkewCamera::kNumParams; ++i) {
+      if (std::find(info.free_distortion.begin(), info.free_distortion.end(), i) ==
+          info.free_distortion.end()) {
+        fixed.push_back(i);
+      }
+    }
+  }
+  return fixed;
 }
 
 }  // namespace calibench

@@ -1,6 +1,5 @@
-// The camera model: pinhole with a skew angle phi between the sensor axes and optional
-// distortion (radial k1, k2, k3; tangential p1, p2 — OpenCV's 5-coefficient model). A small value
-// type; the algorithms and ceres::Jet both use Project().
+// THE home of calibench's camera and lens models: the intrinsics, the projection every algorithm
+// and ceres::Jet use, and the named lens models. A small value type; no I/O here.
 //
 // Intrinsic matrix (thesis eq. 2.5; spec "Camera model"):
 //
@@ -22,12 +21,31 @@
 // Parameter order of the raw array used by Project() (kNumParams = 10):
 //     [fku_px, fkv_px, phi_rad, u0_px, v0_px, k1, k2, p1, p2, k3]
 // phi is in radians in the raw array (the Jet-friendly form) and in degrees in CameraIntrinsics.
+//
+// Lens models (LensModel, the table LensModels() in camera.cc) name which of those parameters an
+// estimator frees; the others stay at their neutral value (0, or phi = 90 deg unless skew is
+// estimated). Names are what configs and the CLI use: pinhole, pinhole-k2 (k1, k2),
+// pinhole-radtan4 (k1, k2, p1, p2), pinhole-radtan5 (k1, k2, p1, p2, k3).
+//
+// Adding a lens model (the recipe; every place that knows lens models is listed here):
+//   1. core/camera.h, camera.cc: an enumerator of LensModel and its row in LensModels() (name,
+//      free distortion parameters). Config files, the resolved YAML, `calibrate --model` and
+//      camera.yaml take the name from the table: nothing else to edit there.
+//   2. If the model is not a subset of the radtan5 polynomial (a new projection family, e.g. a
+//      fisheye), give it its own parameter layout and Project<T> branch here, its inverse in
+//      core/render.cc (UndistortNormalized: the renderer casts rays through it) and its analytic
+//      Jacobian in batch/reprojection_error.cc (or let RefineOptions::autodiff use the Jet path);
+//      the ceres::Jet and round-trip tests in tests/core/camera_test.cc cover it.
+//   3. batch/zhang.cc: map it to OpenCV's calibrateCamera flags (the switch there fails to compile
+//      with -Wswitch until it does), or refuse it with a message.
+//   4. tests/core/camera_test.cc: add it to the lens-model table test.
 #pragma once
 
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace calibench {
 
@@ -82,8 +100,31 @@ struct PinholeSkewCamera {
   }
 };
 
+// One value per entry of the raw parameter array (e.g. standard deviations; phi in radians).
+using IntrinsicsArray = std::array<double, PinholeSkewCamera::kNumParams>;
+
 // Convenience for double: projects with `intrinsics`, returns false behind the camera.
 bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& point_in_cam,
                   Eigen::Vector2d* pixel);
+
+bool operator==(const CameraIntrinsics& a, const CameraIntrinsics& b);
+inline bool operator!=(const CameraIntrinsics& a, const CameraIntrinsics& b) { return !(a == b); }
+
+// The named lens models (see the header comment and the recipe above).
+enum class LensModel { kPinhole, kPinholeK2, kPinholeRadTan4, kPinholeRadTan5 };
+
+struct LensModelInfo {
+  LensModel model;
+  const char* name;                  // As configs and the CLI spell it.
+  std::vector<int> free_distortion;  // Indices into the parameter array (5..9) it estimates.
+};
+// Every lens model, in a fixed order (the order of LensModelNames()).
+const std::vector<LensModelInfo>& LensModels();
+const char* ToString(LensModel model);
+bool ParseLensModel(const std::string& name, LensModel* model);
+std::vector<std::string> LensModelNames();
+// Indices into PinholeSkewCamera's parameter array that stay fixed: phi (index 2) unless the skew
+// is estimated, and the distortion terms the model lacks.
+std::vector<int> FixedIntrinsics(LensModel model, bool estimate_skew);
 
 }  // namespace calibench

@@ -43,8 +43,7 @@ bool TwistProfile::Check(std::string* why) const {
 Motion::Motion(const TwistProfile& profile, const Options& options)
     : profile_(profile), options_(options) {
   const double rate = profile_.w_const.norm();
-  exact_ = !options_.force_numeric && profile_.HasConstantAngularVelocity() &&
-           (rate == 0.0 || rate >= kMinExactRate);
+  exact_ = profile_.HasConstantAngularVelocity() && (rate == 0.0 || rate >= kMinExactRate);
   if (exact_) return;
   const int num = static_cast<int>(std::ceil(options_.duration_s / kCheckpointPeriod)) + 1;
   const int substeps = static_cast<int>(std::lround(kCheckpointPeriod / kRk4Step));

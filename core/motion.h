@@ -48,8 +48,7 @@ struct TwistProfile {
 class Motion {
  public:
   struct Options {
-    double duration_s = 240.0;   // Poses are defined on [0, duration_s].
-    bool force_numeric = false;  // Use the RK4 path even where the closed form applies (tests).
+    double duration_s = 240.0;  // Poses are defined on [0, duration_s].
   };
 
   Motion() = default;

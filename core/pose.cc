@@ -5,6 +5,10 @@
 #include <sstream>
 
 namespace calibench {
+
+bool operator==(const Rigid3& a, const Rigid3& b) {
+  return a.rotation == b.rotation && a.translation == b.translation;
+}
 namespace {
 constexpr double kRadToDeg = 180.0 / M_PI;
 }  // namespace

@@ -39,6 +39,9 @@ struct Rigid3 {
   Eigen::Matrix<double, 3, 4> Matrix3x4() const;
 };
 
+bool operator==(const Rigid3& a, const Rigid3& b);
+inline bool operator!=(const Rigid3& a, const Rigid3& b) { return !(a == b); }
+
 // Hat operator: Hat(w) * x == w.cross(x).
 Eigen::Matrix3d Hat(const Eigen::Vector3d& w);
 // Exponential map of so(3) (Rodrigues), exact for any |w| including 0.

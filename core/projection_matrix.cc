@@ -56,4 +56,30 @@ bool DecomposeProjectionMatrix(const Matrix34d& m,
   return true;
 }
 
+Vector16d ThetaFromM(const Matrix34d& m) {
+  Vector16d theta;
+  for (int r = 0; r < 3; ++r) theta.segment<4>(4 * r) = m.row(r).transpose();
+  theta.segment<4>(12) = m.row(2).transpose();
+  return theta;
+}
+
+Matrix34d MFromTheta(const Vector16d& theta) {
+  Matrix34d m;
+  for (int r = 0; r < 3; ++r) m.row(r) = theta.segment<4>(4 * r).transpose();
+  return m;
+}
+
+Vector16d ThetaFromCamera(const CameraIntrinsics& intrinsics, const Rigid3& cam_from_parent) {
+  return ThetaFromM(intrinsics.Matrix() * cam_from_parent.Matrix3x4());
+}
+
+bool RecoverCamera(const Vector16d& theta_hat, const std::vector<Eigen::Vector3d>& points_in_parent,
+                   DecomposedCamera* camera, std::string* why) {
+  if (!theta_hat.allFinite()) {
+    if (why) *why = "theta_hat has non-finite entries";
+    return false;
+  }
+  return DecomposeProjectionMatrix(MFromTheta(theta_hat), points_in_parent, camera, why);
+}
+
 }  // namespace calibench

@@ -1,6 +1,13 @@
-// Decomposition of a 3x4 projection matrix M ~ A [R | t] (known only up to scale, sign included)
-// into intrinsics with skew, rotation and translation. Used by the adaptive estimator (its theta
-// is M row by row) and by the DLT.
+// A 3x4 projection matrix M ~ A [R | t] (known only up to scale, sign included): the thesis's
+// linear parametrisation theta of it, and its decomposition into intrinsics with skew, rotation
+// and translation. Used by the adaptive estimator (its state is theta), the DLT and the metrics.
+//
+// Linear parametrisation (spec "Linear parametrisation"):
+//   theta_x = rows of M, row after row (12);  theta_z = row 3 of M again (4);
+//   theta = [theta_x; theta_z] in R^16.
+//   Per point: x_bar = [x y z 1]^T, W_x = blockdiag(x_bar^T, x_bar^T, x_bar^T) (3x12),
+//   W_z = x_bar^T (1x4):  W_x theta_x = M x_bar,  W_z theta_z = depth z.
+// The adaptive estimator estimates theta_z separately, so its theta_hat_z need not equal row 3.
 //
 // Math (thesis appendix A.2; spec "Recovering the parameters"): D = left 3x3 of M, d = column 4;
 // K = D D^T; lambda = +-sqrt(K33), with the sign that puts the points in front of the camera
@@ -20,6 +27,16 @@
 namespace calibench {
 
 using Matrix34d = Eigen::Matrix<double, 3, 4>;
+using Vector16d = Eigen::Matrix<double, 16, 1>;
+using Matrix16d = Eigen::Matrix<double, 16, 16>;
+
+Vector16d ThetaFromM(const Matrix34d& m);
+// M from theta_x (the first 12 entries); theta_z is not used.
+Matrix34d MFromTheta(const Vector16d& theta);
+// theta of a camera: M = A [R | t] with cam_from_parent = {R, t} (distortion is not part of M).
+// A has a33 = 1, so for a proper R the third row of D already has unit norm: the thesis's
+// normalisation.
+Vector16d ThetaFromCamera(const CameraIntrinsics& intrinsics, const Rigid3& cam_from_parent);
 
 struct DecomposedCamera {
   CameraIntrinsics intrinsics;        // Distortion zero: M carries none.
@@ -35,5 +52,9 @@ struct DecomposedCamera {
 bool DecomposeProjectionMatrix(const Matrix34d& m,
                                const std::vector<Eigen::Vector3d>& points_in_parent,
                                DecomposedCamera* camera, std::string* why);
+
+// DecomposeProjectionMatrix(MFromTheta(theta_hat)), refusing a non-finite theta_hat.
+bool RecoverCamera(const Vector16d& theta_hat, const std::vector<Eigen::Vector3d>& points_in_parent,
+                   DecomposedCamera* camera, std::string* why);
 
 }  // namespace calibench

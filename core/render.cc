@@ -240,6 +240,12 @@ void GaussianBlur(double sigma, int width, int height, std::vector<float>* image
 bool RenderOptions::Check(std::string* why) const {
   std::string msg;
   if (width < 1 || height < 1) msg = "image size must be positive";
+  if (width > kMaxRenderSide || height > kMaxRenderSide ||
+      static_cast<double>(width) * height > kMaxRenderPixels) {
+    msg = "image size " + std::to_string(width) + " x " + std::to_string(height) +
+          " is beyond the renderer's bound (" + std::to_string(kMaxRenderSide) +
+          " px per side, 64 Mpx; its ray table takes 16 bytes per pixel corner)";
+  }
   if (supersample < 1 || supersample > 64) msg = "supersample must lie in [1, 64]";
   if (!(blur_sigma_px >= 0)) msg = "blur_sigma_px must be >= 0";
   if (!(noise_sigma_gray >= 0)) msg = "noise_sigma_gray must be >= 0";

@@ -51,6 +51,10 @@ struct GrayImageView {
   uint8_t at(int col, int row) const { return data[static_cast<size_t>(row) * stride + col]; }
 };
 
+// The largest image the renderer accepts (its ray table: 16 bytes per pixel corner, 1 GiB here).
+constexpr int kMaxRenderSide = 16384;
+constexpr double kMaxRenderPixels = 64e6;
+
 struct RenderOptions {
   int width = 640, height = 480;
   int supersample = 4;            // n x n samples in pixels that straddle an edge.

@@ -9,6 +9,11 @@ const char* ToString(CalibrationCase c) {
   return c == CalibrationCase::kFixedCamera ? "fixed_camera" : "moving_camera";
 }
 
+bool operator==(const CameraSpec& a, const CameraSpec& b) {
+  return a.intrinsics == b.intrinsics && a.r_c == b.r_c && a.x_c == b.x_c &&
+         a.allow_improper_rotation == b.allow_improper_rotation;
+}
+
 Rigid3 SceneTruth::ParentFromPoints(double t) const {
   const Rigid3 world_from_body = motion.WorldFromBody(t);
   return calibration_case == CalibrationCase::kFixedCamera ? world_from_body

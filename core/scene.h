@@ -25,6 +25,18 @@ namespace calibench {
 enum class CalibrationCase { kFixedCamera, kMovingCamera };
 const char* ToString(CalibrationCase c);
 
+// A camera as a scenario states it: intrinsics plus its pose in the parent frame, (R_C, x_C) as the
+// thesis writes them (parent_from_cam). The truth of a scenario and an estimator's initial guess.
+struct CameraSpec {
+  CameraIntrinsics intrinsics;
+  Eigen::Matrix3d r_c = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d x_c = Eigen::Vector3d::Zero();
+  bool allow_improper_rotation = false;  // Opt-in for det(R_C) = -1 (the thesis's printed cameras).
+  Rigid3 ParentFromCam() const { return {r_c, x_c}; }
+};
+bool operator==(const CameraSpec& a, const CameraSpec& b);
+inline bool operator!=(const CameraSpec& a, const CameraSpec& b) { return !(a == b); }
+
 struct SceneTruth {
   CalibrationCase calibration_case = CalibrationCase::kMovingCamera;
   CameraIntrinsics intrinsics;

@@ -127,4 +127,112 @@ SyntheticBoardViews MakeBoardViews(const CameraIntrinsics& intrinsics,
   return out;
 }
 
+BoardRigScene SwayingBoardRig() {
+  BoardRigScene rig;
+  for (const auto& [origin, yaw_deg] : {std::make_pair(Eigen::Vector3d(-0.9, 1.5, -0.3), 0.0),
+                                        std::make_pair(Eigen::Vector3d(0.1, 1.2, -0.3), 40.0)}) {
+    PlanarBoard b;
+    b.rows = 8;
+    b.cols = 11;
+    b.spacing_m = 0.08;
+    b.points_from_board = {FromRollPitchYawDeg({90, 0, yaw_deg}), origin};
+    rig.layouts.push_back({b.CornersInBoard(), b.points_from_board,
+                           static_cast<int>(rig.boards.size()) * b.NumCorners()});
+    rig.boards.push_back(b);
+  }
+  SceneTruth& s = rig.scene;
+  s.calibration_case = CalibrationCase::kMovingCamera;
+  const CameraSpec camera = ThesisCamera(1);
+  s.intrinsics = camera.intrinsics;
+  s.intrinsics.phi_deg = 90;
+  s.parent_from_cam = camera.ParentFromCam();
+  s.points = RigCorners(rig.boards);
+  s.duration_s = 60;
+  TwistProfile twist;
+  twist.v_sin = {0.05, 0.0, 0.03};
+  twist.w_sin = {0.15, 0.0, 0.1};
+  twist.w_cos = {0.0, 0.2, 0.0};
+  twist.frequency_rad_s = 0.5;
+  Motion::Options motion_options;
+  motion_options.duration_s = s.duration_s;
+  s.motion = Motion(twist, motion_options);
+  return rig;
+}
+
+CameraSpec ThesisInitialGuess() {
+  CameraSpec c;
+  c.intrinsics = CameraIntrinsics{820, 810, 90, 320, 240};
+  c.r_c << -1, 0, 0, 0, 0, 1, 0, 1, 0;
+  c.x_c = Eigen::Vector3d(0, -2, 0.5);
+  return c;
+}
+
+CameraSpec ThesisCamera(int camera, bool proper) {
+  CameraSpec c;
+  if (camera == 1) {
+    c.intrinsics = CameraIntrinsics{822, 813, 87, 321, 239};
+    c.r_c << -1, 0, 0, 0, 0, 1, 0, 1, 0;
+    c.x_c = Eigen::Vector3d(0.4, -2.3, 0.47);
+    return c;
+  }
+  c.intrinsics = camera == 2 ? CameraIntrinsics{745, 852, 73, 160, 120}
+                             : CameraIntrinsics{810, 820, 86, 320, 240};
+  c.x_c = camera == 2 ? Eigen::Vector3d(1.4, -4, -0.3) : Eigen::Vector3d(1, -4, -2);
+  c.r_c << 0, 1, 0, 0, 0, 1, -1, 0, 0;  // As printed: det = -1.
+  if (proper) {
+    c.r_c(2, 0) = 1;
+  } else {
+    c.allow_improper_rotation = true;
+  }
+  return c;
+}
+
+std::optional<ThesisSimulation> MakeThesisSimulation(int sim, bool proper) {
+  struct Row {
+    CalibrationCase calibration_case;
+    int camera, points;
+    const char* motion;
+    double alpha, noise_variance;
+  };
+  constexpr CalibrationCase kFixed = CalibrationCase::kFixedCamera;
+  constexpr CalibrationCase kMoving = CalibrationCase::kMovingCamera;
+  static const Row kRows[17] = {{kFixed, 1, 10, "small", 1000, 0},
+                                {kFixed, 2, 10, "small", 1000, 0},
+                                {kMoving, 1, 10, "small", 1000, 0},
+                                {kMoving, 2, 10, "small", 1000, 0},
+                                {kMoving, 3, 1, "small", 1000, 0},
+                                {kMoving, 3, 2, "small", 1000, 0},
+                                {kMoving, 3, 5, "small", 1000, 0},
+                                {kMoving, 3, 7, "small", 1000, 0},
+                                {kMoving, 3, 10, "small", 5, 0},
+                                {kMoving, 3, 10, "small", 50, 0},
+                                {kMoving, 3, 5, "large", 1000, 0},
+                                {kMoving, 3, 5, "rotation", 1000, 0},
+                                {kMoving, 3, 5, "small+rotation", 1000, 0},
+                                {kMoving, 3, 5, "none", 1000, 0},
+                                {kMoving, 3, 10, "large", 1000, 0.001},
+                                {kMoving, 3, 10, "large", 1000, 0.01},
+                                {kMoving, 3, 10, "large", 100, 0.01}};
+  if (sim < 1 || sim > 17) return std::nullopt;
+  const Row& row = kRows[sim - 1];
+  ThesisSimulation s;
+  s.sim = sim;
+  s.alpha = row.alpha;
+  s.seed = 1000 + static_cast<uint64_t>(sim);
+  const CameraSpec camera = ThesisCamera(row.camera, proper);
+  s.scene.calibration_case = row.calibration_case;
+  s.scene.intrinsics = camera.intrinsics;
+  s.scene.parent_from_cam = camera.ParentFromCam();
+  s.scene.allow_improper_rotation = camera.allow_improper_rotation;
+  s.scene.points = ThesisFeaturePoints(row.points);
+  s.scene.duration_s = 240.0;
+  Motion::Options motion_options;
+  motion_options.duration_s = s.scene.duration_s;
+  s.scene.motion = Motion(*ThesisMotionPreset(row.motion, row.calibration_case), motion_options);
+  s.measurements.noise.point_sigma_m = std::sqrt(row.noise_variance);
+  s.measurements.noise.pixel_sigma_px = std::sqrt(row.noise_variance);
+  s.measurements.noise.hold_s = 0.1;
+  return s;
+}
+
 }  // namespace calibench

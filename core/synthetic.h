@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/measurements.h"
 #include "core/motion.h"
 #include "core/pose.h"
 #include "core/random.h"
@@ -33,6 +34,39 @@ std::vector<Eigen::Vector3d> ThesisFeaturePoints(int count);
 // Returns nullopt for an unknown name.
 std::optional<TwistProfile> ThesisMotionPreset(const std::string& name, CalibrationCase c);
 std::vector<std::string> ThesisMotionPresetNames();
+
+// The thesis's cameras 1, 2, 3 (spec "Thesis experiments"). As printed, cameras 2 and 3 have an
+// improper R_C (det = -1; allow_improper_rotation is set); proper = true gives the physically
+// valid variant (first column negated, same depths). camera must be 1, 2 or 3.
+CameraSpec ThesisCamera(int camera, bool proper = false);
+
+// The initial estimate of every thesis simulation (appendix B.1): f*ku 820, f*kv 810, phi 90 deg,
+// (u0, v0) = (320, 240), R_C = [[-1, 0, 0], [0, 0, 1], [0, 1, 0]], x_C = (0, -2, 0.5).
+CameraSpec ThesisInitialGuess();
+
+// A thesis simulation (section 2.6, sims 1-17) as synthetic ground truth: the scene (T = 240 s,
+// continuous measurements), the gain alpha, the measurement noise (variance as printed, each draw
+// held 0.1 s) and the seed configs/thesis/simNN.yaml uses (1000 + sim). Sims 2 and 4-17 use the
+// printed improper cameras unless `proper`.
+struct ThesisSimulation {
+  int sim = 0;
+  SceneTruth scene;
+  double alpha = 1000.0;
+  OracleOptions measurements;  // Continuous, eval_rate_hz 10, noise as above.
+  uint64_t seed = 0;
+};
+// nullopt for a sim outside 1..17.
+std::optional<ThesisSimulation> MakeThesisSimulation(int sim, bool proper = false);
+
+// configs/batch/rig_moving.yaml's scene as ground truth: a moving camera (thesis camera 1 without
+// skew) before two 8 x 11 planar boards (8 cm pitch) 40 degrees apart, fixed in the world, the
+// body swaying about a wandering axis (rotations about two axes: hand-eye is determined) for 60 s.
+struct BoardRigScene {
+  SceneTruth scene;
+  std::vector<PlanarBoard> boards;
+  std::vector<BoardLayout> layouts;  // As the batch methods see them (core/target.h).
+};
+BoardRigScene SwayingBoardRig();
 
 struct RandomCameraOptions {
   double min_focal_px = 200.0, max_focal_px = 2000.0;

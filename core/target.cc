@@ -77,4 +77,15 @@ std::vector<Eigen::Vector3d> RigCorners(const std::vector<PlanarBoard>& rig) {
   return corners;
 }
 
+bool operator==(const PlanarBoard& a, const PlanarBoard& b) {
+  return a.rows == b.rows && a.cols == b.cols && a.spacing_m == b.spacing_m &&
+         a.points_from_board == b.points_from_board;
+}
+
+bool operator==(const AprilGrid& a, const AprilGrid& b) {
+  return a.family == b.family && a.tag_rows == b.tag_rows && a.tag_cols == b.tag_cols &&
+         a.tag_size_m == b.tag_size_m && a.tag_spacing == b.tag_spacing &&
+         a.first_id == b.first_id && a.points_from_board == b.points_from_board;
+}
+
 }  // namespace calibench

@@ -48,6 +48,18 @@ struct AprilGrid {
   bool Check(std::string* why) const;
 };
 
+// A planar board of a scenario's point set as the batch methods see it: its corners in the board
+// frame (z = 0), where the board sits in the points frame, and the index of its first corner among
+// the scenario's points (boards follow each other: board b has points first_point ..).
+struct BoardLayout {
+  std::vector<Eigen::Vector3d> corners_in_board;
+  Rigid3 points_from_board;
+  int first_point = 0;
+};
+
+bool operator==(const PlanarBoard& a, const PlanarBoard& b);
+bool operator==(const AprilGrid& a, const AprilGrid& b);
+
 // Corners of every board of a rig, board after board.
 std::vector<Eigen::Vector3d> RigCorners(const std::vector<PlanarBoard>& rig);
 

@@ -13,7 +13,7 @@
 #include <cstdio>
 #include <string>
 
-#include "bench/config_io.h"
+#include "bench/config/config_io.h"
 #include "fuzz/fuzz_check.h"
 
 namespace {

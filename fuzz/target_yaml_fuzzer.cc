@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <string>
 
-#include "bench/target_io.h"
+#include "bench/config/target_io.h"
 #include "fuzz/fuzz_check.h"
 
 namespace {

@@ -2,8 +2,10 @@
 """The cost of a method-only sweep: 5 gains against 1 gain plus 4 adaptive-only runs.
 
 Usage: gain_cost.py GAIN5_DIR GAIN5_WALL_S GAIN1_DIR GAIN1_WALL_S THREADS
-The 4 adaptive-only runs are the adaptive solves of the other gains, as timed in GAIN5_DIR's
-timings.csv (their summed wall time divided by the worker threads). Writes GAIN5_DIR/gain_cost.txt
+The 4 adaptive-only runs are the solves of the other gains, as timed in GAIN5_DIR's timings.csv:
+the rows of the points GAIN1_DIR does not have that were run, not copied (reused = 0): the gain's
+instance only, since the others are copied from the first point. Their summed wall time is
+divided by the worker threads. Writes GAIN5_DIR/gain_cost.txt
 (read by the report) and prints it.
 """
 import os
@@ -15,7 +17,7 @@ gain5, wall5, gain1, wall1, threads = sys.argv[1], float(sys.argv[2]), sys.argv[
 t5 = pd.read_csv(os.path.join(gain5, "timings.csv"))
 t1 = pd.read_csv(os.path.join(gain1, "timings.csv"))
 one_gain = set(t1.scenario.str.replace("gain1_", "gain_", regex=False))
-others = t5[(t5.method == "adaptive") & ~t5.scenario.isin(one_gain)]
+others = t5[(t5.reused == 0) & ~t5.scenario.isin(one_gain)]
 adaptive_s = others.wall_ms.sum() / 1000 / threads
 reference = wall1 + adaptive_s
 ratio = wall5 / reference

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Thesis sim 3 on an AprilTag rig: the rendered run's final ||theta~|| beside its oracle twins.
 
-Usage: rendered_vs_oracle.py RUNS_CSV   (the runs.csv of configs/rendered/all.yaml)
+Usage: rendered_vs_oracle.py RUNS_CSV [METHOD]   (runs.csv of configs/rendered/all.yaml; METHOD:
+the instance to compare, default the first in the file)
 Prints, per scenario, ||theta~|| as median and 2.5-97.5% percentile interval over its trials
 (seed 001's Monte Carlo percentile method), the detection columns of the rendered run, and where
 the rendered value falls against the oracle twins' intervals.
@@ -11,9 +12,9 @@ import sys
 import pandas as pd
 
 
-def main(path):
+def main(path, method=None):
     runs = pd.read_csv(path)
-    runs = runs[runs.method == "adaptive"]
+    runs = runs[runs.method == (method or runs.method.iloc[0])]
     print(f"{'scenario':26s} {'n':>3s} {'theta~ median':>14s} {'95% interval':>26s}")
     intervals = {}
     for name, g in runs.groupby("scenario", sort=False):
@@ -34,4 +35,4 @@ def main(path):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(sys.argv[1], sys.argv[2] if len(sys.argv) > 2 else None)

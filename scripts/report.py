@@ -6,12 +6,17 @@ Usage: calibench report DIR... [--out REPORT_DIR]   (or: report.py --out REPORT_
 Reads runs.csv, summary.csv, curves.csv and timings.csv of each DIR and writes REPORT_DIR/report.md
 with PNG plots:
   * per sweep kind (noise, points, gain; oracle and rendered side by side): |error of f*ku| per
-    method against the swept value, median line and 95% band (2.5-97.5 percentiles over the Monte
-    Carlo trials, seed 001's percentile method), with the Cramer-Rao bound where runs.csv has one;
+    method instance against the swept value, median line and 95% band (2.5-97.5 percentiles over
+    the Monte Carlo trials, seed 001's percentile method), with the Cramer-Rao bound where runs.csv
+    has one;
   * oracle vs rendered on one axis: error against the measured corner error;
-  * adaptive convergence ||theta~||(t) of trial 0 at every sweep point;
-  * per sweep point, paired Wilcoxon signed-rank tests (seed 001) of |error| between the adaptive
-    estimator and each batch method, trials paired by seed; the p-values are in the tables.
+  * convergence ||theta~||(t) of trial 0 at every sweep point, for every method that reports it;
+  * per sweep point, paired Wilcoxon signed-rank tests (seed 001) of |error| between each method
+    and the point's best one (smallest median), trials paired by seed; the p-values are in the
+    tables.
+The methods are the `method` column's instances, in the order they first appear; the report knows
+none by name. An instance whose f*ku error equals an earlier one's in every row (zhang_handeye
+shares zhang's intrinsics) is drawn once.
 Needs Debian's python3-pandas, python3-scipy and python3-matplotlib.
 """
 import argparse
@@ -29,8 +34,22 @@ from scipy import stats  # noqa: E402
 
 METRIC = "err_fku"  # The focal length error, px: every method estimates it.
 METRIC_LABEL = "|f·ku error| (px)"
-METHOD_STYLE = {"adaptive": "C0", "dlt": "C1", "zhang": "C2", "zhang_handeye": "C4", "ceres": "C3"}
-PAIRS = [("adaptive", "dlt"), ("adaptive", "zhang"), ("adaptive", "ceres"), ("zhang", "ceres")]
+STYLE = {}  # method -> colour, assigned in order of first appearance (distinct_methods).
+
+
+def distinct_methods(runs):
+    """Methods in order of appearance, without those whose METRIC column repeats an earlier one's."""
+    kept, series = [], {}
+    for method in dict.fromkeys(runs.method):
+        rows = runs[runs.method == method]
+        values = rows.set_index(["scenario", "trial"])[METRIC].to_numpy()
+        if any(len(v) == len(values) and np.array_equal(v, values, equal_nan=True)
+               for v in series.values()):
+            continue
+        series[method] = values
+        kept.append(method)
+        STYLE.setdefault(method, f"C{len(STYLE) % 10}")
+    return kept
 
 
 def read_dir(d):
@@ -81,26 +100,33 @@ def plot_sweep(ax, runs, sweep):
     field, _ = axis_value(rows["params"].iloc[0])
     xlabel = field
     lines = {}
-    crlb = []
-    for (point, method), g in rows[rows.method != "zhang_handeye"].groupby(["point", "method"]):
+    crlb = {}
+    methods = distinct_methods(rows)
+    for (point, method), g in rows[rows.method.isin(methods)].groupby(["point", "method"], sort=False):
         x, xlabel = x_of(g, field)
         ok = g[g.status == "ok"]
         lines.setdefault(method, []).append((x, *band(ok[METRIC])))
-        if method == "ceres" and np.isfinite(g["crlb_fku"]).any():
-            crlb.append((x, np.nanmedian(g["crlb_fku"])))
+        if np.isfinite(g["crlb_fku"]).any():
+            crlb.setdefault(method, []).append((x, np.nanmedian(g["crlb_fku"])))
     for method, pts in lines.items():
         pts.sort()
         x = [p[0] for p in pts]
-        ax.plot(x, [p[1] for p in pts], "o-", color=METHOD_STYLE.get(method), label=method)
+        ax.plot(x, [p[1] for p in pts], "o-", color=STYLE.get(method), label=method)
         ax.fill_between(x, [p[2] for p in pts], [p[3] for p in pts], alpha=0.15,
-                        color=METHOD_STYLE.get(method))
-    if crlb:
-        crlb.sort()
+                        color=STYLE.get(method))
+    drawn = []
+    for method, pts in crlb.items():
+        pts.sort()
+        if any(np.allclose([p[1] for p in pts], d) for d in drawn):
+            continue  # The same bound as one already drawn (the same parametrisation).
+        drawn.append([p[1] for p in pts])
         # The bound on the standard deviation; |error| of an efficient estimator has median 0.67 of it.
-        ax.plot([c[0] for c in crlb], [c[1] for c in crlb], "k--", label="CRLB (std)")
+        ax.plot([c[0] for c in pts], [c[1] for c in pts], "--", color=STYLE.get(method),
+                label=f"CRLB (std) of {method}'s model")
     ax.set_yscale("log")
-    if field and (field.startswith("methods.adaptive.alpha") or "sigma" in field):
-        ax.set_xscale("log" if min(p[0] for p in lines[next(iter(lines))]) > 0 else "linear")
+    xs = [p[0] for pts in lines.values() for p in pts if isinstance(p[0], (int, float))]
+    if xs and min(xs) > 0 and max(xs) / min(xs) >= 20:  # Values spanning decades: a log axis.
+        ax.set_xscale("log")
     ax.set_xlabel(xlabel)
     ax.set_ylabel(METRIC_LABEL)
     ax.set_title(sweep)
@@ -109,46 +135,52 @@ def plot_sweep(ax, runs, sweep):
 
 
 def wilcoxon_table(runs, sweep):
+    """Per point: each method's median |error| and, paired by seed, its Wilcoxon p-value against
+    the point's best method (smallest median)."""
     rows = runs[runs.sweep == sweep]
-    methods = [m for m in ["adaptive", "dlt", "zhang", "ceres"] if m in set(rows.method)]
-    pairs = [p for p in PAIRS if p[0] in methods and p[1] in methods]
-    head = ["point", "n"] + [f"median {m}" for m in methods] + [f"p {a} vs {b}" for a, b in pairs]
+    methods = distinct_methods(rows)
+    head = ["point", "n"] + [f"{m}: median, p vs best" for m in methods]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for point, g in rows.groupby("point"):
-        by_method = {m: g[g.method == m].set_index("seed") for m in methods}
+        errors = {}
+        for m in methods:
+            h = g[(g.method == m) & (g.status == "ok")].set_index("seed")
+            errors[m] = h[METRIC].abs()
+        medians = {m: np.median(e) if len(e) else math.inf for m, e in errors.items()}
+        best = min(methods, key=lambda m: medians[m])
         cells = [g["params"].iloc[0], str(g["trial"].nunique())]
         for m in methods:
-            ok = by_method[m][by_method[m].status == "ok"]
-            cells.append(f"{np.median(np.abs(ok[METRIC])):.4g}" if len(ok) else "–")
-        for a, b in pairs:
-            ja = by_method[a][by_method[a].status == "ok"][METRIC].abs()
-            jb = by_method[b][by_method[b].status == "ok"][METRIC].abs()
-            common = ja.index.intersection(jb.index)
-            d = (ja[common] - jb[common]).to_numpy()
+            if not len(errors[m]):
+                cells.append("–")
+                continue
+            text = f"{medians[m]:.4g}"
+            if m == best:
+                cells.append(text + " (best)")
+                continue
+            common = errors[m].index.intersection(errors[best].index)
+            d = (errors[m][common] - errors[best][common]).to_numpy()
             d = d[np.isfinite(d)]
             if len(d) < 5 or np.all(d == 0):
-                cells.append("n/a (n<5)" if len(d) < 5 else "n/a (identical)")
-                continue
-            p = stats.wilcoxon(d).pvalue
-            winner = a if np.median(d) < 0 else b
-            cells.append(f"{p:.2g} ({winner})")
+                cells.append(text + (", n/a (n<5)" if len(d) < 5 else ", n/a (identical)"))
+            else:
+                cells.append(f"{text}, p {stats.wilcoxon(d).pvalue:.2g}")
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
 def convergence_plot(curves, sweeps, path):
-    adaptive = curves[curves.method == "adaptive"] if len(curves) else curves
-    shown = [s for s in sweeps if len(adaptive) and adaptive.scenario.str.startswith(s + "[").any()]
+    shown = [s for s in sweeps if len(curves) and curves.scenario.str.startswith(s + "[").any()]
     if not shown:
         return False
     cols = min(3, len(shown))
     nrows = math.ceil(len(shown) / cols)
     fig, axes = plt.subplots(nrows, cols, figsize=(5 * cols, 3.6 * nrows), squeeze=False)
     for ax, sweep in zip(axes.flat, shown):
-        sub = adaptive[adaptive.scenario.str.startswith(sweep + "[") & (adaptive.trial == 0)]
-        for scenario, g in sub.groupby("scenario", sort=False):
+        sub = curves[curves.scenario.str.startswith(sweep + "[") & (curves.trial == 0)]
+        several = sub.method.nunique() > 1
+        for (scenario, method), g in sub.groupby(["scenario", "method"], sort=False):
             label = scenario[len(sweep) + 1 : -1].split("=")[-1]
-            ax.plot(g.t_s, g.theta_err_norm, label=label)
+            ax.plot(g.t_s, g.theta_err_norm, label=f"{method} {label}" if several else label)
         ax.set_yscale("log")
         ax.set_xlabel("t (s)")
         ax.set_ylabel("‖θ̃‖")
@@ -171,9 +203,8 @@ def oracle_vs_rendered(runs, path):
         rows = runs[runs.sweep == sweep]
         if rows.empty:
             continue
-        for method, g in rows.groupby("method"):
-            if method == "zhang_handeye":
-                continue
+        methods = distinct_methods(rows)
+        for method, g in rows[rows.method.isin(methods)].groupby("method", sort=False):
             pts = []
             for point, h in g.groupby("point"):
                 if sweep.endswith("oracle"):
@@ -184,7 +215,7 @@ def oracle_vs_rendered(runs, path):
                 pts.append((x, band(h[h.status == "ok"][METRIC])[0]))
             pts.sort()
             ax.plot([p[0] for p in pts], [p[1] for p in pts], style,
-                    color=METHOD_STYLE.get(method), label=f"{method} ({sweep.split('_')[1]})")
+                    color=STYLE.get(method), label=f"{method} ({sweep.split('_')[1]})")
             drawn = True
     if not drawn:
         plt.close(fig)
@@ -225,10 +256,10 @@ def main():
     md = ["# calibench report", "",
           f"Run directories: {', '.join(args.dirs)}. Error metric: {METRIC_LABEL} (every method "
           "estimates f·ku). Lines are medians over the Monte Carlo trials, bands the 2.5–97.5 "
-          "percentiles (seed 001's percentile method); the dashed line is the Cramer-Rao standard "
-          "deviation where runs.csv has one. p-values: paired Wilcoxon signed-rank tests of "
-          "|error| between two methods on the same trials (same frames, same noise); the method in "
-          "parentheses has the smaller median error.", ""]
+          "percentiles (seed 001's percentile method); dashed lines are the Cramer-Rao standard "
+          "deviation of a method's parametrisation where runs.csv has one. Tables: each method's "
+          "median |error| and the paired Wilcoxon signed-rank p-value of its |error| against the "
+          "point's best method on the same trials (same frames, same noise).", ""]
     kinds = {}
     for s in swept:
         kinds.setdefault(kind_of(s)[0], []).append(s)

@@ -2,9 +2,10 @@
 """Per-method RMSE of the intrinsics against the Cramer-Rao bound, and extrinsic errors, from a
 calibench runs.csv.
 
-Usage: scripts/rmse_vs_crlb.py out/crlb50/runs.csv
-The bound is the median crlb_* of the ceres rows (the same for every trial: it depends on the
-geometry and sigma only). Also prints ceres' mean reported std over its empirical RMSE.
+Usage: scripts/rmse_vs_crlb.py out/crlb50/runs.csv [BOUND_METHOD]
+The bound is the median crlb_* of BOUND_METHOD's rows (default: the first method whose rows carry
+one; the same for every trial: it depends on the geometry and sigma only). Also prints, for every
+method that reports standard deviations, their mean over its empirical RMSE.
 Run with Debian's /usr/bin/python3 (pandas, numpy).
 """
 import sys
@@ -15,10 +16,13 @@ import pandas as pd
 PARAMS = ["fku", "fkv", "phi_deg", "u0", "v0"]
 
 
-def main(path):
+def main(path, bound_method=None):
     df = pd.read_csv(path)
-    ceres = df[df.method == "ceres"]
-    crlb = {p: ceres["crlb_" + p].median() for p in PARAMS}
+    if bound_method is None:
+        with_bound = df[df.crlb_fku.notna()]
+        bound_method = with_bound.method.iloc[0] if len(with_bound) else df.method.iloc[0]
+    bounded = df[df.method == bound_method]
+    crlb = {p: bounded["crlb_" + p].median() for p in PARAMS}
     ok = df[df.status == "ok"]
     print(f"{path}: trials per method {ok.groupby('method').size().to_dict()}, "
           f"failed rows {(df.status != 'ok').sum()}")
@@ -33,10 +37,14 @@ def main(path):
         print(f"| {method} | " + " | ".join(cells) + f" | {g.rot_err_deg.median():.4f} | "
               f"{g.err_xc_norm.median():.5f} | {g.wall_ms.median():.1f} |")
     print("| CRLB std | " + " | ".join(f"{crlb[p]:.4f}" for p in PARAMS) + " | | | |")
-    ratios = {p: ceres["std_" + p].mean() / np.sqrt(np.mean(ceres["err_" + p] ** 2)) for p in PARAMS}
-    print("ceres reported std / empirical RMSE: " +
-          ", ".join(f"{p} {r:.3f}" for p, r in ratios.items()))
+    for method, g in ok.groupby("method", sort=False):
+        if not g.std_fku.notna().any():
+            continue
+        ratios = {p: g["std_" + p].mean() / np.sqrt(np.mean(g["err_" + p] ** 2)) for p in PARAMS}
+        print(f"{method} reported std / empirical RMSE: " +
+              ", ".join(f"{p} {r:.3f}" for p, r in ratios.items()))
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "out/crlb50/runs.csv")
+    main(sys.argv[1] if len(sys.argv) > 1 else "out/crlb50/runs.csv",
+         sys.argv[2] if len(sys.argv) > 2 else None)

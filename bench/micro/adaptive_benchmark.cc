@@ -6,9 +6,9 @@
 #include <string>
 
 #include "adaptive/estimator.h"
-#include "bench/config_io.h"
 #include "core/camera.h"
 #include "core/measurements.h"
+#include "core/synthetic.h"
 
 namespace calibench {
 namespace {
@@ -30,21 +30,21 @@ BENCHMARK(BM_Project);
 // One full 240 s thesis run (sim 3: moving camera, n = 10, alpha = 1000, continuous source), or
 // sim 3 with 30 frames/s held frames (arg 30).
 void BM_AdaptiveThesisRun(benchmark::State& state) {
-  RunConfig config;
+  ThesisSimulation sim = *MakeThesisSimulation(3);
+  sim.measurements.sample_rate_hz = static_cast<double>(state.range(0));
   std::string why;
-  if (!LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/thesis/sim03.yaml", &config,
-                     &why)) {
+  const auto source = OracleSource::Create(sim.scene, sim.measurements, 1, &why);
+  if (!source) {
     state.SkipWithError(why.c_str());
     return;
   }
-  ScenarioConfig s = config.scenarios[0];
-  s.measurements.sample_rate_hz = static_cast<double>(state.range(0));
-  const auto source = OracleSource::Create(s.MakeScene(), s.measurements, 1, &why);
-  const CameraSpec& init = s.adaptive.initial;
+  const CameraSpec init = ThesisInitialGuess();
   const Vector16d theta0 = ThetaFromCamera(init.intrinsics, init.ParentFromCam().Inverse());
+  AdaptiveOptions options;
+  options.alpha = sim.alpha;
   long steps = 0;
   for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
-    const AdaptiveSummary summary = RunAdaptiveEstimator(*source, theta0, s.adaptive.options);
+    const AdaptiveSummary summary = RunAdaptiveEstimator(*source, theta0, options);
     steps = summary.iterations;
     benchmark::DoNotOptimize(summary.theta_hat);
   }

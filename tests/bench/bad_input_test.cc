@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "bench/config_io.h"
-#include "bench/target_io.h"
+#include "bench/config/config_io.h"
+#include "bench/config/target_io.h"
 #include "tests/common/scenario_yaml.h"
 
 namespace calibench {
@@ -156,6 +156,38 @@ INSTANTIATE_TEST_SUITE_P(
         ConfigCase{"sweep_unknown_field",
                    Scenario() + "sweep:\n  - field: noise.pixel_sigmaa\n    values: [1]\n",
                    {"noise.pixel_sigmaa", "unknown key"}},
+        // Method instances (issue #12).
+        ConfigCase{"unknown_method_type",
+                   Scenario("  methods:\n    - {name: x, type: bundle_adjust}\n"),
+                   {"FILE:5:", "scenario.methods[0].type", "unknown method type 'bundle_adjust'",
+                    "registered types: adaptive, dlt, zhang, zhang_handeye, ceres"}},
+        ConfigCase{"duplicate_instance_name",
+                   Scenario("  methods:\n    - {name: a, type: adaptive}\n"
+                            "    - {name: a, type: ceres}\n"),
+                   {"FILE:6:", "scenario.methods[1].name", "'a' is already the name of",
+                    "scenario.methods[0]"}},
+        ConfigCase{"instance_without_type",
+                   Scenario("  methods:\n    - {name: a, alpha: 100}\n"),
+                   {"FILE:5:", "scenario.methods[0]", "missing 'type'"}},
+        ConfigCase{"instance_option_of_another_type",
+                   Scenario("  methods:\n    - {name: a, type: dlt, alpha: 100}\n"),
+                   {"FILE:5:", "scenario.methods[0].alpha", "unknown key",
+                    "allowed: name, type, enabled, convergence_tol, min_planarity_ratio"}},
+        ConfigCase{"init_names_nothing",
+                   Scenario("  methods:\n    - {name: c, type: ceres, init: nope}\n"),
+                   {"scenario.methods.c", "'nope' is neither a method instance"}},
+        ConfigCase{"sweep_missing_instance",
+                   Scenario("  methods:\n    - {name: a100, type: adaptive}\n") +
+                       "sweep:\n  - field: methods.a1000.alpha\n    values: [1, 2]\n",
+                   {"FILE:12:", "sweep[0].field", "no method instance named 'a1000'",
+                    "its instances: a100"}},
+        ConfigCase{"image_size_absurd",
+                   Scenario("  image_size: [100000, 100000]\n  measurements: {detections: "
+                            "rendered, sample_rate_hz: 10}\n",
+                            "{aprilgrids: [{tag_rows: 2, tag_cols: 2, tag_size_m: 0.1, origin: "
+                            "[0, 3, 0], rpy_deg: [90, 0, 0]}]}"),
+                   {"FILE:4:", "scenario.image_size", "[100000, 100000] px is larger than",
+                    "16384 px per side", "MiB"}},
         ConfigCase{"duplicate_names",
                    "scenarios:\n  - " + std::string("{name: a, points: {preset: thesis}}\n") +
                        "  - {name: a, points: {preset: thesis}}\n",

@@ -6,9 +6,9 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
-#include "bench/calibrate.h"
-#include "bench/image_points.h"
-#include "bench/target_io.h"
+#include "bench/app/calibrate.h"
+#include "bench/app/image_points.h"
+#include "bench/config/target_io.h"
 #include "core/random.h"
 #include "core/render.h"
 #include "core/synthetic.h"

@@ -1,5 +1,5 @@
 // Regression on published calibration data (../shared/data, CTest label "data").
-#include "bench/calibrate.h"
+#include "bench/app/calibrate.h"
 
 #include <gtest/gtest.h>
 

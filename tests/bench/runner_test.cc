@@ -1,11 +1,12 @@
-#include "bench/runner.h"
+#include "bench/run/runner.h"
 
 #include <gtest/gtest.h>
 
-#include "bench/config_io.h"
-#include "bench/csv.h"
-#include "bench/stats.h"
-#include "bench/table.h"
+#include "bench/config/config_io.h"
+#include "bench/run/csv.h"
+#include "bench/run/stats.h"
+#include "bench/run/table.h"
+#include "tests/common/scenario_yaml.h"
 
 namespace calibench {
 namespace {
@@ -62,8 +63,7 @@ ScenarioConfig LoadOne(const std::string& relative) {
 // Noise-free thesis sim 3: adaptive, dlt and ceres all recover the truth (1e-6 relative).
 TEST(Runner, AllMethodsRecoverTheTruthOnNoiseFreeData) {
   ScenarioConfig s = LoadOne("configs/thesis/sim03.yaml");
-  s.dlt.enabled = true;
-  s.ceres.enabled = true;
+  EnableOnly(&s, {"adaptive", "dlt", "ceres"});
   const std::vector<RunRow> rows = RunTrial(s, 0);
   ASSERT_EQ(rows.size(), 3u);
   for (const RunRow& r : rows) {
@@ -84,7 +84,7 @@ TEST(Runner, AllMethodsRecoverTheTruthOnNoiseFreeData) {
 TEST(Runner, CeresRowsCarryStdAndCrlb) {
   ScenarioConfig s = LoadOne("configs/batch/crlb50.yaml");
   s.trials = 1;
-  s.adaptive.enabled = false;
+  s.FindMethod("adaptive")->enabled = false;
   const std::vector<RunRow> rows = RunTrial(s, 0);
   ASSERT_EQ(rows.size(), 2u);
   const RunRow& ceres = rows[1];
@@ -104,8 +104,9 @@ TEST_P(RigRecovery, EveryBatchMethodRecoversTheTruth) {
   ScenarioConfig s = LoadOne("configs/batch/rig_moving.yaml");
   s.trials = 1;
   s.measurements.noise = NoiseOptions();
-  s.adaptive.enabled = false;
-  s.zhang.model = LensModel::kPinhole;
+  s.FindMethod("adaptive")->enabled = false;
+  SetMethodOption(&s, "zhang", "model", "pinhole");
+  SetMethodOption(&s, "zhang_handeye", "model", "pinhole");
   if (GetParam() == CalibrationCase::kFixedCamera) {
     // The same relative geometry seen the other way round: boards on the body, camera in W.
     s.calibration_case = CalibrationCase::kFixedCamera;
@@ -136,7 +137,7 @@ INSTANTIATE_TEST_SUITE_P(BothCases, RigRecovery,
 TEST(Runner, DegenerateHandEyeIsReported) {
   ScenarioConfig s = LoadOne("configs/batch/rig_moving.yaml");
   s.trials = 1;
-  s.adaptive.enabled = s.dlt.enabled = s.ceres.enabled = false;
+  EnableOnly(&s, {"zhang", "zhang_handeye"});
   s.motion.w_cos.setZero();
   s.motion.w_sin = Eigen::Vector3d(0.15, 0.2, 0.1);
   const std::vector<RunRow> rows = RunTrial(s, 0);

@@ -7,12 +7,13 @@
 #include <fstream>
 #include <sstream>
 
-#include "bench/config_io.h"
-#include "bench/csv.h"
-#include "bench/run_dir.h"
-#include "bench/runner.h"
-#include "bench/stats.h"
-#include "bench/summary.h"
+#include "bench/config/config_io.h"
+#include "bench/run/csv.h"
+#include "bench/run/run_dir.h"
+#include "bench/run/runner.h"
+#include "bench/run/stats.h"
+#include "bench/run/summary.h"
+#include "tests/common/scenario_yaml.h"
 
 namespace calibench {
 namespace {
@@ -55,15 +56,18 @@ TEST(Sweep, ExpandsTheCartesianProductWithMethodAxesFastest) {
     EXPECT_EQ(s.sweep_point.index, i);
     EXPECT_EQ(s.sweep_point.measurement_index, i / 3);
     EXPECT_DOUBLE_EQ(s.measurements.noise.pixel_sigma_px, sigma[i]);
-    EXPECT_DOUBLE_EQ(s.adaptive.options.alpha, alpha[i]);
+    EXPECT_DOUBLE_EQ(std::stod(MethodOption(s, "adaptive", "alpha")), alpha[i]);
     EXPECT_EQ(s.points.size(), 30u);
     EXPECT_EQ(s.points, config.scenarios[0].points)
         << "geometry is the scenario's, not the point's";
   }
   EXPECT_EQ(config.scenarios[1].name,
             "small[noise.pixel_sigma_px=0.25,methods.adaptive.alpha=1000]");
-  EXPECT_EQ(config.scenarios[1].sweep_point.adaptive_key, "methods.adaptive.alpha=1000;");
-  EXPECT_EQ(config.scenarios[1].sweep_point.batch_key, "");
+  // The points of a group share the instances the axis does not touch: same key, so copied.
+  EXPECT_EQ(InstanceKey(config.scenarios[1], *config.scenarios[1].FindMethod("dlt")),
+            InstanceKey(config.scenarios[0], *config.scenarios[0].FindMethod("dlt")));
+  EXPECT_NE(InstanceKey(config.scenarios[1], *config.scenarios[1].FindMethod("adaptive")),
+            InstanceKey(config.scenarios[0], *config.scenarios[0].FindMethod("adaptive")));
   // A measurement group shares its trial seeds; measurement points draw their own.
   EXPECT_EQ(config.scenarios[0].TrialSeedOf(2), config.scenarios[2].TrialSeedOf(2));
   EXPECT_NE(config.scenarios[0].TrialSeedOf(2), config.scenarios[3].TrialSeedOf(2));
@@ -102,7 +106,7 @@ TEST(Sweep, RangesAndWholeSectionFields) {
   c = FromString(
       head + "  - {field: methods.adaptive.alpha, range: {from: 10, to: 10000, log_step: 10}}\n");
   ASSERT_EQ(c.scenarios.size(), 4u);
-  EXPECT_DOUBLE_EQ(c.scenarios[3].adaptive.options.alpha, 10000.0);
+  EXPECT_EQ(MethodOption(c.scenarios[3], "adaptive", "alpha"), "10000");
   // points and motion come from the base chain as whole sections: the preset and count survive.
   c = FromString(head +
                  "  - {field: points.count, values: [4, 6]}\n  - {field: motion.preset, values: "
@@ -158,6 +162,65 @@ TEST(Sweep, GroupSharesMeasurementsAndBatchRows) {
   EXPECT_EQ(rows[1].fku, rows[7].fku);
 }
 
+// configs/examples/named_instances.yaml: two adaptive gains and two ceres refinements side by side.
+// Every trial is one task (one measurement pass) giving 4 distinct rows per sweep point; the axis
+// on adaptive-a100 re-runs that instance only, and the other three are copied at later points.
+TEST(Sweep, NamedInstancesGiveTheirOwnRowsAndShareTheMeasurements) {
+  RunConfig config;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfig(
+      std::string(CALIBENCH_SOURCE_DIR) + "/configs/examples/named_instances.yaml", &config, &why))
+      << why;
+  ASSERT_EQ(config.scenarios.size(), 3u);
+  for (ScenarioConfig& s : config.scenarios) s.trials = 2;
+  EXPECT_EQ(MethodOption(config.scenarios[2], "adaptive-a100", "alpha"), "300");
+  EXPECT_EQ(MethodOption(config.scenarios[2], "adaptive-a1000", "alpha"), "1000");
+  EXPECT_EQ(MeasurementGroups(config.scenarios), (std::vector<std::vector<int>>{{0, 1, 2}}));
+  std::vector<const ScenarioConfig*> group;
+  for (const ScenarioConfig& s : config.scenarios) group.push_back(&s);
+  const std::vector<RunRow> rows = RunGroupTrial(group, 1, nullptr, GroupTrialOptions());
+  const std::vector<std::string> names = {"adaptive-a100", "adaptive-a1000", "ceres",
+                                          "ceres-k2-huber"};
+  ASSERT_EQ(rows.size(), 3u * names.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].method, names[i % 4]);
+    EXPECT_EQ(rows[i].status, "ok") << rows[i].method << ": " << rows[i].message;
+    EXPECT_EQ(rows[i].reused, i >= 4 && i % 4 != 0) << i;
+    EXPECT_EQ(rows[i].measure_ms > 0, i < 4) << "one measurement pass, counted once";
+  }
+  // Four distinct estimates per point; the swept gain changes only its own instance.
+  for (int m = 0; m < 4; ++m) {
+    for (int n = m + 1; n < 4; ++n) EXPECT_NE(rows[m].fku, rows[n].fku) << m << " " << n;
+  }
+  EXPECT_NE(rows[0].fku, rows[4].fku);
+  for (int m = 1; m < 4; ++m) EXPECT_EQ(rows[m].fku, rows[4 + m].fku);
+  // The copies equal what a standalone run of the last point computes.
+  const std::vector<RunRow> alone = RunTrial(config.scenarios[2], 1);
+  ASSERT_EQ(alone.size(), 4u);
+  for (int m = 0; m < 4; ++m) {
+    std::vector<std::string> a = RunRowFields(alone[m]), b = RunRowFields(rows[8 + m]);
+    EXPECT_EQ(a, b) << names[m];
+  }
+}
+
+// The map form still works, with name = type: a `zhang:` entry configures zhang_handeye too, and an
+// override of one instance leaves the others as they are.
+TEST(Sweep, MapFormConfiguresInstancesByName) {
+  const RunConfig c = FromString(
+      "base: ../../../configs/sweeps/rig.yaml\nscenario:\n  name: m\n"
+      "  methods: {zhang: {max_views: 12}, ceres: {loss: cauchy}}\n");
+  const ScenarioConfig& s = c.scenarios.at(0);
+  ASSERT_EQ(s.methods.size(), 5u);
+  EXPECT_EQ(MethodOption(s, "zhang", "max_views"), "12");
+  EXPECT_EQ(MethodOption(s, "zhang_handeye", "max_views"), "12");
+  EXPECT_EQ(MethodOption(s, "ceres", "loss"), "cauchy");
+  EXPECT_EQ(MethodOption(s, "ceres", "init"), "zhang");  // From rig.yaml, kept.
+  std::vector<std::string> enabled;
+  for (const MethodInstance* m : s.EnabledMethods()) enabled.push_back(m->name);
+  EXPECT_EQ(enabled,
+            (std::vector<std::string>{"adaptive", "dlt", "zhang", "zhang_handeye", "ceres"}));
+}
+
 TEST(RunDir, FilesDoNotDependOnThreadsShardsOrInterruptions) {
   const RunConfig config = LoadSmall();
   RunDirOptions one;
@@ -201,10 +264,11 @@ TEST(RunDir, FilesDoNotDependOnThreadsShardsOrInterruptions) {
   // Interrupted after 3 tasks, with a torn row appended as a kill mid-write would leave it.
   RunDirOptions cut = two;
   cut.out_dir = TempDir("cut");
-  cut.stop_after_tasks = 3;
+  int written = 0;
+  cut.should_stop = [&written] { return ++written >= 3; };
   EXPECT_FALSE(RunToDirectory(config, cut).ok);
   { std::ofstream(cut.out_dir + "/run.partial/runs.csv", std::ios::app) << "small[torn,0,"; }
-  cut.stop_after_tasks = -1;
+  cut.should_stop = nullptr;
   cut.resume = true;
   const RunDirSummary resumed = RunToDirectory(config, cut);
   ASSERT_TRUE(resumed.ok) << resumed.message;
@@ -217,10 +281,10 @@ TEST(RunDir, FilesDoNotDependOnThreadsShardsOrInterruptions) {
   other.scenarios[0].trials = 5;
   cut.out_dir = TempDir("cut2");
   cut.resume = false;
-  cut.stop_after_tasks = 1;
+  cut.should_stop = [] { return true; };
   RunToDirectory(config, cut);
   cut.resume = true;
-  cut.stop_after_tasks = -1;
+  cut.should_stop = nullptr;
   const RunDirSummary refused = RunToDirectory(other, cut);
   EXPECT_FALSE(refused.ok);
   EXPECT_NE(refused.message.find("config.resolved.yaml"), std::string::npos) << refused.message;

@@ -4,9 +4,43 @@
 //   3   duration_s: 10     5 (+extra) intrinsics (thesis camera 1 with phi = 88 deg)
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <string>
+#include <vector>
+
+#include "bench/config/scenario.h"
+#include "methods/options.h"
 
 namespace calibench {
+
+// Option `key` of instance `name` as text (as methods/options.h's key writes it: "1000"); "" when
+// there is no such instance or option.
+inline std::string MethodOption(const ScenarioConfig& s, const std::string& name,
+                                const std::string& key) {
+  const MethodInstance* m = s.FindMethod(name);
+  if (m == nullptr) return "";
+  const std::string text = OptionsKey(*m->method);
+  const size_t at = text.find(key + "=");
+  if (at == std::string::npos || (at > 0 && text[at - 1] != ';')) return "";
+  const size_t start = at + key.size() + 1;
+  return text.substr(start, text.find(';', start) - start);
+}
+
+inline void SetMethodOption(ScenarioConfig* s, const std::string& name, const std::string& key,
+                            const std::string& value) {
+  MethodInstance* m = s->FindMethod(name);
+  ASSERT_NE(m, nullptr) << "no instance " << name;
+  std::string why;
+  ASSERT_TRUE(SetOption(m->method.get(), key, value, &why)) << why;
+}
+
+// Enables exactly the instances in `names` (in the scenario's order).
+inline void EnableOnly(ScenarioConfig* s, const std::vector<std::string>& names) {
+  for (MethodInstance& m : s->methods) {
+    m.enabled = std::find(names.begin(), names.end(), m.name) != names.end();
+  }
+}
 
 struct ScenarioYamlParts {
   std::string extra;

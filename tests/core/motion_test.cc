@@ -53,15 +53,39 @@ TEST(Motion, BodyTwistWithConstantRatesDrawsACircle) {
 
 class MotionFrameTest : public ::testing::TestWithParam<TwistProfile::Frame> {};
 
-TEST_P(MotionFrameTest, ClosedFormAgreesWithNumericIntegration) {
+// An integration of the twist's ODE written here, independent of Motion: classic RK4 with step
+// h on (R, p), body twist dR/dt = R [w]x, dp/dt = R v; spatial twist dR/dt = [w]x R,
+// dp/dt = v + w x p; R re-orthonormalised after every step.
+Rigid3 IntegrateTwist(const TwistProfile& p, double t_end, double h) {
+  struct S {
+    Eigen::Matrix3d r;
+    Eigen::Vector3d x;
+  };
+  auto derivative = [&](double t, const S& s) {
+    const Eigen::Vector3d v = p.LinearVelocity(t), w = p.AngularVelocity(t);
+    if (p.frame == TwistProfile::Frame::kBody) return S{s.r * Hat(w), s.r * v};
+    return S{Hat(w) * s.r, v + w.cross(s.x)};
+  };
+  auto add = [](const S& a, const S& b, double k) { return S{a.r + k * b.r, a.x + k * b.x}; };
+  S s{Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero()};
+  const int steps = static_cast<int>(std::lround(t_end / h));
+  for (int i = 0; i < steps; ++i) {
+    const double t = i * h;
+    const S k1 = derivative(t, s), k2 = derivative(t + h / 2, add(s, k1, h / 2));
+    const S k3 = derivative(t + h / 2, add(s, k2, h / 2)), k4 = derivative(t + h, add(s, k3, h));
+    s.r += h / 6 * (k1.r + 2 * k2.r + 2 * k3.r + k4.r);
+    s.x += h / 6 * (k1.x + 2 * k2.x + 2 * k3.x + k4.x);
+    s.r = ProjectToSO3(s.r);
+  }
+  return {s.r, s.x};
+}
+
+TEST_P(MotionFrameTest, ClosedFormAgreesWithAnIndependentIntegration) {
   const TwistProfile p = RichProfile(GetParam());
-  Motion::Options numeric_options;
-  numeric_options.force_numeric = true;
-  const Motion exact(p, {}), numeric(p, numeric_options);
+  const Motion exact(p, {});
   ASSERT_TRUE(exact.is_exact());
-  ASSERT_FALSE(numeric.is_exact());
-  for (double t : {0.005, 1.0, 59.99, 120.0, 239.995, 240.0}) {
-    const Rigid3 a = exact.WorldFromBody(t), b = numeric.WorldFromBody(t);
+  for (double t : {0.005, 1.0, 59.99, 120.0}) {
+    const Rigid3 a = exact.WorldFromBody(t), b = IntegrateTwist(p, t, 5e-4);
     EXPECT_LT((a.rotation - b.rotation).norm(), kNumericTol) << "t = " << t;
     EXPECT_LT((a.translation - b.translation).norm(), kNumericTol * 100) << "t = " << t;
   }

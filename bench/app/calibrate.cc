@@ -1,0 +1,147 @@
+#include "bench/app/calibrate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace calibench {
+
+CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOptions& options) {
+  CalibrateReport report;
+  ZhangOptions zhang_options;
+  zhang_options.model = options.model;
+  zhang_options.image_width = data.image_width;
+  zhang_options.image_height = data.image_height;
+  report.zhang = CalibrateZhang(data.views, zhang_options);
+  if (!report.zhang.IsUsable()) {
+    report.ceres.status = MethodStatus::kFailed;
+    report.ceres.message = "zhang initialisation failed: " + report.zhang.message;
+    return report;
+  }
+  std::vector<View> used;
+  for (int v : report.zhang.used_views) used.push_back(data.views[v]);
+  RefineOptions refine;
+  refine.model = options.model;
+  refine.estimate_skew = options.estimate_skew;
+  report.ceres =
+      RefineCalibration(used, report.zhang.intrinsics, report.zhang.cam_from_board, refine);
+  CameraFile& c = report.camera;
+  c.intrinsics = report.ceres.intrinsics;
+  c.intrinsics_std = report.ceres.intrinsics_std;
+  c.image_width = data.image_width;
+  c.image_height = data.image_height;
+  c.rms_reproj_px = report.ceres.rms_reproj_px;
+  c.view_rms_px = report.ceres.view_rms_px;
+  c.model = std::string(ToString(options.model)) + (options.estimate_skew ? "+skew" : "");
+  return report;
+}
+
+std::string FormatCalibrateReport(const CalibrateReport& report, const PointData& data) {
+  std::ostringstream out;
+  char line[200];
+  out << "data: " << data.format << ", " << data.views.size() << " views, "
+      << (data.views.empty() ? 0 : data.views[0].points.size()) << " points per view\n";
+  if (!report.ceres.IsUsable()) {
+    out << "calibration failed: " << report.ceres.message << "\n";
+    return out.str();
+  }
+  const CameraIntrinsics &k = report.ceres.intrinsics, &z = report.zhang.intrinsics;
+  const double* s = report.ceres.intrinsics_std.data();
+  const double deg = 180.0 / M_PI;
+  out << "parameter        ceres (+- 1 std)              zhang (OpenCV)\n";
+  const struct {
+    const char* name;
+    double ours, std, opencv;
+  } rows[] = {{"fku_px", k.fku_px, s[0], z.fku_px},
+              {"fkv_px", k.fkv_px, s[1], z.fkv_px},
+              {"phi_deg", k.phi_deg, s[2] * deg, z.phi_deg},
+              {"u0_px", k.u0_px, s[3], z.u0_px},
+              {"v0_px", k.v0_px, s[4], z.v0_px},
+              {"k1", k.k1, s[5], z.k1},
+              {"k2", k.k2, s[6], z.k2},
+              {"p1", k.p1, s[7], z.p1},
+              {"p2", k.p2, s[8], z.p2},
+              {"k3", k.k3, s[9], z.k3}};
+  for (const auto& r : rows) {
+    if (std::isfinite(r.std)) {
+      std::snprintf(line, sizeof(line), "%-10s %14.6f +- %-12.6f %14.6f\n", r.name, r.ours, r.std,
+                    r.opencv);
+    } else {
+      std::snprintf(line, sizeof(line), "%-10s %14.6f (fixed)         %14.6f\n", r.name, r.ours,
+                    r.opencv);
+    }
+    out << line;
+  }
+  std::snprintf(line, sizeof(line), "rms_reproj_px (per point): ceres %.5f, zhang %.5f\n",
+                report.ceres.rms_reproj_px, report.zhang.rms_reproj_px);
+  out << line << "per-view rms_reproj_px:";
+  for (double r : report.ceres.view_rms_px) {
+    std::snprintf(line, sizeof(line), " %.4f", r);
+    out << line;
+  }
+  std::snprintf(line, sizeof(line), "\ntime: zhang %.1f ms, ceres %.1f ms (%ld iterations)\n",
+                report.zhang.wall_ms, report.ceres.wall_ms, report.ceres.iterations);
+  out << line;
+  if (!report.zhang.message.empty()) out << "note: " << report.zhang.message << "\n";
+  return out.str();
+}
+
+std::string FormatImageReport(const ImageFolderReport& images, const std::vector<int>& used_index,
+                              const CalibrateReport& report) {
+  std::vector<double> view_rms(images.images.size(), -1.0);
+  if (report.ceres.IsUsable()) {
+    for (size_t i = 0; i < report.ceres.view_rms_px.size(); ++i) {
+      view_rms[used_index[report.zhang.used_views[i]]] = report.ceres.view_rms_px[i];
+    }
+  }
+  std::vector<double> sorted = report.ceres.view_rms_px;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  std::ostringstream out;
+  char line[256];
+  out << "image                          points  view_rms_px  note\n";
+  int outliers = 0;
+  for (size_t i = 0; i < images.images.size(); ++i) {
+    const ImageResult& r = images.images[i];
+    std::string note = r.used ? r.reason : "skipped: " + r.reason;
+    std::string rms = "-";
+    if (view_rms[i] >= 0) {
+      std::snprintf(line, sizeof(line), "%.4f", view_rms[i]);
+      rms = line;
+      if (view_rms[i] > kOutlierFactor * median) {
+        note += "; OUTLIER (> 3x median view RMS: re-take or drop this image)";
+        ++outliers;
+      }
+    } else if (r.used) {
+      note += "; not used by the calibration";
+    }
+    std::snprintf(line, sizeof(line), "%-30s %6d  %11s  %s\n", r.file.c_str(), r.points,
+                  rms.c_str(), note.c_str());
+    out << line;
+  }
+  out << images.used << " of " << images.images.size() << " images used; " << outliers
+      << " outlier view(s)\n";
+  if (images.tags_possible > 0) {
+    std::snprintf(line, sizeof(line),
+                  "aprilgrid: %ld of %ld possible tags detected (detection rate %.3f), %ld ids not "
+                  "on the grid\n",
+                  images.tags_detected, images.tags_possible, images.DetectionRate(),
+                  images.unknown_tags);
+    out << line;
+    if (images.DetectionRate() < kLowDetectionRate) {
+      out << "WARNING: low detection rate: check tagFamily, codeOffset and tagCols / tagRows of "
+             "the target YAML against the printed target\n";
+    }
+  }
+  if (report.ceres.IsUsable() && report.ceres.rms_reproj_px > kHighReprojectionPx) {
+    std::snprintf(line, sizeof(line),
+                  "WARNING: reprojection RMS %.3f px > %.1f px: the target geometry does not fit "
+                  "the images (check tagSize / tagSpacing or the board spacings and size)\n",
+                  report.ceres.rms_reproj_px, kHighReprojectionPx);
+    out << line;
+  }
+  return out.str();
+}
+
+}  // namespace calibench

@@ -1,0 +1,184 @@
+#include "bench/app/frames_io.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "bench/run/csv.h"
+#include "core/random.h"
+
+namespace calibench {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string FrameName(int k) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "frame_%06d.png", k);
+  return name;
+}
+
+bool CheckRendered(const ScenarioConfig& s, std::string* why) {
+  if (s.aprilgrids.empty() || !(s.measurements.sample_rate_hz > 0)) {
+    if (why) {
+      *why = "scenario '" + s.name +
+             "' needs AprilTag targets (points: {aprilgrids: [...]}) and "
+             "measurements.sample_rate_hz > 0";
+    }
+    return false;
+  }
+  return true;
+}
+
+// The scenario's frame times, the first max_frames of them when that is set.
+std::vector<double> Times(const ScenarioConfig& s, const FramesOptions& o) {
+  std::vector<double> times = FrameTimes(s.measurements.sample_rate_hz, s.duration_s);
+  if (o.max_frames > 0 && static_cast<int>(times.size()) > o.max_frames) {
+    times.resize(o.max_frames);
+  }
+  return times;
+}
+
+struct Truth {
+  std::map<int, Eigen::Vector2d> pixels;  // point_id -> exact pixel.
+  int tags_in_view = 0;
+};
+
+}  // namespace
+
+bool WriteRenderedFrames(const ScenarioConfig& s, const FramesOptions& o, const std::string& dir,
+                         int* frames_written, std::string* why) {
+  if (!CheckRendered(s, why)) return false;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) {
+    if (why) *why = dir + ": cannot create the directory: " + ec.message();
+    return false;
+  }
+  const SceneTruth scene = s.MakeScene();
+  const auto renderer =
+      SceneRenderer::Create(scene, s.aprilgrids, s.RenderingOptions().render, why);
+  if (!renderer) return false;
+  const uint64_t trial_seed = s.TrialSeedOf(o.trial);
+  std::string csv =
+      CsvLine({"frame", "time_s", "point_id", "tag_id", "corner", "u_px", "v_px", "in_view"});
+  GrayImage image;
+  std::vector<BoardView> views;
+  const std::vector<double> times = Times(s, o);
+  const int frames = static_cast<int>(times.size());
+  for (int k = 0; k < frames; ++k) {
+    const double t = times[k];
+    if (!renderer->Render(t, trial_seed, k, &image, &views, why)) return false;
+    const cv::Mat mat(image.height, image.width, CV_8UC1, image.pixels.data());
+    const std::string path = dir + "/" + FrameName(k);
+    if (!cv::imwrite(path, mat)) {
+      if (why) *why = path + ": cannot write the PNG";
+      return false;
+    }
+    const std::vector<std::vector<bool>> in_view =
+        TagsInView(scene.intrinsics, views, image.width, image.height);
+    int point = 0;
+    for (size_t g = 0; g < views.size(); ++g) {
+      const std::vector<Eigen::Vector3d> corners = views[g].grid.CornersInBoard();
+      for (size_t c = 0; c < corners.size(); ++c, ++point) {
+        Eigen::Vector2d pixel;
+        if (!ProjectPoint(scene.intrinsics, views[g].cam_from_board * corners[c], &pixel)) continue;
+        char line[160];
+        std::snprintf(line, sizeof(line), "%d,%.6f,%d,%d,%d,%.6f,%.6f,%d\n", k, t, point,
+                      views[g].grid.first_id + static_cast<int>(c / 4), static_cast<int>(c % 4),
+                      pixel.x(), pixel.y(), in_view[g][c / 4] ? 1 : 0);
+        csv += line;
+      }
+    }
+  }
+  if (!WriteFileAtomically(dir + "/corners.csv", csv, why)) return false;
+  *frames_written = frames;
+  return true;
+}
+
+bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::string& frames_dir,
+                  DetectionStats* stats, std::string* why) {
+  if (!CheckRendered(s, why)) return false;
+  if (frames_dir.empty()) {
+    ScenarioConfig shortened = s;
+    if (o.max_frames > 0) {
+      shortened.duration_s = std::min(s.duration_s, o.max_frames / s.measurements.sample_rate_hz);
+    }
+    const SceneTruth scene = shortened.MakeScene();
+    const auto source = RenderedSource::Create(scene, s.aprilgrids, s.RenderingOptions(),
+                                               s.TrialSeedOf(o.trial), why);
+    if (!source) return false;
+    *stats = source->stats();
+    return true;
+  }
+  const std::string truth_path = frames_dir + "/corners.csv";
+  std::ifstream in(truth_path);
+  if (!in) {
+    if (why) *why = truth_path + ": cannot open (written by `calibench render`)";
+    return false;
+  }
+  std::map<int, Truth> truth;
+  std::string line;
+  std::getline(in, line);  // Header.
+  for (int row = 2; std::getline(in, line); ++row) {
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    int frame = 0, point = 0, tag = 0, corner = 0, in_view = 0;
+    double t = 0, u = 0, v = 0;
+    if (!(fields >> frame >> t >> point >> tag >> corner >> u >> v >> in_view)) {
+      if (why) *why = truth_path + ":" + std::to_string(row) + ": expected 8 numeric fields";
+      return false;
+    }
+    truth[frame].pixels[point] = {u, v};
+    truth[frame].tags_in_view += (in_view && corner == 0);
+  }
+  std::string error;
+  const auto detector = FrameDetector::Create(s.aprilgrids, s.rendering.detection, why);
+  if (!detector) return false;
+  DetectionStatsAccumulator acc;
+  for (const auto& [frame, expected] : truth) {
+    const std::string path = frames_dir + "/" + FrameName(frame);
+    const cv::Mat gray = cv::imread(path, cv::IMREAD_GRAYSCALE);
+    if (gray.empty()) {
+      if (why) *why = path + ": unreadable (listed in corners.csv)";
+      return false;
+    }
+    if (gray.cols != s.image_width || gray.rows != s.image_height) {
+      if (why) {
+        *why = path + ": image is " + std::to_string(gray.cols) + " x " +
+               std::to_string(gray.rows) + " px, but scenario '" + s.name + "' has image_size [" +
+               std::to_string(s.image_width) + ", " + std::to_string(s.image_height) + "]";
+      }
+      return false;
+    }
+    DetectionCounts counts;
+    const std::vector<Observation> obs =
+        detector->Detect(gray.data, gray.cols, gray.rows, static_cast<int>(gray.step), &counts);
+    acc.AddFrame(expected.tags_in_view, counts, obs.empty());
+    for (const Observation& ob : obs) {
+      const auto it = expected.pixels.find(ob.point_id);
+      if (it != expected.pixels.end()) acc.AddCornerError(ob.pixel - it->second);
+    }
+  }
+  *stats = acc.Finish();
+  return true;
+}
+
+std::string FormatDetectionStats(const DetectionStats& s) {
+  char text[640];
+  std::snprintf(text, sizeof(text),
+                "frames %d (%d without detections)\n"
+                "tags: %ld detected of %ld fully in view: detection rate %.4f; %ld unknown ids, "
+                "%ld dropped at the border, %ld unrefined\n"
+                "corner error vs truth over %ld corners: RMS %.4f px, bias (%.4f, %.4f) px, "
+                "p95 %.4f px\n",
+                s.frames, s.frames_without_detections, s.tags_detected, s.tags_expected,
+                s.DetectionRate(), s.unknown_tags, s.border_tags, s.unrefined_tags, s.corners,
+                s.rms_px, s.bias_x_px, s.bias_y_px, s.p95_px);
+  return text;
+}
+
+}  // namespace calibench

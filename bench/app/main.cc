@@ -1,0 +1,320 @@
+// calibench: the command-line entry point. Thin: parses arguments and calls the bench library.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include "bench/app/calibrate.h"
+#include "bench/config/config_io.h"
+#include "bench/run/csv.h"
+#include "bench/app/frames_io.h"
+#include "bench/run/run_dir.h"
+#include "bench/run/runner.h"
+#include "bench/run/table.h"
+
+namespace {
+
+std::string LensModelList() {
+  std::string list;
+  for (const std::string& name : calibench::LensModelNames()) {
+    list += (list.empty() ? "" : ", ") + name;
+  }
+  return list;
+}
+
+// SIGINT / SIGTERM during `run`: finish writing the task in hand, then stop (run.partial stays
+// resumable with --resume).
+volatile std::sig_atomic_t g_stop_requested = 0;
+void RequestStop(int) { g_stop_requested = 1; }
+
+void ProgressBar(long done, long total) {
+  const int width = 40;
+  const int filled = total ? static_cast<int>(width * done / total) : width;
+  std::fprintf(stderr, "\r[%s%s] %ld/%ld tasks", std::string(filled, '#').c_str(),
+               std::string(width - filled, '.').c_str(), done, total);
+  if (done == total) std::fprintf(stderr, "\n");
+  std::fflush(stderr);
+}
+
+struct RunArgs {
+  std::string config_path, out_dir, shard = "1/1";
+  int threads = 0;
+  bool quiet = false, resume = false;
+};
+
+int Run(const RunArgs& args) {
+  calibench::RunConfig config;
+  std::string why;
+  if (!calibench::LoadRunConfig(args.config_path, &config, &why)) {
+    std::cerr << "calibench: invalid configuration: " << why << "\n";
+    return 2;
+  }
+  calibench::RunDirOptions options;
+  if (!options.shard.Parse(args.shard, &why)) {
+    std::cerr << "calibench: " << why << "\n";
+    return 2;
+  }
+  for (const calibench::ScenarioConfig& s : config.scenarios) {
+    if (s.truth.allow_improper_rotation && s.sweep_point.index == 0) {
+      std::cerr << "calibench: warning: scenario '" << s.name
+                << "': truth R_C is allowed to be improper (det = -1), to reproduce a source "
+                   "that printed such a matrix; no real camera has one\n";
+    }
+  }
+  options.out_dir = args.out_dir;
+  options.threads = args.threads;
+  options.resume = args.resume;
+  if (!args.quiet && ::isatty(STDERR_FILENO)) options.progress = ProgressBar;
+  options.should_stop = [] { return g_stop_requested != 0; };
+  std::signal(SIGINT, RequestStop);
+  std::signal(SIGTERM, RequestStop);
+  const calibench::RunDirSummary summary = calibench::RunToDirectory(config, options);
+  if (!summary.ok) {
+    std::cerr << "calibench: " << summary.message << "\n";
+    return 3;
+  }
+  if (!args.quiet) {
+    std::ifstream table(args.out_dir + "/table.md");
+    std::cout << table.rdbuf();
+  }
+  std::cerr << "calibench: " << args.out_dir << ": " << summary.tasks_run << " tasks run";
+  if (summary.tasks_resumed > 0) std::cerr << ", " << summary.tasks_resumed << " resumed";
+  std::cerr << " (shard " << options.shard.ToString() << ", " << summary.tasks_total << " tasks), "
+            << summary.rows_written << " rows written in " << summary.wall_s << " s"
+            << (summary.message.empty() ? "" : "; " + summary.message) << "\n";
+  return 0;
+}
+
+int Merge(const std::vector<std::string>& dirs, const std::string& out_dir) {
+  std::string why;
+  if (!calibench::MergeRunDirectories(dirs, out_dir, &why)) {
+    std::cerr << "calibench: merge: " << why << "\n";
+    return 3;
+  }
+  std::cerr << "calibench: merged " << dirs.size() << " shards into " << out_dir << "\n";
+  return 0;
+}
+
+// The report is a Python script (matplotlib, scipy, pandas): found beside the sources, or at
+// $CALIBENCH_REPORT_SCRIPT.
+int Report(const std::vector<std::string>& dirs, const std::string& out_dir) {
+  const char* env = std::getenv("CALIBENCH_REPORT_SCRIPT");
+  const std::string script =
+      env != nullptr ? env : std::string(CALIBENCH_SOURCE_DIR) + "/scripts/report.py";
+  if (!std::filesystem::exists(script)) {
+    std::cerr << "calibench: report: " << script
+              << ": not found (set CALIBENCH_REPORT_SCRIPT to scripts/report.py)\n";
+    return 2;
+  }
+  std::vector<std::string> argv = {"/usr/bin/python3", script, "--out", out_dir};
+  argv.insert(argv.end(), dirs.begin(), dirs.end());
+  std::vector<char*> c_argv;
+  for (std::string& a : argv) c_argv.push_back(a.data());
+  c_argv.push_back(nullptr);
+  std::cout.flush();
+  ::execv(c_argv[0], c_argv.data());
+  std::cerr << "calibench: report: cannot run /usr/bin/python3: " << std::strerror(errno) << "\n";
+  return 2;
+}
+
+struct CalibrateArgs {
+  std::string points_path, images_dir, target_path;
+  std::string out_path = "camera.yaml", model = "pinhole-k2";
+  bool skew = false;
+};
+
+int Calibrate(const CalibrateArgs& args) {
+  const std::string& out_path = args.out_path;
+  const std::string& model_name = args.model;
+  const bool skew = args.skew;
+  calibench::CalibrateOptions options;
+  if (!calibench::ParseLensModel(model_name, &options.model)) {
+    std::cerr << "calibench: --model: unknown lens model '" << model_name << "' ("
+              << LensModelList() << ")\n";
+    return 2;
+  }
+  options.estimate_skew = skew;
+  calibench::PointData data;
+  std::string why;
+  calibench::ImageFolderReport images;
+  std::vector<int> used_index;
+  if (!args.images_dir.empty()) {
+    calibench::CalibrationTarget target;
+    if (args.target_path.empty()) {
+      std::cerr << "calibench: --images needs --target TARGET.yaml (Kalibr aprilgrid or "
+                   "checkerboard)\n";
+      return 2;
+    }
+    if (!calibench::LoadTargetYaml(args.target_path, &target, &why)) {
+      std::cerr << "calibench: --target: " << why << "\n";
+      return 2;
+    }
+    if (!calibench::LoadImagePoints(args.images_dir, target, &data, &images, &used_index, &why)) {
+      std::cerr << "calibench: --images: " << why << "\n";
+      return 2;
+    }
+  } else if (!calibench::LoadPointData(args.points_path, &data, &why)) {
+    std::cerr << "calibench: --points: " << why << "\n";
+    return 2;
+  }
+  const calibench::CalibrateReport report = calibench::CalibrateFromPoints(data, options);
+  std::cout << calibench::FormatCalibrateReport(report, data);
+  if (!args.images_dir.empty()) {
+    std::cout << calibench::FormatImageReport(images, used_index, report);
+  }
+  if (!report.IsUsable()) return 4;
+  if (!calibench::WriteCameraYaml(out_path, report.camera, &why)) {
+    std::cerr << "calibench: " << why << "\n";
+    return 3;
+  }
+  std::cerr << "calibench: wrote " << out_path << "\n";
+  return 0;
+}
+
+struct FramesArgs {
+  std::string config_path, frames_dir, scenario;
+  calibench::FramesOptions options;
+};
+
+// The scenario named `name` (or the config's first), or nullptr after saying why.
+const calibench::ScenarioConfig* PickScenario(const calibench::RunConfig& config,
+                                              const std::string& name) {
+  for (const calibench::ScenarioConfig& s : config.scenarios) {
+    if (name.empty() || s.name == name) return &s;
+  }
+  std::cerr << "calibench: --scenario: no scenario named '" << name << "'\n";
+  return nullptr;
+}
+
+int RenderOrDetect(const FramesArgs& args, bool render) {
+  calibench::RunConfig config;
+  std::string why;
+  if (!calibench::LoadRunConfig(args.config_path, &config, &why)) {
+    std::cerr << "calibench: invalid configuration: " << why << "\n";
+    return 2;
+  }
+  const calibench::ScenarioConfig* s = PickScenario(config, args.scenario);
+  if (s == nullptr) return 2;
+  if (render) {
+    int frames = 0;
+    if (!calibench::WriteRenderedFrames(*s, args.options, args.frames_dir, &frames, &why)) {
+      std::cerr << "calibench: render: " << why << "\n";
+      return 3;
+    }
+    std::cerr << "calibench: wrote " << frames << " frames and corners.csv to " << args.frames_dir
+              << "\n";
+    return 0;
+  }
+  calibench::DetectionStats stats;
+  if (!calibench::DetectFrames(*s, args.options, args.frames_dir, &stats, &why)) {
+    std::cerr << "calibench: detect: " << why << "\n";
+    return 3;
+  }
+  std::cout << "scenario " << s->name << ", trial " << args.options.trial
+            << (args.frames_dir.empty() ? " (rendered in memory)\n"
+                                        : " (" + args.frames_dir + ")\n")
+            << calibench::FormatDetectionStats(stats);
+  return 0;
+}
+
+void AddFramesOptions(CLI::App* command, FramesArgs* args) {
+  command->add_option("config", args->config_path, "Scenario file (YAML) with aprilgrids")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("--scenario", args->scenario, "Scenario name (default: the first)");
+  command->add_option("--trial", args->options.trial, "Trial index (noise seed)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--max-frames", args->options.max_frames, "At most this many frames")
+      ->check(CLI::NonNegativeNumber);
+}
+
+}  // namespace
+
+// CLI11 throws from setup only on a programming error (a duplicate option name).
+int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
+  // A file-size limit (ulimit -f) then fails the write with EFBIG, which is reported and resumable,
+  // instead of killing the process.
+  std::signal(SIGXFSZ, SIG_IGN);
+  CLI::App app{"calibench: adaptive vs batch camera calibration, on identical data"};
+  app.require_subcommand(1);
+  RunArgs run_args;
+  CLI::App* run = app.add_subcommand("run", "Run the scenarios and sweeps of a YAML config");
+  run->add_option("config", run_args.config_path, "Scenario file or entry point (YAML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  run->add_option("--out", run_args.out_dir,
+                  "Output directory (runs.csv, summary.csv, timings.csv, curves.csv, table.md)")
+      ->required();
+  run->add_option("--threads", run_args.threads, "Worker threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  run->add_flag("--quiet", run_args.quiet, "No table on stdout, no progress bar");
+  run->add_flag("--resume", run_args.resume,
+                "Continue an interrupted run in --out (kill -9 included)");
+  run->add_option("--shard", run_args.shard, "Run only slice K of N (K/N); see `merge`");
+  std::vector<std::string> merge_dirs, report_dirs;
+  std::string merge_out, report_out;
+  CLI::App* merge = app.add_subcommand("merge", "Combine the shard directories of one sweep");
+  merge->add_option("dirs", merge_dirs, "Shard output directories 1/N..N/N")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  merge->add_option("--out", merge_out, "Merged output directory")->required();
+  CLI::App* report = app.add_subcommand(
+      "report", "Plots and paired tests of run directories (report.md + PNGs; Python)");
+  report->add_option("dirs", report_dirs, "Run output directories")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  report->add_option("--out", report_out, "Report directory (default: FIRST_DIR/report)");
+  CalibrateArgs cal;
+  CLI::App* calibrate =
+      app.add_subcommand("calibrate", "Calibrate a camera from point files or from images");
+  CLI::Option* points_option = calibrate->add_option(
+      "--points", cal.points_path, "Zhang folder (Model.txt, data*.txt) or OpenCV .dat");
+  CLI::Option* images_option = calibrate->add_option(
+      "--images", cal.images_dir, "Folder of PNG/JPG/TIF images of the target (needs --target)");
+  points_option->excludes(images_option);
+  calibrate->add_option("--target", cal.target_path,
+                        "Kalibr target YAML (target_type: aprilgrid or checkerboard)");
+  calibrate->add_option("--out", cal.out_path, "Output camera.yaml (OpenCV FileStorage)");
+  calibrate->add_option("--model", cal.model,
+                        "Lens model: " + LensModelList());
+  calibrate->add_flag("--skew", cal.skew, "Estimate the skew angle phi too");
+  FramesArgs render_args, detect_args;
+  CLI::App* render =
+      app.add_subcommand("render", "Write a scenario's rendered frames (PNG) and true corners");
+  AddFramesOptions(render, &render_args);
+  render->add_option("--frames", render_args.frames_dir, "Output directory")->required();
+  CLI::App* detect = app.add_subcommand(
+      "detect", "Detection rate and corner error vs truth (RMS, bias, p95) of a scenario");
+  AddFramesOptions(detect, &detect_args);
+  detect->add_option("--frames", detect_args.frames_dir,
+                     "Read frames + corners.csv from here (default: render in memory)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (run->parsed()) return Run(run_args);
+    if (merge->parsed()) return Merge(merge_dirs, merge_out);
+    if (report->parsed()) {
+      return Report(report_dirs, report_out.empty() ? report_dirs[0] + "/report" : report_out);
+    }
+    if (render->parsed()) return RenderOrDetect(render_args, true);
+    if (detect->parsed()) return RenderOrDetect(detect_args, false);
+    if (calibrate->parsed()) {
+      if (cal.points_path.empty() && cal.images_dir.empty()) {
+        std::cerr << "calibench: calibrate: give --points FILE or --images DIR --target T.yaml\n";
+        return 2;
+      }
+      return Calibrate(cal);
+    }
+  } catch (const std::exception& e) {  // A bug, not bad data: say so instead of aborting.
+    std::cerr << "calibench: internal error: " << e.what() << "\n";
+    return 70;
+  }
+  return 1;
+}

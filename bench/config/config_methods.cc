@@ -1,0 +1,213 @@
+// Config I/O of `methods:` (config_io.h): the list form of named instances, the map form (one
+// instance per type, name = type), and the YAML visitors through which each method type reads and
+// writes its own options (methods/method.h: the methods never see YAML).
+#include <algorithm>
+#include <set>
+
+#include "bench/config/config_parsers.h"
+#include "methods/options.h"
+
+namespace calibench {
+namespace config_internal {
+namespace {
+
+// Collects the option keys of a method (the allowed keys of its entry).
+class KeyCollector final : public OptionVisitor {
+ public:
+  void Field(const char* key, double*) override { keys.emplace_back(key); }
+  void Field(const char* key, int*) override { keys.emplace_back(key); }
+  void Field(const char* key, long*) override { keys.emplace_back(key); }
+  void Field(const char* key, bool*) override { keys.emplace_back(key); }
+  void Field(const char* key, std::string*, const std::vector<std::string>&) override {
+    keys.emplace_back(key);
+  }
+  void Field(const char* key, LensModel*) override { keys.emplace_back(key); }
+  void Field(const char* key, CameraSpec*) override { keys.emplace_back(key); }
+  std::vector<std::string> keys;
+};
+
+// Reads the options present in `node`; errors name the file, line and field.
+class YamlOptionReader final : public OptionVisitor {
+ public:
+  YamlOptionReader(const Reader& r, const YAML::Node& node, std::string field)
+      : r_(r), node_(node), field_(std::move(field)) {}
+  void Field(const char* key, double* v) override { r_.Set(node_, key, field_, v); }
+  void Field(const char* key, int* v) override { r_.Set(node_, key, field_, v); }
+  void Field(const char* key, long* v) override {
+    r_.If(node_, key, field_,
+          [&](const YAML::Node& n, const std::string& f) { *v = r_.Integer(n, f); });
+  }
+  void Field(const char* key, bool* v) override { r_.Set(node_, key, field_, v); }
+  void Field(const char* key, std::string* v, const std::vector<std::string>& choices) override {
+    r_.If(node_, key, field_, [&](const YAML::Node& n, const std::string& f) {
+      *v = choices.empty() ? r_.String(n, f) : r_.Choice(n, f, choices);
+    });
+  }
+  void Field(const char* key, LensModel* v) override {
+    r_.If(node_, key, field_, [&](const YAML::Node& n, const std::string& f) {
+      ParseLensModel(r_.Choice(n, f, LensModelNames()), v);
+    });
+  }
+  void Field(const char* key, CameraSpec* v) override {
+    r_.If(node_, key, field_,
+          [&](const YAML::Node& n, const std::string& f) { ParseCamera(r_, n, f, v); });
+  }
+
+ private:
+  const Reader& r_;
+  const YAML::Node& node_;
+  std::string field_;
+};
+
+// Writes every option as `key: value` into the open map of `out`.
+class YamlOptionWriter final : public OptionVisitor {
+ public:
+  explicit YamlOptionWriter(YAML::Emitter* out) : out_(*out) {}
+  void Field(const char* key, double* v) override { out_ << YAML::Key << key << YAML::Value << *v; }
+  void Field(const char* key, int* v) override { out_ << YAML::Key << key << YAML::Value << *v; }
+  void Field(const char* key, long* v) override { out_ << YAML::Key << key << YAML::Value << *v; }
+  void Field(const char* key, bool* v) override { out_ << YAML::Key << key << YAML::Value << *v; }
+  void Field(const char* key, std::string* v, const std::vector<std::string>&) override {
+    out_ << YAML::Key << key << YAML::Value << *v;
+  }
+  void Field(const char* key, LensModel* v) override {
+    out_ << YAML::Key << key << YAML::Value << ToString(*v);
+  }
+  void Field(const char* key, CameraSpec* v) override {
+    out_ << YAML::Key << key << YAML::Value;
+    EmitCamera(out_, *v);
+  }
+
+ private:
+  YAML::Emitter& out_;
+};
+
+// Applies one entry (a mapping of instance keys and options) to `instance`.
+void ApplyEntry(const Reader& r, const YAML::Node& node, const std::string& field, bool list_form,
+                MethodInstance* instance) {
+  if (node.IsNull()) return;  // `dlt:` with nothing after it: no change.
+  KeyCollector keys;
+  instance->method->VisitOptions(&keys);
+  std::vector<std::string> allowed = {"enabled", "convergence_tol"};
+  if (list_form) allowed.insert(allowed.begin(), {"name", "type"});
+  allowed.insert(allowed.end(), keys.keys.begin(), keys.keys.end());
+  r.CheckKeys(node, field, allowed);
+  r.Set(node, "enabled", field, &instance->enabled);
+  r.If(node, "convergence_tol", field, [&](const YAML::Node& n, const std::string& f) {
+    instance->convergence_tol = r.Double(n, f);
+    if (!(instance->convergence_tol > 0)) r.Fail(n, f, "must be > 0");
+  });
+  YamlOptionReader reader(r, node, field);
+  instance->method->VisitOptions(&reader);
+  std::string why;
+  if (!instance->method->Check(&why)) r.Fail(node, field, why);
+}
+
+std::string InstanceNames(const ScenarioConfig& s) {
+  std::string names;
+  for (const MethodInstance& m : s.methods) names += (names.empty() ? "" : ", ") + m.name;
+  return names.empty() ? "(none)" : names;
+}
+
+void ParseList(const Reader& r, const YAML::Node& node, const std::string& field,
+               ScenarioConfig* s) {
+  std::vector<MethodInstance> instances;
+  for (size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node entry = node[i];
+    const std::string f = field + "[" + std::to_string(i) + "]";
+    r.ExpectMap(entry, f);
+    if (!entry["type"].IsDefined()) {
+      r.Fail(entry, f,
+             "missing 'type': every instance names its method type (" + MethodTypeNames() + ")");
+    }
+    const std::string type = r.String(entry["type"], f + ".type");
+    if (FindMethodType(type) == nullptr) {
+      r.Fail(entry["type"], f + ".type",
+             "unknown method type '" + type + "'; registered types: " + MethodTypeNames());
+    }
+    std::string name = type;
+    r.Set(entry, "name", f, &name);
+    const YAML::Node at = entry["name"].IsDefined() ? entry["name"] : entry;
+    if (name.empty() || name.find_first_of(".[],;= ") != std::string::npos) {
+      r.Fail(at, f + ".name",
+             "'" + name + "': an instance name must be non-empty, without spaces or . [ ] , ; =");
+    }
+    for (size_t j = 0; j < instances.size(); ++j) {
+      if (instances[j].name == name) {
+        std::string reason = "'" + name + "' is already the name of ";
+        reason += field + "[" + std::to_string(j) + "]";
+        reason += ": instance names key the result rows and must be unique";
+        r.Fail(at, f + ".name", reason);
+      }
+    }
+    MethodInstance instance = MethodInstance::OfType(type, name);
+    instance.enabled = true;  // Listing an instance runs it unless it says otherwise.
+    ApplyEntry(r, entry, f, /*list_form=*/true, &instance);
+    instances.push_back(std::move(instance));
+  }
+  s->methods = std::move(instances);
+}
+
+void ParseMap(const Reader& r, const YAML::Node& node, const std::string& field,
+              ScenarioConfig* s) {
+  std::vector<std::string> allowed;
+  for (const MethodInstance& m : s->methods) allowed.push_back(m.name);
+  for (const MethodType& t : MethodTypes()) {
+    if (std::find(allowed.begin(), allowed.end(), t.name) == allowed.end()) {
+      allowed.push_back(t.name);
+    }
+  }
+  r.CheckKeys(node, field, allowed);
+  for (const auto& kv : node) {
+    const std::string key = kv.first.Scalar();
+    const std::string f = Reader::Join(field, key);
+    auto instance_named = [&](const std::string& name) {
+      if (MethodInstance* found = s->FindMethod(name)) return found;
+      s->methods.push_back(MethodInstance::OfType(name, name));  // A type name (CheckKeys).
+      return &s->methods.back();
+    };
+    MethodInstance* instance = instance_named(key);
+    ApplyEntry(r, kv.second, f, /*list_form=*/false, instance);
+    if (instance->name != instance->type) continue;
+    for (const std::string& companion : FindMethodType(instance->type)->companions) {
+      ApplyEntry(r, kv.second, f, /*list_form=*/false, instance_named(companion));
+    }
+  }
+}
+
+}  // namespace
+
+void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& field,
+                 CameraSpec* c);  // config_io.cc
+
+void ParseMethods(const Reader& r, const YAML::Node& node, const std::string& field,
+                  ScenarioConfig* s) {
+  if (node.IsSequence()) return ParseList(r, node, field, s);
+  if (node.IsMap()) return ParseMap(r, node, field, s);
+  r.Fail(node, field,
+         "expected a list of instances [{name, type, ...}] or a mapping {NAME: {options}}");
+}
+
+void CheckSweptMethod(const Reader& r, const YAML::Node& at, const std::string& field,
+                      const std::string& name, const ScenarioConfig& swept) {
+  if (swept.FindMethod(name) != nullptr) return;
+  r.Fail(at, field,
+         "no method instance named '" + name + "' in scenario '" + swept.name +
+             "'; its instances: " + InstanceNames(swept));
+}
+
+void EmitMethods(YAML::Emitter& out, const ScenarioConfig& s) {
+  out << YAML::BeginSeq;
+  for (const MethodInstance& m : s.methods) {
+    out << YAML::BeginMap << YAML::Key << "name" << YAML::Value << m.name << YAML::Key << "type"
+        << YAML::Value << m.type << YAML::Key << "enabled" << YAML::Value << m.enabled << YAML::Key
+        << "convergence_tol" << YAML::Value << m.convergence_tol;
+    YamlOptionWriter writer(&out);
+    VisitOptionsReadOnly(*m.method, &writer);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
+}  // namespace config_internal
+}  // namespace calibench

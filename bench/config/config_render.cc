@@ -1,0 +1,122 @@
+// Config I/O for AprilTag targets and rendering (scenario sections and Kalibr target files).
+#include "bench/config/config_parsers.h"
+#include "bench/config/target_io.h"
+#include "core/tag_family.h"
+
+namespace calibench {
+namespace config_internal {
+
+void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& field, AprilGrid* g,
+                    Eigen::Vector3d* rpy_deg) {
+  r.CheckKeys(node, field,
+              {"family", "tag_rows", "tag_cols", "tag_size_m", "tag_spacing", "first_id", "origin",
+               "rpy_deg"});
+  r.If(node, "family", field,
+       [&](auto n, auto f) { g->family = r.Choice(n, f, TagFamily::Names()); });
+  r.Set(node, "tag_rows", field, &g->tag_rows);
+  r.Set(node, "tag_cols", field, &g->tag_cols);
+  r.Set(node, "tag_size_m", field, &g->tag_size_m);
+  r.Set(node, "tag_spacing", field, &g->tag_spacing);
+  r.Set(node, "first_id", field, &g->first_id);
+  r.Set(node, "origin", field, &g->points_from_board.translation);
+  *rpy_deg = Eigen::Vector3d::Zero();
+  r.If(node, "rpy_deg", field, [&](auto n, auto f) {
+    *rpy_deg = r.Vector3(n, f);
+    g->points_from_board.rotation = FromRollPitchYawDeg(*rpy_deg);
+  });
+  std::string why;
+  if (!g->Check(&why)) r.Fail(node, field, why);
+}
+
+void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& field,
+                    RenderedSourceOptions* o) {
+  r.CheckKeys(node, field,
+              {"supersample", "blur_sigma_px", "noise_sigma_gray", "background_gray", "black_gray",
+               "white_gray", "threads", "refine_corners", "detector"});
+  RenderOptions& ro = o->render;
+  r.Set(node, "supersample", field, &ro.supersample);
+  r.Set(node, "blur_sigma_px", field, &ro.blur_sigma_px);
+  r.Set(node, "noise_sigma_gray", field, &ro.noise_sigma_gray);
+  r.Set(node, "background_gray", field, &ro.background_gray);
+  r.Set(node, "black_gray", field, &ro.black_gray);
+  r.Set(node, "white_gray", field, &ro.white_gray);
+  r.Set(node, "threads", field, &o->threads);
+  r.Set(node, "refine_corners", field, &o->detection.refine_corners);
+  r.If(node, "detector", field, [&](const YAML::Node& d, const std::string& df) {
+    r.CheckKeys(d, df,
+                {"quad_decimate", "quad_sigma", "refine_edges", "decode_sharpening", "threads",
+                 "max_hamming"});
+    AprilTagOptions& a = o->detection.detector;
+    r.Set(d, "quad_decimate", df, &a.quad_decimate);
+    r.Set(d, "quad_sigma", df, &a.quad_sigma);
+    r.Set(d, "refine_edges", df, &a.refine_edges);
+    r.Set(d, "decode_sharpening", df, &a.decode_sharpening);
+    r.Set(d, "threads", df, &a.threads);
+    r.Set(d, "max_hamming", df, &a.max_hamming);
+    std::string why;
+    if (!a.Check(&why)) r.Fail(d, df, why);
+  });
+  std::string why;
+  if (o->threads < 0) r.Fail(node, Reader::Join(field, "threads"), "must be >= 0 (0: all cores)");
+  if (!ro.Check(&why)) r.Fail(node, field, why);
+}
+
+}  // namespace config_internal
+
+bool LoadTargetYaml(const std::string& path, CalibrationTarget* target, std::string* why) {
+  std::string text;
+  const bool read = config_internal::CatchConfigErrors(
+      path, why, [&] { text = config_internal::ReadFile(path); });
+  return read && LoadTargetYamlFromString(text, path, target, why);
+}
+
+bool LoadTargetYamlFromString(const std::string& yaml, const std::string& path,
+                              CalibrationTarget* target, std::string* why) {
+  using config_internal::Reader;
+  return config_internal::CatchConfigErrors(path, why, [&] {
+    const YAML::Node root = config_internal::LoadYaml(yaml, path);
+    const Reader r(path);
+    r.ExpectMap(root, "(top level)");
+    if (!root["target_type"].IsDefined()) r.Fail(root, "target_type", "missing");
+    const std::string type =
+        r.Choice(root["target_type"], "target_type", {"aprilgrid", "checkerboard"});
+    CalibrationTarget t;
+    auto required = [&](const char* key) {
+      if (!root[key].IsDefined()) r.Fail(root, key, "missing (needed by a " + type + ")");
+      return root[key];
+    };
+    if (type == "aprilgrid") {
+      r.CheckKeys(root, "",
+                  {"target_type", "tagCols", "tagRows", "tagSize", "tagSpacing", "tagFamily",
+                   "codeOffset"});
+      t.type = CalibrationTarget::Type::kAprilGrid;
+      t.grid.tag_cols = r.Int(required("tagCols"), "tagCols");
+      t.grid.tag_rows = r.Int(required("tagRows"), "tagRows");
+      t.grid.tag_size_m = r.Double(required("tagSize"), "tagSize");
+      t.grid.tag_spacing = r.Double(required("tagSpacing"), "tagSpacing");
+      r.If(root, "tagFamily", "",
+           [&](auto n, auto f) { t.grid.family = r.Choice(n, f, TagFamily::Names()); });
+      r.If(root, "codeOffset", "", [&](auto n, auto f) { t.grid.first_id = r.Int(n, f); });
+      std::string reason;
+      if (!t.grid.Check(&reason)) r.Fail(root, "(target)", reason);
+    } else {
+      r.CheckKeys(
+          root, "",
+          {"target_type", "targetCols", "targetRows", "rowSpacingMeters", "colSpacingMeters"});
+      t.type = CalibrationTarget::Type::kCheckerboard;
+      t.cols = r.Int(required("targetCols"), "targetCols");
+      t.rows = r.Int(required("targetRows"), "targetRows");
+      t.row_spacing_m = r.Double(required("rowSpacingMeters"), "rowSpacingMeters");
+      t.col_spacing_m = r.Double(required("colSpacingMeters"), "colSpacingMeters");
+      if (t.cols < 2 || t.rows < 2) {
+        r.Fail(root, "targetCols", "a checkerboard needs at least 2 x 2 inner corners");
+      }
+      if (!(t.row_spacing_m > 0) || !(t.col_spacing_m > 0)) {
+        r.Fail(root, "rowSpacingMeters", "spacings must be > 0");
+      }
+    }
+    *target = t;
+  });
+}
+
+}  // namespace calibench

@@ -1,0 +1,243 @@
+#include "bench/config/scenario.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "core/random.h"
+
+namespace calibench {
+
+bool Reference::Any() const {
+  return std::isfinite(fku_px) || std::isfinite(fkv_px) || std::isfinite(phi_deg) ||
+         std::isfinite(u0_px) || std::isfinite(v0_px) || x_c.allFinite() ||
+         std::isfinite(theta_err_below);
+}
+
+uint64_t ScenarioConfig::TrialSeedOf(int trial) const {
+  const auto t = static_cast<uint64_t>(trial);
+  if (sweep_point.measurement_index < 0) return TrialSeed(seed, t);
+  const uint64_t point_seed = Mix64(
+      seed ^ (0x5bd1e9955bd1e995ULL * (1 + static_cast<uint64_t>(sweep_point.measurement_index))));
+  return TrialSeed(point_seed, t);
+}
+
+SceneTruth ScenarioConfig::MakeScene() const {
+  SceneTruth scene;
+  scene.calibration_case = calibration_case;
+  scene.intrinsics = truth.intrinsics;
+  scene.parent_from_cam = truth.ParentFromCam();
+  scene.allow_improper_rotation = truth.allow_improper_rotation;
+  scene.points = points;
+  scene.duration_s = duration_s;
+  Motion::Options motion_options;
+  motion_options.duration_s = duration_s;
+  scene.motion = Motion(motion, motion_options);
+  return scene;
+}
+
+std::vector<BoardLayout> ScenarioConfig::BoardLayouts() const {
+  std::vector<BoardLayout> layouts;
+  int first = 0;
+  for (const PlanarBoard& b : boards) {
+    layouts.push_back({b.CornersInBoard(), b.points_from_board, first});
+    first += b.NumCorners();
+  }
+  for (const AprilGrid& g : aprilgrids) {
+    layouts.push_back({g.CornersInBoard(), g.points_from_board, first});
+    first += 4 * g.NumTags();
+  }
+  return layouts;
+}
+
+RenderedSourceOptions ScenarioConfig::RenderingOptions() const {
+  RenderedSourceOptions o = rendering;
+  o.frame_rate_hz = measurements.sample_rate_hz;
+  o.render.width = image_width;
+  o.render.height = image_height;
+  return o;
+}
+
+OracleOptions ScenarioConfig::OracleSourceOptions() const {
+  OracleOptions o = measurements;
+  if (outside_image == "fail") {
+    o.require_in_image_width = image_width;
+    o.require_in_image_height = image_height;
+  }
+  return o;
+}
+
+bool ScenarioConfig::Check(std::string* why) const {
+  std::string reason;
+  auto fail = [&](const std::string& field, const std::string& r) {
+    if (why) *why = field + ": " + r;
+    return false;
+  };
+  if (trials < 1) return fail("trials", "must be >= 1, got " + std::to_string(trials));
+  if (!(duration_s > 0 && std::isfinite(duration_s)))
+    return fail("duration_s", "must be positive and finite");
+  if (!truth.intrinsics.Check(&reason)) return fail("truth.intrinsics", reason);
+  if (!CheckRotation(truth.r_c, 1e-9, truth.allow_improper_rotation, &reason)) {
+    return fail("truth.R_C", reason);
+  }
+  if (points.empty()) return fail("points", "at least one feature point is needed");
+  if (!motion.Check(&reason)) return fail("motion", reason);
+  if (!measurements.Check(&reason)) return fail("measurements", reason);
+  // Frames per trial of each time grid, against kMaxFramesPerTrial.
+  const bool continuous_noise = measurements.noise.Active() && measurements.sample_rate_hz == 0;
+  const std::pair<const char*, double> grids[] = {
+      {"measurements.sample_rate_hz", duration_s * measurements.sample_rate_hz},
+      {"measurements.eval_rate_hz", duration_s * measurements.eval_rate_hz},
+      {"noise.hold_s", continuous_noise ? duration_s / measurements.noise.hold_s : 0.0}};
+  for (const auto& [field, frames] : grids) {
+    if (frames <= kMaxFramesPerTrial) continue;
+    std::ostringstream msg;
+    msg << "gives " << frames << " frames (or noise draws) in duration_s = " << duration_s
+        << " s, more than " << kMaxFramesPerTrial << " per trial";
+    return fail(field, msg.str());
+  }
+  if (detections == "rendered") {
+    if (aprilgrids.empty()) {
+      return fail("points",
+                  "detections: rendered needs AprilTag targets: points: {aprilgrids: [...]}");
+    }
+    if (!(measurements.sample_rate_hz > 0)) {
+      return fail("measurements.sample_rate_hz", "detections: rendered needs a frame rate > 0");
+    }
+    if (measurements.noise.Active()) {
+      return fail("noise",
+                  "rendered detections take their noise from the image "
+                  "(rendering.noise_sigma_gray, blur_sigma_px); remove noise.*");
+    }
+    if (!RenderingOptions().Check(&reason)) return fail("rendering", reason);
+  } else if (detections != "oracle") {
+    return fail("measurements.detections", "must be oracle or rendered, got '" + detections + "'");
+  }
+  if (image_width < 1 || image_height < 1 || image_width > kMaxImageSide ||
+      image_height > kMaxImageSide ||
+      static_cast<double>(image_width) * image_height > kMaxImagePixels) {
+    std::ostringstream msg;
+    msg << "[" << image_width << ", " << image_height << "] is outside 1.." << kMaxImageSide
+        << " px per side and " << kMaxImagePixels / 1e6 << " Mpx in all";
+    return fail("image_size", msg.str());
+  }
+  if (!reference.method.empty() && FindMethod(reference.method) == nullptr) {
+    return fail("reference.method", "no method instance named '" + reference.method + "'");
+  }
+  for (const MethodInstance& m : methods) {
+    const std::string field = "methods." + m.name;
+    if (m.method == nullptr) return fail(field, "unknown method type '" + m.type + "'");
+    if (!m.method->Check(&reason)) return fail(field, reason);
+    if (!(m.convergence_tol > 0)) return fail(field + ".convergence_tol", "must be > 0");
+    for (const std::string& used : m.method->Prerequisites()) {
+      if (FindMethod(used) == nullptr && FindMethodType(used) == nullptr) {
+        return fail(field, "'" + used +
+                               "' is neither a method instance of this scenario nor a method "
+                               "type (" +
+                               MethodTypeNames() + ")");
+      }
+      if (used == m.name) return fail(field, "a method cannot start from itself");
+    }
+  }
+  return true;
+}
+
+const MethodInstance* ScenarioConfig::FindMethod(const std::string& instance) const {
+  for (const MethodInstance& m : methods) {
+    if (m.name == instance) return &m;
+  }
+  return nullptr;
+}
+
+MethodInstance* ScenarioConfig::FindMethod(const std::string& instance) {
+  for (MethodInstance& m : methods) {
+    if (m.name == instance) return &m;
+  }
+  return nullptr;
+}
+
+std::vector<const MethodInstance*> ScenarioConfig::EnabledMethods() const {
+  std::vector<const MethodInstance*> enabled;
+  for (const MethodInstance& m : methods) {
+    if (m.enabled) enabled.push_back(&m);
+  }
+  return enabled;
+}
+
+std::vector<MethodInstance> ScenarioConfig::DefaultMethods() {
+  std::vector<MethodInstance> methods;
+  for (const MethodType& t : MethodTypes())
+    methods.push_back(MethodInstance::OfType(t.name, t.name));
+  return methods;
+}
+
+namespace {
+
+bool SameTwist(const TwistProfile& a, const TwistProfile& b) {
+  return a.v_const == b.v_const && a.v_cos == b.v_cos && a.v_sin == b.v_sin &&
+         a.w_const == b.w_const && a.w_cos == b.w_cos && a.w_sin == b.w_sin &&
+         a.frequency_rad_s == b.frequency_rad_s && a.frame == b.frame;
+}
+
+bool SameOracle(const OracleOptions& a, const OracleOptions& b) {
+  const NoiseOptions &n = a.noise, &m = b.noise;
+  return a.sample_rate_hz == b.sample_rate_hz && a.eval_rate_hz == b.eval_rate_hz &&
+         a.require_in_image_width == b.require_in_image_width &&
+         a.require_in_image_height == b.require_in_image_height &&
+         n.point_sigma_m == m.point_sigma_m && n.pixel_sigma_px == m.pixel_sigma_px &&
+         n.hold_s == m.hold_s && n.hold_frames == m.hold_frames;
+}
+
+bool SameRendering(const RenderedSourceOptions& a, const RenderedSourceOptions& b) {
+  const RenderOptions &r = a.render, &s = b.render;
+  const FrameDetectorOptions &d = a.detection, &e = b.detection;
+  const AprilTagOptions &t = d.detector, &u = e.detector;
+  const CornerRefineOptions &c = d.refine, &f = e.refine;
+  return a.frame_rate_hz == b.frame_rate_hz && a.threads == b.threads && r.width == s.width &&
+         r.height == s.height && r.supersample == s.supersample &&
+         r.blur_sigma_px == s.blur_sigma_px && r.noise_sigma_gray == s.noise_sigma_gray &&
+         r.background_gray == s.background_gray && r.black_gray == s.black_gray &&
+         r.white_gray == s.white_gray && d.refine_corners == e.refine_corners &&
+         d.min_border_distance_px == e.min_border_distance_px && t.family == u.family &&
+         t.quad_decimate == u.quad_decimate && t.quad_sigma == u.quad_sigma &&
+         t.refine_edges == u.refine_edges && t.decode_sharpening == u.decode_sharpening &&
+         t.threads == u.threads && t.max_hamming == u.max_hamming &&
+         c.samples_per_edge == f.samples_per_edge && c.corner_margin == f.corner_margin &&
+         c.max_search_px == f.max_search_px && c.max_correction_px == f.max_correction_px &&
+         c.width_at_border == f.width_at_border;
+}
+
+// NaN == NaN here: an unset reference figure equals an unset one.
+bool SameValue(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+}  // namespace
+
+bool operator==(const Reference& a, const Reference& b) {
+  bool x_c = true;
+  for (int i = 0; i < 3; ++i) x_c = x_c && SameValue(a.x_c[i], b.x_c[i]);
+  return a.source == b.source && a.method == b.method && SameValue(a.fku_px, b.fku_px) &&
+         SameValue(a.fkv_px, b.fkv_px) && SameValue(a.phi_deg, b.phi_deg) &&
+         SameValue(a.u0_px, b.u0_px) && SameValue(a.v0_px, b.v0_px) && x_c &&
+         SameValue(a.theta_err_below, b.theta_err_below);
+}
+
+bool operator==(const SweepPoint& a, const SweepPoint& b) {
+  return a.sweep == b.sweep && a.index == b.index && a.measurement_index == b.measurement_index &&
+         a.params == b.params;
+}
+
+// How the points and the motion were written (a preset, a random box) is not compared: the
+// resolved YAML writes the points and the twist themselves, which are.
+bool operator==(const ScenarioConfig& a, const ScenarioConfig& b) {
+  return a.name == b.name && a.description == b.description &&
+         a.calibration_case == b.calibration_case && a.duration_s == b.duration_s &&
+         a.seed == b.seed && a.trials == b.trials && a.truth == b.truth &&
+         a.image_width == b.image_width && a.image_height == b.image_height &&
+         a.boards == b.boards && a.aprilgrids == b.aprilgrids &&
+         a.board_rpy_deg == b.board_rpy_deg && a.aprilgrid_rpy_deg == b.aprilgrid_rpy_deg &&
+         a.points == b.points && SameTwist(a.motion, b.motion) && a.detections == b.detections &&
+         a.outside_image == b.outside_image && SameOracle(a.measurements, b.measurements) &&
+         SameRendering(a.rendering, b.rendering) && a.methods == b.methods &&
+         a.reference == b.reference && a.sweep_point == b.sweep_point;
+}
+
+}  // namespace calibench

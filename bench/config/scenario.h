@@ -1,0 +1,122 @@
+// The scenario model: what one YAML scenario describes, as plain structs (no YAML here; see
+// config_io.h for the file format). A scenario = ground truth (camera, points, motion), a
+// measurement source (oracle: exact projections plus noise; rendered: rendered, detected and
+// matched frames), noise, the named method instances to run with their options
+// (methods/registry.h), Monte Carlo trials and a seed, and optionally a published reference.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/measurements.h"
+#include "core/scene.h"
+#include "core/target.h"
+#include "detect/rendered_source.h"
+#include "methods/registry.h"
+
+namespace calibench {
+
+// Sizes beyond which a scenario is refused rather than run out of memory or time: a trial's
+// frames (duration x sample rate, or x eval rate, or / noise hold for continuous sources) and the
+// trials of one scenario.
+constexpr double kMaxFramesPerTrial = 1e7;
+constexpr long kMaxTrials = 1'000'000;
+// An image larger than the renderer's bound (core/render.h) is refused for every scenario: no camera
+// calibrated here has one.
+constexpr int kMaxImageSide = kMaxRenderSide;
+constexpr double kMaxImagePixels = kMaxRenderPixels;
+
+constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
+
+// Published figures to print beside ours (all optional: NaN / empty when absent).
+struct Reference {
+  std::string source;  // e.g. "thesis sim 7".
+  std::string method;  // The instance it describes; empty: the scenario's first enabled one.
+  double fku_px = kUnset, fkv_px = kUnset, phi_deg = kUnset, u0_px = kUnset, v0_px = kUnset;
+  Eigen::Vector3d x_c = Eigen::Vector3d::Constant(kUnset);
+  double theta_err_below = kUnset;  // "exact": the thesis reports ||theta~|| below this.
+  bool Any() const;
+};
+bool operator==(const Reference& a, const Reference& b);
+
+// Where a scenario sits in a sweep (config_io.h, `sweep:`). A sweep expands one scenario into the
+// cartesian product of its axes; the points that differ only in `methods.*` fields form one
+// measurement group: they share measurement_index, hence the trial seeds and the measurements (an
+// instance whose options equal an earlier point's is not run again: run/trial.h).
+struct SweepPoint {
+  std::string sweep;           // The swept scenario's own name (= name when not swept).
+  int index = 0;               // Position in the product (method axes vary fastest).
+  int measurement_index = -1;  // Position among the measurement points; -1: not swept.
+  std::string params;          // "field=value;field=value" (empty when not swept).
+};
+bool operator==(const SweepPoint& a, const SweepPoint& b);
+
+struct ScenarioConfig {
+  std::string name;
+  std::string description;
+  std::string source_file;  // The YAML file it came from (for messages).
+  CalibrationCase calibration_case = CalibrationCase::kMovingCamera;
+  double duration_s = 240.0;
+  uint64_t seed = 1;
+  int trials = 1;
+
+  CameraSpec truth;
+  int image_width = 640, image_height = 480;  // For zhang's initialisation.
+  // "thesis", "random", "boards", "aprilgrids" or empty (explicit list).
+  std::string points_preset;
+  std::vector<PlanarBoard> boards;    // points: {boards: [...]}: the points are the rig's corners.
+  std::vector<AprilGrid> aprilgrids;  // points: {aprilgrids: [...]}: the tags' corners.
+  // The rpy_deg each board / grid was given (the resolved YAML writes these, not angles recovered
+  // from the rotation, which may differ in the last digit and would not round-trip exactly).
+  std::vector<Eigen::Vector3d> board_rpy_deg, aprilgrid_rpy_deg;
+  // points: {random: {count, min, max}}: uniform in the box, drawn once from the config seed.
+  Eigen::Vector3d random_min = Eigen::Vector3d::Zero(), random_max = Eigen::Vector3d::Zero();
+  int points_count = 10;  // With a preset: how many of its points (the first ones).
+  std::vector<Eigen::Vector3d> points;
+  std::string motion_preset;  // A ThesisMotionPreset name or empty (explicit twist).
+  TwistProfile motion;        // Frame already resolved from the case.
+
+  // oracle: exact projections + noise (OracleSource); rendered: frames rendered at
+  // measurements.sample_rate_hz, detected and matched (RenderedSource; needs aprilgrids).
+  std::string detections = "oracle";
+  // oracle: a projection outside image_size is an error (fail: the trial fails, naming the point)
+  // or measured anyway (keep: the thesis's model, with no image bound).
+  std::string outside_image = "fail";
+  OracleOptions measurements;       // sample rate, eval rate and noise (noise: oracle only).
+  RenderedSourceOptions rendering;  // rendered: frame_rate_hz = measurements.sample_rate_hz.
+
+  // The method instances in row order. The default is one instance per registered type, named after
+  // it, enabled as the type says (the map form of `methods:`, registry.h).
+  std::vector<MethodInstance> methods = DefaultMethods();
+  Reference reference;
+  SweepPoint sweep_point;
+
+  // The seed of Monte Carlo trial `trial`: TrialSeed(seed, trial), or for a sweep point
+  // TrialSeed(PointSeed(seed, measurement_index), trial), so the method-only points of a group
+  // see the same draws and every measurement point its own.
+  uint64_t TrialSeedOf(int trial) const;
+  // The ground truth scene (motion integrated over duration_s).
+  SceneTruth MakeScene() const;
+  // The planar boards (PlanarBoard or AprilGrid) in point order; empty for other point sets.
+  std::vector<BoardLayout> BoardLayouts() const;
+  // The instance named `instance`, or null.
+  const MethodInstance* FindMethod(const std::string& instance) const;
+  MethodInstance* FindMethod(const std::string& instance);
+  // The enabled instances, in row order.
+  std::vector<const MethodInstance*> EnabledMethods() const;
+  // One instance per registered type, named after it (the default methods of a scenario).
+  static std::vector<MethodInstance> DefaultMethods();
+  // The rendering options with the scenario's frame rate and image size filled in.
+  RenderedSourceOptions RenderingOptions() const;
+  // The oracle options, with the image bound in force when outside_image is "fail".
+  OracleOptions OracleSourceOptions() const;
+  bool Check(std::string* why) const;
+};
+// Every field equal (the methods by their options' key): what a configuration must read back to.
+bool operator==(const ScenarioConfig& a, const ScenarioConfig& b);
+
+}  // namespace calibench

@@ -1,0 +1,71 @@
+// The rows calibench writes: RunRow (one per scenario, trial and method instance), its runs.csv
+// schema and CSV codec, and the timings.csv and curves.csv columns. The schema is the list of
+// columns in run_row.cc, in file order; every runs.csv byte is deterministic (no timing in it).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bench/config/scenario.h"
+
+namespace calibench {
+
+// One CSV row. Angles in degrees, pixels in px, lengths in the scene's unit (m). err_* are signed
+// (estimate - truth); NaN where a figure does not apply or the method failed.
+struct RunRow {
+  std::string scenario;
+  std::string sweep;  // SweepPoint::sweep, index and params.
+  int point = 0;
+  std::string params;
+  int n_points = 0;  // Feature points of the scenario (all boards' corners).
+  int trial = 0;
+  uint64_t seed = 0;
+  std::string method;
+  std::string status;  // ok | diverged | failed
+  std::string message;
+  double fku = kUnset, fkv = kUnset, phi_deg = kUnset, u0 = kUnset, v0 = kUnset;
+  double rc_roll_deg = kUnset, rc_pitch_deg = kUnset, rc_yaw_deg = kUnset;
+  double xc_x = kUnset, xc_y = kUnset, xc_z = kUnset;
+  double err_fku = kUnset, err_fkv = kUnset, err_phi_deg = kUnset, err_u0 = kUnset, err_v0 = kUnset;
+  double rot_err_deg = kUnset, err_xc_norm = kUnset;
+  double theta_err_norm = kUnset;
+  double rms_reproj_px = kUnset;    // Per-point RMS (Euclidean), over all frames.
+  double converge_time_s = kUnset;  // NaN: never stayed below the tolerance.
+  double pe_min_eig = kUnset;       // PersistentExcitationIndex (adaptive only).
+  double ortho_defect = kUnset;     // ||R^T R - I||_F of the recovered R before projection.
+  // Reported standard deviations (ceres covariance) and the Cramer-Rao bound (sigma^2 (J^T J)^-1
+  // at the truth; only with pixel noise alone, which is what it models).
+  double std_fku = kUnset, std_fkv = kUnset, std_phi_deg = kUnset, std_u0 = kUnset, std_v0 = kUnset;
+  double crlb_fku = kUnset, crlb_fkv = kUnset, crlb_phi_deg = kUnset, crlb_u0 = kUnset,
+         crlb_v0 = kUnset;
+  int improper = 0;  // 1 when the recovered rotation is a reflection.
+  long steps = 0;    // Integrator steps / solver iterations.
+  // detections: rendered (the same for every method of a trial; NaN / -1 for oracle).
+  double detect_rate = kUnset;    // Tags detected / tags fully in the image.
+  double corner_rms_px = kUnset;  // Detected corners vs exact projections.
+  int frames_no_detection = -1;
+  // Per-angle extrinsic errors: roll, pitch, yaw of R_C (README convention), estimate minus truth,
+  // wrapped to (-180, 180]. Appended after `message` (the columns before it are unchanged).
+  double err_roll_deg = kUnset, err_pitch_deg = kUnset, err_yaw_deg = kUnset;
+  // Not in runs.csv (they vary from run to run): timings.csv and curves.csv.
+  double wall_ms = kUnset;     // The method's own wall time; 0 when copied (reused).
+  double measure_ms = kUnset;  // Producing the group's measurements (render + detect).
+  bool reused = false;         // Copied from an earlier point of the group with equal settings.
+  // ||theta~||(t) of a method that reports estimates over time, when recorded (trial.h).
+  std::vector<std::pair<double, double>> curve;
+};
+
+// runs.csv: header and fields; ParseRunRow is the inverse (false naming the bad column).
+const std::vector<std::string>& RunRowHeader();
+std::vector<std::string> RunRowFields(const RunRow& row);
+bool ParseRunRow(const std::vector<std::string>& header, const std::vector<std::string>& fields,
+                 RunRow* row, std::string* why);
+// timings.csv (scenario, trial, method, wall_ms, measure_ms, reused) and curves.csv (scenario,
+// trial, method, t_s, theta_err_norm).
+const std::vector<std::string>& TimingHeader();
+std::vector<std::string> TimingFields(const RunRow& row);
+const std::vector<std::string>& CurveHeader();
+
+}  // namespace calibench

@@ -1,0 +1,314 @@
+#include "bench/run/trial.h"
+
+#include <chrono>
+#include <deque>
+#include <memory>
+
+#include "core/format.h"
+#include "methods/options.h"
+
+namespace calibench {
+namespace {
+
+// The trial's measurement source; *base gets the seed and the detection figures. Null (and *why)
+// when the measurements cannot be produced.
+std::unique_ptr<MeasurementSource> MakeSource(const ScenarioConfig& s, const SceneTruth& scene,
+                                              RunRow* base, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_ptr<MeasurementSource> source;
+  if (s.detections == "rendered") {
+    auto rendered =
+        RenderedSource::Create(scene, s.aprilgrids, s.RenderingOptions(), base->seed, why);
+    if (rendered) {
+      const DetectionStats& stats = rendered->stats();
+      base->detect_rate = stats.DetectionRate();
+      base->corner_rms_px = stats.rms_px;
+      base->frames_no_detection = stats.frames_without_detections;
+    }
+    source = std::move(rendered);
+  } else {
+    source = OracleSource::Create(scene, s.OracleSourceOptions(), base->seed, why);
+  }
+  base->measure_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return source;
+}
+
+RunRow BaseRow(const ScenarioConfig& s, int trial) {
+  RunRow base;
+  base.scenario = s.name;
+  base.sweep = s.sweep_point.sweep.empty() ? s.name : s.sweep_point.sweep;
+  base.point = s.sweep_point.index;
+  base.params = s.sweep_point.params;
+  base.n_points = static_cast<int>(s.points.size());
+  base.trial = trial;
+  base.seed = s.TrialSeedOf(trial);
+  return base;
+}
+
+// Failed rows for every enabled instance of `s`.
+void AppendFailed(const ScenarioConfig& s, const RunRow& base, const std::string& message,
+                  std::vector<RunRow>* rows) {
+  for (const MethodInstance* m : s.EnabledMethods()) {
+    RunRow failed = base;
+    failed.method = m->name;
+    failed.status = "failed";
+    failed.message = message;
+    rows->push_back(failed);
+  }
+}
+
+// The instance `name` of `s`, or the default instance of the type `name` (kept in *defaults).
+const MethodInstance* Resolve(const ScenarioConfig& s, const std::string& name,
+                              std::deque<MethodInstance>* defaults) {
+  if (const MethodInstance* m = s.FindMethod(name)) return m;
+  for (const MethodInstance& d : *defaults) {
+    if (d.name == name) return &d;
+  }
+  defaults->push_back(MethodInstance::OfType(name, name));
+  return defaults->back().method ? &defaults->back() : nullptr;
+}
+
+std::string KeyOf(const ScenarioConfig& s, const MethodInstance& instance, int depth,
+                  std::deque<MethodInstance>* defaults) {
+  std::string key = instance.type + "{" + OptionsKey(*instance.method) +
+                    "}tol=" + FormatNumber(instance.convergence_tol, 17);
+  if (depth > 16) return key + "<cycle>";  // Refused by ScenarioConfig::Check; never run.
+  for (const std::string& used : instance.method->Prerequisites()) {
+    const MethodInstance* p = Resolve(s, used, defaults);
+    key += "<" + used + ":" + (p ? KeyOf(s, *p, depth + 1, defaults) : "?") + ">";
+  }
+  return key;
+}
+
+// A method's result with what the metrics need of its trajectory.
+struct Outcome {
+  MethodResult result;
+  int trajectory_samples = 0;
+  double converge_time_s = kNoValue;
+  std::vector<std::pair<double, double>> curve;
+};
+
+class TrackSink final : public EstimateSink {
+ public:
+  explicit TrackSink(ThetaTrack* track) : track_(track) {}
+  void OnTheta(double t_s, const Vector16d& theta_hat) override {
+    track_->Add(t_s, theta_hat);
+    ++samples;
+  }
+  int samples = 0;
+
+ private:
+  ThetaTrack* track_;
+};
+
+// Runs the instances of one scenario of the group on the trial's measurements.
+class ScenarioTrial {
+ public:
+  ScenarioTrial(const ScenarioConfig& s, const SceneTruth& scene, const MeasurementSource& source,
+                TrialCache* cache, const GroupTrialOptions& options)
+      : s_(s), cache_(cache), options_(options) {
+    input_.source = &source;
+    input_.image_width = s.image_width;
+    input_.image_height = s.image_height;
+    input_.boards = s.BoardLayouts();
+    input_.parent_from_points = [&scene](double t) { return scene.ParentFromPoints(t); };
+    input_.cache = cache;
+    input_.prerequisite = [this](const std::string& name) -> const MethodResult& {
+      return OutcomeOf(*Resolve(s_, name, &defaults_)).result;
+    };
+  }
+
+  std::string Key(const MethodInstance& instance) { return KeyOf(s_, instance, 0, &defaults_); }
+
+  const Outcome& OutcomeOf(const MethodInstance& instance) {
+    return cache_->Get<Outcome>("outcome:" + Key(instance), [&] {
+      ThetaTrack::Options track_options;
+      track_options.tolerance = instance.convergence_tol;
+      track_options.record_curve = options_.record_curve;
+      track_options.max_samples = options_.curve_samples;
+      ThetaTrack track(s_.truth, track_options);
+      TrackSink sink(&track);
+      Outcome outcome;
+      outcome.result = instance.method->Run(input_, &sink);
+      outcome.trajectory_samples = sink.samples;
+      outcome.converge_time_s = track.ConvergeTimeS();
+      outcome.curve = track.Curve();
+      return outcome;
+    });
+  }
+
+  RunRow Row(const MethodInstance& instance, RunRow row, ScenarioShared* shared) {
+    row.method = instance.name;
+    const Outcome& outcome = OutcomeOf(instance);
+    const MethodResult& r = outcome.result;
+    row.status = ToString(r.status);
+    row.steps = r.iterations;
+    row.wall_ms = r.wall_ms;
+    const CameraEstimate& e = r.estimate;
+    const EstimateMetrics m = EvaluateEstimate(r.status, e, s_.truth, input_.Frames().views);
+    row.message =
+        m.warning.empty() ? r.message : m.warning + (r.message.empty() ? "" : "; " + r.message);
+    if (e.has_camera) {
+      const CameraIntrinsics& k = e.intrinsics;
+      row.fku = k.fku_px;
+      row.fkv = k.fkv_px;
+      row.phi_deg = k.phi_deg;
+      row.u0 = k.u0_px;
+      row.v0 = k.v0_px;
+      const Eigen::Vector3d rpy = RollPitchYawOfRc(e.parent_from_cam.rotation, e.improper);
+      row.rc_roll_deg = rpy[0];
+      row.rc_pitch_deg = rpy[1];
+      row.rc_yaw_deg = rpy[2];
+      row.xc_x = e.parent_from_cam.translation[0];
+      row.xc_y = e.parent_from_cam.translation[1];
+      row.xc_z = e.parent_from_cam.translation[2];
+      row.err_fku = m.errors.fku_px;
+      row.err_fkv = m.errors.fkv_px;
+      row.err_phi_deg = m.errors.phi_deg;
+      row.err_u0 = m.errors.u0_px;
+      row.err_v0 = m.errors.v0_px;
+      row.rot_err_deg = m.errors.rotation_deg;
+      row.err_xc_norm = m.errors.position_m;
+      row.err_roll_deg = m.errors.roll_deg;
+      row.err_pitch_deg = m.errors.pitch_deg;
+      row.err_yaw_deg = m.errors.yaw_deg;
+      row.ortho_defect = e.orthogonality_defect;
+      row.improper = e.improper ? 1 : 0;
+    }
+    row.theta_err_norm = m.theta_err_norm;
+    row.rms_reproj_px = m.rms_reproj_px;
+    if (r.IsUsable() && outcome.trajectory_samples > 0)
+      row.converge_time_s = outcome.converge_time_s;
+    row.pe_min_eig = r.pe_min_eig;
+    const double deg = 180.0 / M_PI;
+    row.std_fku = e.intrinsics_std[0];
+    row.std_fkv = e.intrinsics_std[1];
+    row.std_phi_deg = e.intrinsics_std[2] * deg;
+    row.std_u0 = e.intrinsics_std[3];
+    row.std_v0 = e.intrinsics_std[4];
+    FillCrlb(instance, shared, &row);
+    row.curve = outcome.curve;
+    return row;
+  }
+
+ private:
+  // The Cramer-Rao bound of the instance's parametrisation, for scenarios with white pixel noise
+  // only (what it models); computed once per scenario and parametrisation.
+  void FillCrlb(const MethodInstance& instance, ScenarioShared* shared, RunRow* row) {
+    const std::optional<RefineOptions> model = instance.method->BoundParametrisation();
+    const NoiseOptions& noise = s_.measurements.noise;
+    if (!model || !(noise.pixel_sigma_px > 0) || noise.point_sigma_m > 0) return;
+    const std::string key = std::string(ToString(model->model)) +
+                            (model->estimate_skew ? "+skew" : "") +
+                            (model->autodiff ? "+autodiff" : "");
+    CrlbStd bound;
+    auto compute = [&] {
+      return CramerRaoStd(input_.Frames().views, s_.truth, *model, noise.pixel_sigma_px);
+    };
+    if (shared != nullptr) {
+      std::lock_guard<std::mutex> lock(shared->mutex);
+      auto it = shared->crlb.find(key);
+      if (it == shared->crlb.end()) it = shared->crlb.emplace(key, compute()).first;
+      bound = it->second;
+    } else {
+      bound = compute();
+    }
+    if (!bound.valid) return;
+    row->crlb_fku = bound.std_px[0];
+    row->crlb_fkv = bound.std_px[1];
+    row->crlb_phi_deg = bound.std_px[2];
+    row->crlb_u0 = bound.std_px[3];
+    row->crlb_v0 = bound.std_px[4];
+  }
+
+  const ScenarioConfig& s_;
+  TrialCache* cache_;
+  GroupTrialOptions options_;
+  MethodInput input_;
+  std::deque<MethodInstance> defaults_;  // Default instances asked for by type name.
+};
+
+// Rows copied from an earlier point of the group, relabelled as `base`'s (not run again).
+RunRow CopyOf(RunRow row, const RunRow& base) {
+  row.scenario = base.scenario;
+  row.sweep = base.sweep;
+  row.point = base.point;
+  row.params = base.params;
+  row.n_points = base.n_points;
+  row.wall_ms = 0.0;
+  row.measure_ms = base.measure_ms;
+  row.reused = true;
+  return row;
+}
+
+std::vector<RunRow> RunGroupTrialUnguarded(const std::vector<const ScenarioConfig*>& group,
+                                           int trial, ScenarioShared* shared,
+                                           const GroupTrialOptions& options) {
+  const ScenarioConfig& first = *group.front();
+  RunRow base = BaseRow(first, trial);
+  std::string why;
+  const SceneTruth scene = first.MakeScene();
+  const std::unique_ptr<MeasurementSource> source = MakeSource(first, scene, &base, &why);
+  TrialCache cache;  // Shared by the group: same measurements.
+  std::vector<RunRow> rows;
+  struct Done {
+    std::string name, key;
+    size_t row;
+  };
+  std::vector<Done> done;  // Rows computed so far in this group, for copies.
+  for (size_t j = 0; j < group.size(); ++j) {
+    const ScenarioConfig& s = *group[j];
+    RunRow row_base = BaseRow(s, trial);
+    row_base.detect_rate = base.detect_rate;
+    row_base.corner_rms_px = base.corner_rms_px;
+    row_base.frames_no_detection = base.frames_no_detection;
+    row_base.measure_ms = j == 0 ? base.measure_ms : 0.0;
+    if (!source) {
+      AppendFailed(s, row_base, "measurements: " + why, &rows);
+      continue;
+    }
+    ScenarioTrial runner(s, scene, *source, &cache, options);
+    const size_t done_before = done.size();
+    for (const MethodInstance* instance : s.EnabledMethods()) {
+      const std::string key = runner.Key(*instance);
+      const Done* earlier = nullptr;
+      for (size_t d = 0; d < done_before; ++d) {
+        if (done[d].name == instance->name && done[d].key == key) earlier = &done[d];
+      }
+      if (earlier != nullptr) {
+        rows.push_back(CopyOf(rows[earlier->row], row_base));
+      } else {
+        rows.push_back(runner.Row(*instance, row_base, shared ? shared + j : nullptr));
+      }
+      done.push_back({instance->name, key, rows.size() - 1});
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
+std::string InstanceKey(const ScenarioConfig& scenario, const MethodInstance& instance) {
+  std::deque<MethodInstance> defaults;
+  return KeyOf(scenario, instance, 0, &defaults);
+}
+
+std::vector<RunRow> RunGroupTrial(const std::vector<const ScenarioConfig*>& group, int trial,
+                                  ScenarioShared* shared, const GroupTrialOptions& options) {
+  std::string error;
+  try {
+    return RunGroupTrialUnguarded(group, trial, shared, options);
+  } catch (const std::exception& e) {  // e.g. std::bad_alloc: this trial fails, the sweep goes on.
+    error = std::string("internal error: ") + e.what();
+  }
+  std::vector<RunRow> rows;
+  for (const ScenarioConfig* s : group) AppendFailed(*s, BaseRow(*s, trial), error, &rows);
+  return rows;
+}
+
+std::vector<RunRow> RunTrial(const ScenarioConfig& s, int trial, ScenarioShared* shared) {
+  return RunGroupTrial({&s}, trial, shared, GroupTrialOptions());
+}
+
+}  // namespace calibench

@@ -1,0 +1,29 @@
+// Chessboard (checkerboard) corner detection: the inner corners of a cols x rows pattern, in
+// calibench's pixel convention (core/camera.h: pixel centres at integers, which is OpenCV's).
+//
+//   1. cv::findChessboardCorners (adaptive threshold, normalised image), refined by
+//      cv::cornerSubPix with a 5 x 5 half-window (11 x 11 px) and 30 iterations / 0.1 px, as
+//      OpenCV's own calibration sample does (X-junctions: cornerSubPix's model fits them);
+//   2. if that finds nothing, cv::findChessboardCornersSB (sub-pixel by itself).
+// Corner (r, c), r < rows, c < cols, is returned at index r * cols + c.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/render.h"
+
+namespace calibench {
+
+struct ChessboardOptions {
+  int cols = 9, rows = 6;  // Inner corners per row and per column.
+  bool Check(std::string* why) const;
+};
+
+// The corners of the pattern in `gray`, or false when the whole pattern is not found. *how names
+// the detector that found it.
+bool FindChessboardCorners(const GrayImageView& gray, const ChessboardOptions& options,
+                           std::vector<Eigen::Vector2d>* corners, std::string* how);
+
+}  // namespace calibench

@@ -1,0 +1,49 @@
+// Method `dlt`: the normalised DLT (batch/dlt.h) of a constant M on every frame pooled (points in
+// the parent frame, so non-coplanar points are needed). Its estimate: the linear form theta of M
+// (theta_z = M's third row) and the decomposed camera.
+#include "batch/dlt.h"
+
+#include "methods/method.h"
+
+namespace calibench {
+namespace {
+
+class DltMethod final : public Method {
+ public:
+  std::unique_ptr<Method> Clone() const override { return std::make_unique<DltMethod>(*this); }
+  void VisitOptions(OptionVisitor* v) override {
+    v->Field("min_planarity_ratio", &options_.min_planarity_ratio);
+  }
+  bool Check(std::string* why) const override { return options_.Check(why); }
+
+  MethodResult Run(const MethodInput& input, EstimateSink*) const override {
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector2d> pixels;
+    for (const View& v : input.Frames().views) {
+      points.insert(points.end(), v.points.begin(), v.points.end());
+      pixels.insert(pixels.end(), v.pixels.begin(), v.pixels.end());
+    }
+    const DltResult dlt = EstimateDlt(points, pixels, options_);
+    MethodResult result;
+    static_cast<MethodSummary&>(result) = dlt;
+    if (!dlt.IsUsable()) return result;
+    CameraEstimate& e = result.estimate;
+    e.theta = ThetaFromM(dlt.m);
+    e.has_camera = true;
+    e.intrinsics = dlt.camera.intrinsics;
+    e.parent_from_cam = dlt.camera.parent_from_cam;
+    e.cam_from_parent = dlt.camera.parent_from_cam.Inverse();
+    e.improper = dlt.camera.improper;
+    e.orthogonality_defect = dlt.camera.orthogonality_defect;
+    return result;
+  }
+
+ private:
+  DltOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<Method> MakeDltMethod() { return std::make_unique<DltMethod>(); }
+
+}  // namespace calibench

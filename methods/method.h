@@ -1,0 +1,139 @@
+// The method interface: one estimator as the harness runs it on one trial's measurements.
+//
+// A method type (adaptive, dlt, zhang, zhang_handeye, ceres, ...) is a class implementing Method,
+// listed once in methods/registry.cc; a scenario holds named instances of types (registry.h). For
+// each trial the harness builds a MethodInput, calls Run() on every enabled instance, and hands
+// the result to the metrics (metrics/metrics.h). A method sees the measurements, never the truth:
+//
+//   MethodInput   the measurement source (continuous, or frames held between samples), the same
+//                 frames read once as views of the parent frame, the image size, the planar boards
+//                 of the point set, and the known motion of the points frame (the body poses the
+//                 thesis assumes known). Prerequisite(name) runs another instance of the scenario
+//                 (or a type's default, by type name) once per trial and returns its result: how
+//                 ceres starts from dlt or zhang. Cache() shares intermediate work between the
+//                 methods of a trial (zhang and zhang_handeye share one calibrateCamera).
+//   MethodResult  status, message, iterations and wall time (core/status.h), the estimate
+//                 (core/estimate.h) and method diagnostics.
+//   EstimateSink  estimates over time, as the method produces them (the harness turns them into
+//                 ||theta~||(t), convergence times and curves).
+//
+// Options: each type reads and writes its options through one function, VisitOptions(), called
+// with a visitor that reads them (the config I/O, from YAML: methods never see YAML), writes them
+// (the resolved configuration), or turns them into text (options.h: the key that decides whether
+// two sweep points may share a result). Check() validates them after reading.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "batch/refine.h"
+#include "core/camera.h"
+#include "core/estimate.h"
+#include "core/measurements.h"
+#include "core/scene.h"
+#include "core/status.h"
+#include "core/target.h"
+#include "core/view.h"
+
+namespace calibench {
+
+// Reads or writes one option: `key` is its name in configs. An implementation that reads leaves
+// *value untouched when the key is absent and reports a bad value itself (naming file, line and
+// field); one that writes only reads *value.
+class OptionVisitor {
+ public:
+  virtual ~OptionVisitor() = default;
+  virtual void Field(const char* key, double* value) = 0;
+  virtual void Field(const char* key, int* value) = 0;
+  virtual void Field(const char* key, long* value) = 0;
+  virtual void Field(const char* key, bool* value) = 0;
+  // A string; when `choices` is not empty it must be one of them.
+  virtual void Field(const char* key, std::string* value,
+                     const std::vector<std::string>& choices) = 0;
+  virtual void Field(const char* key, LensModel* value) = 0;
+  virtual void Field(const char* key, CameraSpec* value) = 0;  // intrinsics, R_C, x_C, ...
+};
+
+// The frames of a trial's source as views of the parent frame (what batch methods pool).
+struct FrameSet {
+  std::vector<View> views;                  // Per frame: x_bar (points in P) and measured pixels.
+  std::vector<double> times_s;              // Per frame.
+  std::vector<std::vector<int>> point_ids;  // Per frame: the scene point of each entry.
+};
+FrameSet ReadFrames(const MeasurementSource& source);
+
+struct MethodResult : MethodSummary {
+  CameraEstimate estimate;
+  // Persistent-excitation index of the data the method integrated (adaptive/estimator.h); NaN when
+  // the method computes none.
+  double pe_min_eig = std::numeric_limits<double>::quiet_NaN();
+};
+
+// Estimates over time, in the order the method produces them.
+class EstimateSink {
+ public:
+  virtual ~EstimateSink() = default;
+  // The linear form theta_hat at time t (the adaptive estimator: at t = 0 and after every accepted
+  // integrator step).
+  virtual void OnTheta(double t_s, const Vector16d& theta_hat) = 0;
+};
+
+// Work shared by the methods of one trial, keyed by text that names everything it depends on
+// besides the trial's measurements. Not thread-safe: a trial runs its methods one after another.
+class TrialCache {
+ public:
+  template <typename T>
+  const T& Get(const std::string& key, const std::function<T()>& make) {
+    auto it = entries_.find(key);
+    if (it == entries_.end()) it = entries_.emplace(key, std::make_shared<T>(make())).first;
+    return *static_cast<const T*>(it->second.get());
+  }
+
+ private:
+  std::map<std::string, std::shared_ptr<void>> entries_;
+};
+
+struct MethodInput {
+  const MeasurementSource* source = nullptr;
+  int image_width = 0, image_height = 0;
+  std::vector<BoardLayout> boards;  // Planar boards of the point set, in point order; may be empty.
+  // Where the points frame (body for a fixed camera, world for a moving one) is in the parent
+  // frame at time t: known, as the thesis assumes the body poses known (core/scene.h).
+  std::function<Rigid3(double t_s)> parent_from_points;
+  // The result of the scenario's instance `name`, or of the default instance of the type `name`
+  // when the scenario has no instance of that name; run at most once per trial.
+  std::function<const MethodResult&(const std::string& name)> prerequisite;
+  TrialCache* cache = nullptr;
+
+  // The source's frames, read once per trial.
+  const FrameSet& Frames() const;
+};
+
+class Method {
+ public:
+  virtual ~Method() = default;
+  virtual std::unique_ptr<Method> Clone() const = 0;
+  // Reads or writes every option (see the header comment). Writers only read the fields.
+  virtual void VisitOptions(OptionVisitor* visitor) = 0;
+  virtual bool Check(std::string* why) const = 0;
+  // Names the instances or types Run() asks input.prerequisite for (their results are part of what
+  // its result depends on).
+  virtual std::vector<std::string> Prerequisites() const { return {}; }
+  // The parametrisation (lens model, skew, one shared pose) whose Cramer-Rao bound the method's
+  // rows carry; none by default.
+  virtual std::optional<RefineOptions> BoundParametrisation() const { return std::nullopt; }
+  // Never throws for bad data: a failed result with a message instead. `sink` may be null.
+  virtual MethodResult Run(const MethodInput& input, EstimateSink* sink) const = 0;
+};
+
+// VisitOptions on a method that is only read (a writer or the text key).
+inline void VisitOptionsReadOnly(const Method& method, OptionVisitor* visitor) {
+  const_cast<Method&>(method).VisitOptions(visitor);  // NOLINT: writers do not modify.
+}
+
+}  // namespace calibench

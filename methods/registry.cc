@@ -1,0 +1,91 @@
+// The one list of method types. Adding a method (README "Adding a method"): its source file in
+// methods/ (a Method subclass and its Make...Method factory), one line here, its test in
+// tests/methods/.
+#include "methods/registry.h"
+
+#include "methods/options.h"
+
+namespace calibench {
+
+// Factories, one per type, defined in that type's source file.
+std::unique_ptr<Method> MakeAdaptiveMethod();
+std::unique_ptr<Method> MakeDltMethod();
+std::unique_ptr<Method> MakeZhangMethod();
+std::unique_ptr<Method> MakeZhangHandEyeMethod();
+std::unique_ptr<Method> MakeCeresMethod();
+
+const std::vector<MethodType>& MethodTypes() {
+  static const std::vector<MethodType> types = {
+      {"adaptive",
+       "the thesis's adaptive (Lyapunov) estimator on the source itself",
+       true,
+       {},
+       MakeAdaptiveMethod},
+      {"dlt",
+       "normalised DLT of M on all frames pooled (non-coplanar points)",
+       false,
+       {},
+       MakeDltMethod},
+      {"zhang",
+       "cv::calibrateCamera on the (frame, board) views; extrinsic by chordal rotation averaging",
+       false,
+       {"zhang_handeye"},
+       MakeZhangMethod},
+      {"zhang_handeye",
+       "zhang's intrinsics; extrinsic by cv::calibrateHandEye (Tsai) on board 0",
+       false,
+       {},
+       MakeZhangHandEyeMethod},
+      {"ceres",
+       "maximum likelihood (Ceres) over the intrinsics and the constant extrinsic",
+       false,
+       {},
+       MakeCeresMethod},
+  };
+  return types;
+}
+
+const MethodType* FindMethodType(const std::string& name) {
+  for (const MethodType& t : MethodTypes()) {
+    if (t.name == name) return &t;
+  }
+  return nullptr;
+}
+
+std::string MethodTypeNames() {
+  std::string names;
+  for (const MethodType& t : MethodTypes()) names += (names.empty() ? "" : ", ") + t.name;
+  return names;
+}
+
+MethodInstance& MethodInstance::operator=(const MethodInstance& other) {
+  if (this == &other) return *this;
+  name = other.name;
+  type = other.type;
+  enabled = other.enabled;
+  convergence_tol = other.convergence_tol;
+  method = other.method ? other.method->Clone() : nullptr;
+  return *this;
+}
+
+MethodInstance MethodInstance::OfType(const std::string& type, const std::string& name) {
+  MethodInstance instance;
+  instance.name = name;
+  instance.type = type;
+  const MethodType* t = FindMethodType(type);
+  if (t != nullptr) {
+    instance.enabled = t->enabled_by_default;
+    instance.method = t->create();
+  }
+  return instance;
+}
+
+bool operator==(const MethodInstance& a, const MethodInstance& b) {
+  if (a.name != b.name || a.type != b.type || a.enabled != b.enabled ||
+      a.convergence_tol != b.convergence_tol || !a.method != !b.method) {
+    return false;
+  }
+  return !a.method || OptionsKey(*a.method) == OptionsKey(*b.method);
+}
+
+}  // namespace calibench

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Behaviour preserved across the method registry (issue #12): runs tests/bench/regression/all.yaml
+# and compares runs.csv and summary.csv with the rows the commit before the registry (d9fc413)
+# wrote for the same file (regression/reference/, gzipped). Every field must be identical, new
+# columns may only be appended, and only the rows of cv::calibrateCamera (zhang, zhang_handeye, and
+# ceres started from zhang in the sweeps) may differ in their last digits (README, "Reproducibility
+# of zhang"). Usage: regression_test.sh CALIBENCH SOURCE_DIR
+set -euo pipefail
+calibench="$1"
+src="$2"
+out="$(mktemp -d)"
+trap 'rm -rf "$out"' EXIT
+"$calibench" run "$src/tests/bench/regression/all.yaml" --out "$out/run" --quiet --threads 2
+/usr/bin/python3 "$src/scripts/compare_runs.py" "$src/tests/bench/regression/reference" "$out/run" \
+  --approx zhang --approx zhang_handeye --approx noise_oracle:ceres \
+  --approx points_oracle:ceres --approx gain_oracle:ceres
