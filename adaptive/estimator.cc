@@ -29,7 +29,12 @@ constexpr double kE[7] = {71.0 / 57600,      0,          -71.0 / 16695, 71.0 / 1
 
 class AdaptiveOde {
  public:
-  AdaptiveOde(const MeasurementSource& source, double alpha) : source_(source), alpha_(alpha) {}
+  AdaptiveOde(const MeasurementSource& source, const AdaptiveOptions& options)
+      : source_(source),
+        alpha_(options.alpha),
+        beta_(options.forgetting_beta),
+        gain_bound_(options.forgetting_gain_bound),
+        p0_(1.0 / options.gamma0) {}
 
   // d/dt state at (t, y) in `segment`. Returns false if a depth is <= 0 or non-finite.
   bool Derivative(double t, int segment, const State& y, State* dy) {
@@ -79,6 +84,16 @@ class AdaptiveOde {
     if (llt.info() != Eigen::Success) return false;
     dy->col(0) = alpha_ * s.cwiseProduct(llt.solve(s.cwiseProduct(g)));
     dy->rightCols<16>() = gram;
+    if (beta_ > 0) {  // Forgetting: d/dt P = W_bar^T W_bar - beta(t) (P - P(0)).
+      double beta = beta_;
+      if (std::isfinite(gain_bound_)) {
+        // tr Gamma = tr(P^-1) = sum_i s_i^2 (Ps^-1)_ii.
+        const Matrix16d ps_inverse = llt.solve(Matrix16d::Identity());
+        const double trace_gamma = (s.array().square() * ps_inverse.diagonal().array()).sum();
+        beta *= std::max(0.0, 1.0 - trace_gamma / gain_bound_);
+      }
+      dy->rightCols<16>() -= beta * (p - p0_ * Matrix16d::Identity());
+    }
     return dy->allFinite();
   }
 
@@ -86,11 +101,22 @@ class AdaptiveOde {
 
  private:
   const MeasurementSource& source_;
-  double alpha_;
+  double alpha_, beta_, gain_bound_, p0_;
   Frame frame_;
   int measured_segment_ = -1;
   long evaluations_ = 0;
 };
+
+// Covariance resetting's test: lambda_min(Gamma) = 1 / lambda_max(P) <= rho. lambda_max(P) lies in
+// [tr P / 16, tr P]: the eigenvalues are computed only in between.
+bool NeedsReset(const State& y, double rho) {
+  const Matrix16d p = y.rightCols<16>();
+  const double bound = 1.0 / rho, trace = p.trace();
+  if (trace < bound) return false;
+  if (trace / 16 >= bound) return true;
+  return Eigen::SelfAdjointEigenSolver<Matrix16d>(p, Eigen::EigenvaluesOnly).eigenvalues()[15] >=
+         bound;
+}
 
 // Max over entries of |error| / scale (see estimator.h for the scales).
 double ErrorNorm(const State& err, const State& y0, const State& y1, double rtol) {
@@ -128,6 +154,17 @@ bool AdaptiveOptions::Check(std::string* why) const {
     msg << "initial_step_s must lie in (0, max_step_s], got " << initial_step_s;
   } else if (max_steps <= 0) {
     msg << "max_steps must be positive, got " << max_steps;
+  } else if (!(forgetting_beta >= 0 && std::isfinite(forgetting_beta))) {
+    msg << "forgetting_beta must be >= 0 (0: no forgetting), got " << forgetting_beta;
+  } else if (!(forgetting_gain_bound > 0)) {
+    msg << "forgetting_gain_bound must be > 0 (inf: unbounded), got " << forgetting_gain_bound;
+  } else if (!(reset_gamma >= 0 && std::isfinite(reset_gamma))) {
+    msg << "reset_gamma must be >= 0 (0: gamma0), got " << reset_gamma;
+  } else if (const double target = reset_gamma > 0 ? reset_gamma : gamma0;
+             !(reset_threshold >= 0 && reset_threshold < target)) {
+    msg << "reset_threshold must lie in [0, " << target
+        << ") (below the gain a reset sets, reset_gamma or gamma0; 0: never), got "
+        << reset_threshold;
   }
   if (msg.str().empty()) return true;
   if (why) *why = msg.str();
@@ -136,7 +173,8 @@ bool AdaptiveOptions::Check(std::string* why) const {
 
 AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vector16d& theta0,
                                      const AdaptiveOptions& options,
-                                     const ThetaObserver& observer) {
+                                     const ThetaObserver& observer,
+                                     const std::vector<double>& stop_times_s) {
   const SummaryClock clock;
   AdaptiveSummary summary;
   summary.theta_hat = theta0;
@@ -147,7 +185,7 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
   if (!options.Check(&why)) return finish(MethodStatus::kFailed, "adaptive options: " + why);
   if (!theta0.allFinite()) return finish(MethodStatus::kFailed, "initial theta is not finite");
 
-  AdaptiveOde ode(source, options.alpha);
+  AdaptiveOde ode(source, options);
   State y;
   y.col(0) = theta0;
   y.rightCols<16>() = Matrix16d::Identity() / options.gamma0;
@@ -159,8 +197,9 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
   double h = options.initial_step_s;
   double t = 0.0;
   long attempts = 0;
+  size_t next_stop = 0;  // Into stop_times_s.
   for (int segment = 0; segment + 1 < static_cast<int>(breaks.size()); ++segment) {
-    const double t_end = breaks[segment + 1];
+    const double segment_end = breaks[segment + 1];
     t = breaks[segment];
     if (!ode.Derivative(t, segment, y, &k[0])) {
       summary.final_time_s = t;
@@ -169,7 +208,11 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
           MethodStatus::kDiverged,
           "a depth W_z theta_z_hat became <= 0 or non-finite at t = " + std::to_string(t) + " s");
     }
-    while (t < t_end) {
+    while (t < segment_end) {
+      while (next_stop < stop_times_s.size() && stop_times_s[next_stop] <= t) ++next_stop;
+      const double t_end = next_stop < stop_times_s.size() && stop_times_s[next_stop] < segment_end
+                               ? stop_times_s[next_stop]
+                               : segment_end;
       if (++attempts > options.max_steps) {
         summary.final_time_s = t;
         return finish(MethodStatus::kFailed, "max_steps exceeded at t = " + std::to_string(t));
@@ -203,6 +246,21 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
         const double factor = err == 0.0 ? 5.0 : std::clamp(0.9 * std::pow(err, -0.2), 0.2, 5.0);
         // A step shortened to hit the segment end says nothing about the next one.
         h = std::min(options.max_step_s, last ? std::max(h, step * factor) : step * factor);
+        if (options.reset_threshold > 0 && NeedsReset(y, options.reset_threshold)) {
+          // Covariance resetting: Gamma <- gamma_r I; the system is stiff again, as at t = 0.
+          const double gamma_r = options.reset_gamma > 0 ? options.reset_gamma : options.gamma0;
+          y.rightCols<16>() = Matrix16d::Identity() / gamma_r;
+          ++summary.resets;
+          h = options.initial_step_s;
+          if (t < segment_end && !ode.Derivative(t, segment, y, &k[0])) {
+            summary.final_time_s = t;
+            summary.theta_hat = y.col(0);
+            summary.rhs_evaluations = ode.evaluations();
+            return finish(MethodStatus::kDiverged,
+                          "a depth W_z theta_z_hat became <= 0 at a covariance reset, t = " +
+                              std::to_string(t) + " s");
+          }
+        }
       } else {
         ++summary.rejected_steps;
         h = step * (std::isfinite(err) ? std::clamp(0.9 * std::pow(err, -0.2), 0.1, 0.9) : 0.25);

@@ -36,6 +36,9 @@ struct RefineOptions {
   double loss_scale_px = 1.0;  // Scale of the robust loss.
   int max_iterations = 200;
   bool compute_covariance = true;
+  // With shared_pose: also the joint covariance of the intrinsics and the pose
+  // (RefineResult::joint_covariance).
+  bool compute_pose_covariance = false;
   double known_pixel_sigma_px =
       0.0;                // > 0: scale the covariance by it; 0: estimate from residuals.
   bool autodiff = false;  // true: ceres::Jet residual (the reference); false: analytic Jacobians.
@@ -47,6 +50,10 @@ struct RefineResult : MethodSummary {
   std::vector<Rigid3> cam_from_object;  // One per view, or one when shared_pose.
   IntrinsicsArray intrinsics_std{};     // NaN where fixed or not computed; phi in radians.
   IntrinsicsCovariance covariance = IntrinsicsCovariance::Zero();
+  // compute_pose_covariance: 16 x 16 over [intrinsics (10, raw order; fixed ones 0), rotation (3,
+  // the tangent of cam_from_object's quaternion: R' = Exp(d) R), translation (3)], scaled as
+  // `covariance`. Empty otherwise.
+  Eigen::MatrixXd joint_covariance;
   double rms_reproj_px = 0.0;  // Per-point Euclidean RMS.
   std::vector<double> view_rms_px;
   double sigma_hat_px = 0.0;  // Residual-based noise estimate (per coordinate).

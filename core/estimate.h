@@ -38,6 +38,12 @@ struct CameraEstimate {
   // Reported standard deviations of the intrinsics (raw-array order, phi in radians); NaN where the
   // method reports none.
   IntrinsicsArray intrinsics_std = NaNs();
+  // The covariance of the estimate, when the method reports one (empty otherwise): 11 x 11 over
+  //   [fku_px, fkv_px, phi_rad, u0_px, v0_px, dtheta (3, rad), x_C (3, m)],
+  // where dtheta is the rotation error in the parent frame, R_C_true = Exp(dtheta) R_C_hat. A
+  // parameter the method does not estimate has zero variance.
+  Eigen::MatrixXd covariance;
+  static constexpr int kCovarianceSize = 11;
   // The method's own reprojection RMS (px, per point) where its model has more freedom than this
   // estimate (zhang: one board pose per view); NaN: the metrics reproject the estimate itself.
   double fit_rms_px = std::numeric_limits<double>::quiet_NaN();

@@ -67,6 +67,14 @@ std::unique_ptr<OracleSource> OracleSource::Create(const SceneTruth& scene,
     source->breakpoints_ = options.noise.Active() ? FrameTimes(1.0 / options.noise.hold_s, duration)
                                                   : std::vector<double>{0};
     source->frame_times_ = FrameTimes(options.eval_rate_hz, duration);
+    // A step of the calibration is a jump of the measurements; a ramp's ends are kinks.
+    const std::vector<double> changes = scene.ChangeTimes();
+    if (!changes.empty()) {
+      std::vector<double>& b = source->breakpoints_;
+      b.insert(b.end(), changes.begin(), changes.end());
+      std::sort(b.begin(), b.end());
+      b.erase(std::unique(b.begin(), b.end()), b.end());
+    }
   }
   source->breakpoints_.push_back(duration);
 
@@ -132,8 +140,14 @@ void OracleSource::AddNoise(int segment, Frame* frame) const {
 void OracleSource::Measure(double t, int segment, Frame* frame) const {
   // A sampled source holds the frame captured at the segment's start.
   frame->time_s = options_.sample_rate_hz > 0 ? breakpoints_[segment] : t;
+  double observed_at = frame->time_s;
+  if (!scene_.changes.empty() && options_.sample_rate_hz == 0 &&
+      segment + 1 < static_cast<int>(breakpoints_.size()) && t >= breakpoints_[segment + 1]) {
+    // The segment's end belongs to the segment: a step there takes effect in the next one.
+    observed_at = std::nextafter(breakpoints_[segment + 1], -1.0);
+  }
   // Create() verified every point is in front of the camera over the whole duration.
-  scene_.Observe(frame->time_s, &frame->points_in_parent, &frame->pixels, nullptr);
+  scene_.Observe(observed_at, &frame->points_in_parent, &frame->pixels, nullptr);
   AddNoise(segment, frame);
 }
 

@@ -24,7 +24,9 @@ inline int FloorSmall(double x) {
 // One board of the frame: its ray -> board homography and a table of its cells' shades.
 class BoardShader {
  public:
-  bool Init(const BoardView& view, std::string* why) {
+  // `ray_map` maps the renderer's table rays to the rays of the frame's camera (identity unless
+  // the intrinsics changed: FrameRenderer::Render).
+  bool Init(const BoardView& view, const Eigen::Matrix3d& ray_map, std::string* why) {
     const AprilGrid& g = view.grid;
     const TagFamily& f = *view.family;
     if (f.name() != g.family) {
@@ -41,7 +43,7 @@ class BoardShader {
     plane << view.cam_from_board.rotation.col(0), view.cam_from_board.rotation.col(1),
         view.cam_from_board.translation;
     visible_ = std::abs(plane.determinant()) > 1e-15;  // Not seen edge-on.
-    if (visible_) board_from_ray_ = plane.inverse();
+    if (visible_) board_from_ray_ = plane.inverse() * ray_map;
     cell_ = g.tag_size_m / f.width_at_border();
     inv_cell_ = 1.0 / cell_;
     pitch_ = g.Pitch();
@@ -302,8 +304,20 @@ std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& int
 }
 
 bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, GrayImage* image,
-                           std::string* why) const {
+                           std::string* why, const CameraIntrinsics* camera_now) const {
   const RenderOptions& o = options_;
+  Eigen::Matrix3d ray_map = Eigen::Matrix3d::Identity();
+  const CameraIntrinsics& camera = camera_now ? *camera_now : intrinsics_;
+  if (camera_now != nullptr && *camera_now != intrinsics_) {
+    const auto distorted = [](const CameraIntrinsics& k) {
+      return k.k1 != 0 || k.k2 != 0 || k.k3 != 0 || k.p1 != 0 || k.p2 != 0;
+    };
+    if (distorted(*camera_now) || distorted(intrinsics_)) {
+      const auto renderer = Create(*camera_now, options_, why);
+      return renderer && renderer->Render(views, noise_rng, image, why);
+    }
+    ray_map = camera_now->Matrix().inverse() * intrinsics_.Matrix();
+  }
   if (o.noise_sigma_gray > 0 && noise_rng == nullptr) {
     if (why) *why = "noise_sigma_gray > 0 needs a random generator";
     return false;
@@ -314,11 +328,11 @@ bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, 
       if (why) *why = "board family '" + views[b].grid.family + "' has no TagFamily";
       return false;
     }
-    if (!boards[b].Init(views[b], why)) return false;
+    if (!boards[b].Init(views[b], ray_map, why)) return false;
   }
   const int w = o.width, h = o.height, n = o.supersample;
   for (size_t b = 0; b < views.size(); ++b) {
-    boards[b].ComputeImageBounds(intrinsics_, views[b].cam_from_board, w, h);
+    boards[b].ComputeImageBounds(camera, views[b].cam_from_board, w, h);
   }
   // Gray level of a hit: gray_of[hit + 1], hit = kOffBoard or 2 * board + (1 if white).
   std::vector<float> gray_of(2 * boards.size() + 1, static_cast<float>(o.background_gray));

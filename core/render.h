@@ -79,9 +79,12 @@ class FrameRenderer {
   static std::unique_ptr<FrameRenderer> Create(const CameraIntrinsics& intrinsics,
                                                const RenderOptions& options, std::string* why);
   // Renders the boards; `noise_rng` may be null when noise_sigma_gray = 0. Returns false and says
-  // why for a family without enough codes for the grid's ids.
+  // why for a family without enough codes for the grid's ids. `camera_now` (optional) renders
+  // with other intrinsics than the table's (a calibration that changes over time): without
+  // distortion the table's rays map affinely, n = A_now^-1 A n_table, at no cost; with distortion
+  // a table for camera_now is built for the frame (30 ms at 640 x 480).
   bool Render(const std::vector<BoardView>& boards, Rng* noise_rng, GrayImage* image,
-              std::string* why) const;
+              std::string* why, const CameraIntrinsics* camera_now = nullptr) const;
   const RenderOptions& options() const { return options_; }
 
  private:

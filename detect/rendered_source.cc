@@ -104,7 +104,7 @@ std::unique_ptr<SceneRenderer> SceneRenderer::Create(const SceneTruth& scene,
 }
 
 std::vector<BoardView> SceneRenderer::ViewsAt(double t) const {
-  const Rigid3 cam_from_points = scene_.CamFromParent() * scene_.ParentFromPoints(t);
+  const Rigid3 cam_from_points = scene_.CamFromParentAt(t) * scene_.ParentFromPoints(t);
   std::vector<BoardView> views(grids_.size());
   for (size_t g = 0; g < grids_.size(); ++g) {
     views[g].grid = grids_[g];
@@ -118,7 +118,9 @@ bool SceneRenderer::Render(double t, uint64_t trial_seed, int k, GrayImage* imag
                            std::vector<BoardView>* views, std::string* why) const {
   *views = ViewsAt(t);
   Rng noise(TrialSeed(trial_seed, static_cast<uint64_t>(k)), RngStream::kPixelNoise);
-  return renderer_->Render(*views, &noise, image, why);
+  if (scene_.changes.empty()) return renderer_->Render(*views, &noise, image, why);
+  const CameraIntrinsics intrinsics = scene_.IntrinsicsAt(t);  // The calibration at frame time.
+  return renderer_->Render(*views, &noise, image, why, &intrinsics);
 }
 
 std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
@@ -157,19 +159,20 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
       FrameResult& r = results[k];
       const double t = source->breakpoints_[k];
       if (!renderer->Render(t, trial_seed, static_cast<int>(k), &image, &views, &r.error)) continue;
+      const CameraIntrinsics intrinsics = scene.IntrinsicsAt(t);
       for (const std::vector<bool>& grid :
-           TagsInView(scene.intrinsics, views, image.width, image.height)) {
+           TagsInView(intrinsics, views, image.width, image.height)) {
         r.tags_expected += static_cast<int>(std::count(grid.begin(), grid.end(), true));
       }
       const Rigid3 parent_from_points = scene.ParentFromPoints(t);
-      const Rigid3 cam_from_points = scene.CamFromParent() * parent_from_points;
+      const Rigid3 cam_from_points = scene.CamFromParentAt(t) * parent_from_points;
       r.frame.time_s = t;
       for (const Observation& o : detector->Detect(image, &r.counts)) {
         r.frame.point_ids.push_back(o.point_id);
         r.frame.points_in_parent.push_back(parent_from_points * scene.points[o.point_id]);
         r.frame.pixels.push_back(o.pixel);
         Eigen::Vector2d exact;
-        if (ProjectPoint(scene.intrinsics, cam_from_points * scene.points[o.point_id], &exact)) {
+        if (ProjectPoint(intrinsics, cam_from_points * scene.points[o.point_id], &exact)) {
           r.errors.push_back(o.pixel - exact);
         }
       }

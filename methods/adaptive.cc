@@ -3,7 +3,10 @@
 // estimate is theta_hat (the linear form, with its own theta_z) and the camera recovered from it
 // (core/projection_matrix.h; cheirality from the last frame's points). It reports theta_hat after
 // every accepted step to the sink, and its persistent-excitation index; a run whose index is below
-// kMinIdentifiablePeIndex says in its message that the data do not determine theta.
+// kMinIdentifiablePeIndex says in its message that the data do not determine theta. With report
+// times (a calibration that changes) it also reports its recovered camera at each of them.
+// Options beyond the thesis's (forgetting, bounded gain, covariance resetting): estimator.h.
+#include <algorithm>
 #include <cstdio>
 
 #include "adaptive/estimator.h"
@@ -29,6 +32,10 @@ class AdaptiveMethod final : public Method {
     v->Field("max_step_s", &options_.max_step_s);
     v->Field("initial_step_s", &options_.initial_step_s);
     v->Field("max_steps", &options_.max_steps);
+    v->Field("forgetting_beta", &options_.forgetting_beta);
+    v->Field("forgetting_gain_bound", &options_.forgetting_gain_bound);
+    v->Field("reset_threshold", &options_.reset_threshold);
+    v->Field("reset_gamma", &options_.reset_gamma);
     v->Field("initial", &initial_);
   }
 
@@ -54,10 +61,22 @@ class AdaptiveMethod final : public Method {
     const Vector16d theta0 =
         ThetaFromCamera(initial_.intrinsics, initial_.ParentFromCam().Inverse());
     ThetaObserver observer;
+    const std::vector<double>& reports = input.report_times_s;
+    size_t next_report = 0;
     if (sink != nullptr) {
-      observer = [sink](double t, const Vector16d& theta_hat) { sink->OnTheta(t, theta_hat); };
+      observer = [&](double t, const Vector16d& theta_hat) {
+        sink->OnTheta(t, theta_hat);
+        // Its state at the report times (the integrator stops there): the recovered camera.
+        while (next_report < reports.size() && reports[next_report] < t) ++next_report;
+        if (next_report < reports.size() && reports[next_report] == t) {
+          CameraEstimate e;
+          if (Recover(theta_hat, PointsNear(input, t), &e, nullptr)) sink->OnEstimate(t, e);
+          ++next_report;
+        }
+      };
     }
-    const AdaptiveSummary summary = RunAdaptiveEstimator(source, theta0, options_, observer);
+    const AdaptiveSummary summary =
+        RunAdaptiveEstimator(source, theta0, options_, observer, reports);
     MethodResult result;
     static_cast<MethodSummary&>(result) = summary;
     result.estimate.theta = summary.theta_hat;  // Also for a diverged run: its last state.
@@ -66,20 +85,16 @@ class AdaptiveMethod final : public Method {
 
     Frame last;
     source.Measure(source.Duration(), static_cast<int>(source.Breakpoints().size()) - 2, &last);
-    DecomposedCamera cam;
     std::string why;
-    if (!RecoverCamera(summary.theta_hat, last.points_in_parent, &cam, &why)) {
+    if (!Recover(summary.theta_hat, last.points_in_parent, &result.estimate, &why)) {
       result.status = MethodStatus::kFailed;
       result.message = "parameter recovery: " + why;
       return result;
     }
-    CameraEstimate& e = result.estimate;
-    e.has_camera = true;
-    e.intrinsics = cam.intrinsics;
-    e.parent_from_cam = cam.parent_from_cam;
-    e.cam_from_parent = cam.parent_from_cam.Inverse();
-    e.improper = cam.improper;
-    e.orthogonality_defect = cam.orthogonality_defect;
+    if (summary.resets > 0) {
+      result.message += (result.message.empty() ? "" : "; ") + std::to_string(summary.resets) +
+                        " covariance resets";
+    }
     if (result.pe_min_eig < kMinIdentifiablePeIndex) {
       char text[200];
       std::snprintf(
@@ -93,6 +108,28 @@ class AdaptiveMethod final : public Method {
   }
 
  private:
+  // The camera of theta_hat (cheirality from `points_in_parent`) into *e, keeping e->theta.
+  static bool Recover(const Vector16d& theta_hat, const std::vector<Eigen::Vector3d>& points,
+                      CameraEstimate* e, std::string* why) {
+    DecomposedCamera cam;
+    if (!RecoverCamera(theta_hat, points, &cam, why)) return false;
+    e->theta = theta_hat;
+    e->has_camera = true;
+    e->intrinsics = cam.intrinsics;
+    e->parent_from_cam = cam.parent_from_cam;
+    e->cam_from_parent = cam.parent_from_cam.Inverse();
+    e->improper = cam.improper;
+    e->orthogonality_defect = cam.orthogonality_defect;
+    return true;
+  }
+  // The points of the frame nearest to t (cheirality only needs points in front of the camera).
+  static const std::vector<Eigen::Vector3d>& PointsNear(const MethodInput& input, double t) {
+    const FrameSet& frames = input.Frames();
+    const auto it = std::upper_bound(frames.times_s.begin(), frames.times_s.end(), t);
+    const size_t k = it == frames.times_s.begin() ? 0 : (it - frames.times_s.begin()) - 1;
+    return frames.views[k].points;
+  }
+
   AdaptiveOptions options_;
   CameraSpec initial_ = ThesisInitialGuess();  // theta_hat(0).
 };

@@ -3,10 +3,14 @@
 // frame through the known body motion), on every frame. It starts from the estimate of its `init`
 // (the scenario's instance of that name, or that type's default: dlt or zhang) and reports the
 // covariance's standard deviations. Its rows carry the Cramer-Rao bound of its parametrisation.
+// Online mode (window_s, every_s; methods/online.h): each window's solve starts from the previous
+// window's solution (the first from its init on that window) and reports the joint covariance of
+// the intrinsics and the extrinsic (core/estimate.h's layout).
 #include <cmath>
 
 #include "batch/refine.h"
 #include "methods/method.h"
+#include "methods/online.h"
 
 namespace calibench {
 namespace {
@@ -28,28 +32,42 @@ class CeresMethod final : public Method {
     v->Field("loss_scale_px", &options_.loss_scale_px);
     v->Field("max_iterations", &options_.max_iterations);
     v->Field("autodiff", &options_.autodiff);
+    online_.Visit(v);
   }
   bool Check(std::string* why) const override {
     if (init_.empty()) {
       if (why) *why = "init must name the method it starts from (dlt, zhang or an instance)";
       return false;
     }
-    return options_.Check(why);
+    return options_.Check(why) && online_.Check(why);
   }
   std::vector<std::string> Prerequisites() const override { return {init_}; }
   std::optional<RefineOptions> BoundParametrisation() const override { return options_; }
 
-  MethodResult Run(const MethodInput& input, EstimateSink*) const override {
+  MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {
+    return RunMaybeOnline(input, online_, sink,
+                          [this](const MethodInput& window, const CameraEstimate* warm) {
+                            return Solve(window, warm);
+                          });
+  }
+
+ private:
+  MethodResult Solve(const MethodInput& input, const CameraEstimate* warm) const {
     MethodResult result;
-    const MethodResult& init = input.prerequisite(init_);
-    if (!init.IsUsable() || !init.estimate.has_camera) {
-      result.status = MethodStatus::kFailed;
-      result.message = "initialisation (" + init_ + ") failed: " + init.message;
-      return result;
+    const CameraEstimate* start = warm;
+    if (start == nullptr) {
+      const MethodResult& init = input.Prerequisite(init_);
+      if (!init.IsUsable() || !init.estimate.has_camera) {
+        result.status = MethodStatus::kFailed;
+        result.message = "initialisation (" + init_ + ") failed: " + init.message;
+        return result;
+      }
+      start = &init.estimate;
     }
-    const CameraEstimate& start = init.estimate;
-    const RefineResult r = RefineCalibration(input.Frames().views, start.intrinsics,
-                                             {start.parent_from_cam.Inverse()}, options_);
+    RefineOptions options = options_;
+    options.compute_pose_covariance = online_.Online();
+    const RefineResult r = RefineCalibration(input.Frames().views, start->intrinsics,
+                                             {start->cam_from_parent}, options);
     static_cast<MethodSummary&>(result) = r;
     if (!r.IsUsable()) return result;
     CameraEstimate& e = result.estimate;
@@ -59,12 +77,29 @@ class CeresMethod final : public Method {
     e.cam_from_parent = r.cam_from_object[0];
     e.parent_from_cam = r.cam_from_object[0].Inverse();
     e.intrinsics_std = r.intrinsics_std;
+    if (r.joint_covariance.size() > 0) e.covariance = EstimateCovariance(r, e);
     return result;
   }
 
- private:
+  // core/estimate.h's covariance from refine's joint one over [intrinsics (10), rotation tangent
+  // (3), translation (3)] of cam_from_parent = {R, t}. Ceres' EigenQuaternionManifold moves the
+  // quaternion by [sin|d| d/|d|, cos|d|] * q: R' = Exp(2 d) R, so R_C' = R_C Exp(-2 d) =
+  // Exp(-2 R_C d) R_C, dtheta = -2 R^T d; x_C = -R^T t gives dx_C = -R^T dt - 2 R^T [t]x d.
+  static Eigen::MatrixXd EstimateCovariance(const RefineResult& r, const CameraEstimate& e) {
+    constexpr int kN = CameraEstimate::kCovarianceSize;
+    Eigen::MatrixXd j = Eigen::MatrixXd::Zero(kN, 16);
+    for (int i = 0; i < 5; ++i) j(i, i) = 1.0;  // fku, fkv, phi, u0, v0.
+    const Eigen::Matrix3d& r_cam = e.cam_from_parent.rotation;
+    const Eigen::Vector3d& t = e.cam_from_parent.translation;
+    j.block<3, 3>(5, 10) = -2.0 * r_cam.transpose();
+    j.block<3, 3>(8, 10) = -2.0 * r_cam.transpose() * Hat(t);
+    j.block<3, 3>(8, 13) = -r_cam.transpose();
+    return j * r.joint_covariance * j.transpose();
+  }
+
   std::string init_ = "dlt";
   RefineOptions options_;
+  OnlineOptions online_;
 };
 
 }  // namespace

@@ -1,9 +1,11 @@
 // Method `dlt`: the normalised DLT (batch/dlt.h) of a constant M on every frame pooled (points in
 // the parent frame, so non-coplanar points are needed). Its estimate: the linear form theta of M
-// (theta_z = M's third row) and the decomposed camera.
+// (theta_z = M's third row) and the decomposed camera. Online mode (window_s, every_s):
+// methods/online.h.
 #include "batch/dlt.h"
 
 #include "methods/method.h"
+#include "methods/online.h"
 
 namespace calibench {
 namespace {
@@ -13,10 +15,19 @@ class DltMethod final : public Method {
   std::unique_ptr<Method> Clone() const override { return std::make_unique<DltMethod>(*this); }
   void VisitOptions(OptionVisitor* v) override {
     v->Field("min_planarity_ratio", &options_.min_planarity_ratio);
+    online_.Visit(v);
   }
-  bool Check(std::string* why) const override { return options_.Check(why); }
+  bool Check(std::string* why) const override { return options_.Check(why) && online_.Check(why); }
 
-  MethodResult Run(const MethodInput& input, EstimateSink*) const override {
+  MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {
+    return RunMaybeOnline(input, online_, sink,
+                          [this](const MethodInput& window, const CameraEstimate*) {
+                            return Solve(window);
+                          });
+  }
+
+ private:
+  MethodResult Solve(const MethodInput& input) const {
     std::vector<Eigen::Vector3d> points;
     std::vector<Eigen::Vector2d> pixels;
     for (const View& v : input.Frames().views) {
@@ -38,8 +49,8 @@ class DltMethod final : public Method {
     return result;
   }
 
- private:
   DltOptions options_;
+  OnlineOptions online_;
 };
 
 }  // namespace

@@ -1,5 +1,10 @@
 #include "methods/method.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include "core/format.h"
+
 namespace calibench {
 
 FrameSet ReadFrames(const MeasurementSource& source) {
@@ -21,7 +26,31 @@ FrameSet ReadFrames(const MeasurementSource& source) {
 }
 
 const FrameSet& MethodInput::Frames() const {
+  if (window_frames) return *window_frames;
   return cache->Get<FrameSet>("frames", [this] { return ReadFrames(*source); });
+}
+
+MethodInput MethodInput::Window(double from_s, double to_s) const {
+  MethodInput window = *this;
+  window.window_from_s = std::max(from_s, window_from_s);
+  window.window_to_s = std::min(to_s, window_to_s);
+  window.report_times_s.clear();
+  // Held by the window alone: a sliding window's frames are freed with it.
+  const FrameSet& all = Frames();
+  auto frames = std::make_shared<FrameSet>();
+  for (size_t k = 0; k < all.times_s.size(); ++k) {
+    if (all.times_s[k] < window.window_from_s || all.times_s[k] > window.window_to_s) continue;
+    frames->views.push_back(all.views[k]);
+    frames->times_s.push_back(all.times_s[k]);
+    frames->point_ids.push_back(all.point_ids[k]);
+  }
+  window.window_frames = std::move(frames);
+  return window;
+}
+
+std::string MethodInput::WindowKey() const {
+  if (std::isinf(window_from_s) && std::isinf(window_to_s)) return "";
+  return "[" + FormatNumber(window_from_s, 17) + "," + FormatNumber(window_to_s, 17) + "]";
 }
 
 }  // namespace calibench

@@ -57,6 +57,8 @@ class OptionVisitor {
                      const std::vector<std::string>& choices) = 0;
   virtual void Field(const char* key, LensModel* value) = 0;
   virtual void Field(const char* key, CameraSpec* value) = 0;  // intrinsics, R_C, x_C, ...
+  // Seconds, or the word `all` (infinity): a window length.
+  virtual void FieldOrAll(const char* key, double* seconds) = 0;
 };
 
 // The frames of a trial's source as views of the parent frame (what batch methods pool).
@@ -81,6 +83,9 @@ class EstimateSink {
   // The linear form theta_hat at time t (the adaptive estimator: at t = 0 and after every accepted
   // integrator step).
   virtual void OnTheta(double t_s, const Vector16d& theta_hat) = 0;
+  // The method's estimate from time t on (until its next one): online methods at their report
+  // times (MethodInput::report_times_s, a batch solve, a filter update). Static methods emit none.
+  virtual void OnEstimate(double t_s, const CameraEstimate& estimate) = 0;
 };
 
 // Work shared by the methods of one trial, keyed by text that names everything it depends on
@@ -100,18 +105,36 @@ class TrialCache {
 
 struct MethodInput {
   const MeasurementSource* source = nullptr;
+  // Frames with time_s in [window_from_s, window_to_s] are what Frames() holds (a batch method in
+  // online mode solves on a window of the trial: methods/online.h); the whole trial by default.
+  double window_from_s = -std::numeric_limits<double>::infinity();
+  double window_to_s = std::numeric_limits<double>::infinity();
+  // When estimates over time are wanted (a calibration that changes): the times at which a method
+  // that follows the data (adaptive, a filter) reports its state. Empty: report nothing.
+  std::vector<double> report_times_s;
   int image_width = 0, image_height = 0;
   std::vector<BoardLayout> boards;  // Planar boards of the point set, in point order; may be empty.
   // Where the points frame (body for a fixed camera, world for a moving one) is in the parent
   // frame at time t: known, as the thesis assumes the body poses known (core/scene.h).
   std::function<Rigid3(double t_s)> parent_from_points;
   // The result of the scenario's instance `name`, or of the default instance of the type `name`
-  // when the scenario has no instance of that name; run at most once per trial.
-  std::function<const MethodResult&(const std::string& name)> prerequisite;
+  // when the scenario has no instance of that name, on `input` (this trial, or a window of it);
+  // run at most once per trial and window.
+  std::function<const MethodResult&(const std::string& name, const MethodInput& input)>
+      prerequisite;
   TrialCache* cache = nullptr;
+  // A window's frames (Window() selects them once; null for the whole trial, read from the cache).
+  std::shared_ptr<const FrameSet> window_frames;
 
-  // The source's frames, read once per trial.
+  // The source's frames inside the window, read once per trial and window.
   const FrameSet& Frames() const;
+  const MethodResult& Prerequisite(const std::string& name) const {
+    return prerequisite(name, *this);
+  }
+  // This input restricted to the frames of [from_s, to_s] (online mode), without report times.
+  MethodInput Window(double from_s, double to_s) const;
+  // "" for the whole trial, else the window's bounds: part of every cache key of a windowed input.
+  std::string WindowKey() const;
 };
 
 class Method {

@@ -27,6 +27,9 @@ class KeyWriter final : public OptionVisitor {
     Add(key, *v);
   }
   void Field(const char* key, LensModel* v) override { Add(key, ToString(*v)); }
+  void FieldOrAll(const char* key, double* v) override {
+    Add(key, std::isinf(*v) ? "all" : Exact(*v));
+  }
   void Field(const char* key, CameraSpec* c) override {
     std::string camera;
     for (double p : c->intrinsics.Params()) camera += Exact(p) + " ";
@@ -81,6 +84,17 @@ class TextSetter final : public OptionVisitor {
   }
   void Field(const char* key, CameraSpec*) override {
     if (Mine(key)) Fail("a camera cannot be set from text");
+  }
+  void FieldOrAll(const char* key, double* v) override {
+    if (!Mine(key)) return;
+    if (value_ == "all") {
+      *v = std::numeric_limits<double>::infinity();
+      return;
+    }
+    char* end = nullptr;
+    const double parsed = std::strtod(value_.c_str(), &end);
+    if (value_.empty() || *end != '\0') return Fail("expected a number of seconds or all");
+    *v = parsed;
   }
   bool found = false;
   std::string error;

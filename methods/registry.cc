@@ -13,6 +13,7 @@ std::unique_ptr<Method> MakeDltMethod();
 std::unique_ptr<Method> MakeZhangMethod();
 std::unique_ptr<Method> MakeZhangHandEyeMethod();
 std::unique_ptr<Method> MakeCeresMethod();
+std::unique_ptr<Method> MakeEkfMethod();
 
 const std::vector<MethodType>& MethodTypes() {
   static const std::vector<MethodType> types = {
@@ -41,6 +42,11 @@ const std::vector<MethodType>& MethodTypes() {
        false,
        {},
        MakeCeresMethod},
+      {"ekf",
+       "an extended Kalman filter on the intrinsics and the extrinsic, random-walk process",
+       false,
+       {},
+       MakeEkfMethod},
   };
   return types;
 }

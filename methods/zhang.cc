@@ -7,12 +7,15 @@
 // thinned further to at most max_views (frame, board) views (calibrateCamera grows as N^2.5); a
 // board seen with fewer than kMinViewPoints points in a frame gives no view. The estimate reports
 // OpenCV's standard deviations and its own reprojection RMS (one pose per view: fit_rms_px).
+// Online mode (window_s, every_s): methods/online.h (calibrateCamera starts from scratch on each
+// window).
 #include "batch/zhang.h"
 
 #include <algorithm>
 
 #include "batch/extrinsic_from_views.h"
 #include "methods/method.h"
+#include "methods/online.h"
 #include "methods/options.h"
 
 namespace calibench {
@@ -22,17 +25,19 @@ struct ZhangSettings {
   LensModel model = LensModel::kPinholeK2;
   int view_stride = 1;  // Use every view_stride-th frame.
   int max_views = 60;   // Cap on (frame, board) views; 0: all.
+  OnlineOptions online;
 
   void Visit(OptionVisitor* v) {
     v->Field("model", &model);
     v->Field("view_stride", &view_stride);
     v->Field("max_views", &max_views);
+    online.Visit(v);
   }
   bool Check(std::string* why) const {
     std::string msg;
     if (view_stride < 1) msg = "view_stride must be >= 1";
     if (max_views < 0) msg = "max_views must be >= 0 (0: all)";
-    if (msg.empty()) return true;
+    if (msg.empty()) return online.Check(why);
     if (why) *why = msg;
     return false;
   }
@@ -136,6 +141,14 @@ class ZhangBase : public Method {
     e->parent_from_cam = parent_from_cam;
     e->cam_from_parent = parent_from_cam.Inverse();
   }
+  // Runs SolveOn statically or on windows (online mode).
+  MethodResult RunMode(const MethodInput& input, EstimateSink* sink) const {
+    return RunMaybeOnline(input, settings_.online, sink,
+                          [this](const MethodInput& window, const CameraEstimate*) {
+                            return SolveOn(window);
+                          });
+  }
+  virtual MethodResult SolveOn(const MethodInput& input) const = 0;
 
  private:
   ZhangSettings settings_;
@@ -144,7 +157,10 @@ class ZhangBase : public Method {
 class ZhangMethod final : public ZhangBase {
  public:
   std::unique_ptr<Method> Clone() const override { return std::make_unique<ZhangMethod>(*this); }
-  MethodResult Run(const MethodInput& input, EstimateSink*) const override {
+  MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {
+    return RunMode(input, sink);
+  }
+  MethodResult SolveOn(const MethodInput& input) const override {
     MethodResult result;
     const ZhangSolve& solve = SharedSolve(input, &result);
     if (result.IsUsable())
@@ -158,7 +174,10 @@ class ZhangHandEyeMethod final : public ZhangBase {
   std::unique_ptr<Method> Clone() const override {
     return std::make_unique<ZhangHandEyeMethod>(*this);
   }
-  MethodResult Run(const MethodInput& input, EstimateSink*) const override {
+  MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {
+    return RunMode(input, sink);
+  }
+  MethodResult SolveOn(const MethodInput& input) const override {
     MethodResult result;
     const ZhangSolve& solve = SharedSolve(input, &result);
     if (!result.IsUsable()) return result;

@@ -32,6 +32,9 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 from scipy import stats  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import report_dynamic  # noqa: E402
+
 METRIC = "err_fku"  # The focal length error, px: every method estimates it.
 METRIC_LABEL = "|f·ku error| (px)"
 STYLE = {}  # method -> colour, assigned in order of first appearance (distinct_methods).
@@ -252,7 +255,8 @@ def main():
             notes.append(open(cost).read().strip())
     runs = pd.concat(all_runs, ignore_index=True)
     curves = pd.concat(all_curves, ignore_index=True) if all_curves else pd.DataFrame()
-    swept = [s for s in dict.fromkeys(runs.sweep) if axis_value(runs[runs.sweep == s].params.iloc[0])[0]]
+    swept = [s for s in dict.fromkeys(runs.sweep)
+             if axis_value(runs[runs.sweep == s].params.iloc[0])[0]]
     md = ["# calibench report", "",
           f"Run directories: {', '.join(args.dirs)}. Error metric: {METRIC_LABEL} (every method "
           "estimates f·ku). Lines are medians over the Monte Carlo trials, bands the 2.5–97.5 "
@@ -284,6 +288,7 @@ def main():
                "![convergence](convergence.png)", ""]
     if notes:
         md += ["## Cost of a method-only sweep", ""] + notes + [""]
+    md += report_dynamic.section(args.dirs, args.out)
     with open(os.path.join(args.out, "report.md.tmp"), "w") as f:
         f.write("\n".join(md) + "\n")
     os.replace(os.path.join(args.out, "report.md.tmp"), os.path.join(args.out, "report.md"))

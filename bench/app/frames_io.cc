@@ -79,13 +79,15 @@ bool WriteRenderedFrames(const ScenarioConfig& s, const FramesOptions& o, const 
       return false;
     }
     const std::vector<std::vector<bool>> in_view =
-        TagsInView(scene.intrinsics, views, image.width, image.height);
+        TagsInView(scene.IntrinsicsAt(t), views, image.width, image.height);
     int point = 0;
     for (size_t g = 0; g < views.size(); ++g) {
       const std::vector<Eigen::Vector3d> corners = views[g].grid.CornersInBoard();
       for (size_t c = 0; c < corners.size(); ++c, ++point) {
         Eigen::Vector2d pixel;
-        if (!ProjectPoint(scene.intrinsics, views[g].cam_from_board * corners[c], &pixel)) continue;
+        if (!ProjectPoint(scene.IntrinsicsAt(t), views[g].cam_from_board * corners[c], &pixel)) {
+          continue;
+        }
         char line[160];
         std::snprintf(line, sizeof(line), "%d,%.6f,%d,%d,%d,%.6f,%.6f,%d\n", k, t, point,
                       views[g].grid.first_id + static_cast<int>(c / 4), static_cast<int>(c % 4),

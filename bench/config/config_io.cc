@@ -16,6 +16,7 @@
 #include "bench/config/yaml_reader.h"
 #include "core/random.h"
 #include "core/synthetic.h"
+#include "metrics/tracking.h"
 
 namespace calibench {
 namespace {
@@ -45,8 +46,11 @@ void ParseIntrinsics(const Reader& r, const YAML::Node& node, const std::string&
 }  // namespace
 
 namespace config_internal {
-void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& field, CameraSpec* c) {
-  r.CheckKeys(node, field, {"intrinsics", "R_C", "x_C", "allow_improper_rotation"});
+void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& field, CameraSpec* c,
+                 const std::vector<std::string>& extra_keys) {
+  std::vector<std::string> keys = {"intrinsics", "R_C", "x_C", "allow_improper_rotation"};
+  keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
+  r.CheckKeys(node, field, keys);
   r.Set(node, "allow_improper_rotation", field, &c->allow_improper_rotation);
   r.If(node, "intrinsics", field,
        [&](auto n, auto f) { ParseIntrinsics(r, n, f, &c->intrinsics); });
@@ -209,6 +213,70 @@ void ParseMotion(const Reader& r, const YAML::Node& node, const std::string& fie
   if (!m.Check(&why)) r.Fail(node, field, why);
 }
 
+// truth.changes: [{kind: step, at_s, ...} | {kind: ramp, from_s, to_s, ...}] (core/scene.h).
+void ParseChanges(const Reader& r, const YAML::Node& node, const std::string& field,
+                  ScenarioConfig* s) {
+  if (!node.IsSequence()) r.Fail(node, field, "expected a list of {kind: step | ramp, ...}");
+  s->truth_changes.clear();
+  s->truth_change_marks.clear();
+  for (size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node e = node[i];
+    const std::string f = field + "[" + std::to_string(i) + "]";
+    r.ExpectMap(e, f);
+    if (!e["kind"].IsDefined()) r.Fail(e, f + ".kind", "missing: step or ramp");
+    CalibrationChange c;
+    const bool step = r.Choice(e["kind"], f + ".kind", {"step", "ramp"}) == "step";
+    c.kind = step ? CalibrationChange::Kind::kStep : CalibrationChange::Kind::kRamp;
+    std::vector<std::string> keys = {"kind",   "rpy_deg", "x_m",    "fku_px",
+                                     "fkv_px", "u0_px",   "v0_px",  "phi_deg"};
+    const std::vector<std::string> times =
+        step ? std::vector<std::string>{"at_s"} : std::vector<std::string>{"from_s", "to_s"};
+    keys.insert(keys.end(), times.begin(), times.end());
+    r.CheckKeys(e, f, keys);
+    for (const std::string& t : times) {
+      if (!e[t].IsDefined()) r.Fail(e, f + "." + t, "missing");
+    }
+    if (step) {
+      c.from_s = c.to_s = r.Double(e["at_s"], f + ".at_s");
+    } else {
+      c.from_s = r.Double(e["from_s"], f + ".from_s");
+      c.to_s = r.Double(e["to_s"], f + ".to_s");
+    }
+    r.Set(e, "rpy_deg", f, &c.rpy_deg);
+    r.Set(e, "x_m", f, &c.x_m);
+    r.Set(e, "fku_px", f, &c.fku_px);
+    r.Set(e, "fkv_px", f, &c.fkv_px);
+    r.Set(e, "u0_px", f, &c.u0_px);
+    r.Set(e, "v0_px", f, &c.v0_px);
+    r.Set(e, "phi_deg", f, &c.phi_deg);
+    std::string why;
+    // The times are checked against the scenario's duration once it is known (Finish).
+    if (!c.Check(std::numeric_limits<double>::infinity(), &why)) r.Fail(e, f, why);
+    s->truth_changes.push_back(c);
+    std::ostringstream mark;
+    mark << r.file() << ":" << e.Mark().line + 1 << ":" << e.Mark().column + 1;
+    s->truth_change_marks.push_back(mark.str());
+  }
+}
+
+// tracking: {enabled, report_rate_hz, band_samples, steady_fraction, tolerance: {QUANTITY: tol}}.
+void ParseTracking(const Reader& r, const YAML::Node& node, const std::string& field,
+                   TrackingConfig* t) {
+  r.CheckKeys(node, field,
+              {"enabled", "report_rate_hz", "band_samples", "steady_fraction", "tolerance"});
+  r.Set(node, "enabled", field, &t->enabled);
+  r.Set(node, "report_rate_hz", field, &t->report_rate_hz);
+  r.Set(node, "band_samples", field, &t->band_samples);
+  r.Set(node, "steady_fraction", field, &t->metrics.steady_fraction);
+  r.If(node, "tolerance", field, [&](auto n, auto f) {
+    const auto& names = TrackQuantityNames();
+    r.CheckKeys(n, f, std::vector<std::string>(names.begin(), names.end()));
+    for (int q = 0; q < kTrackQuantities; ++q) r.Set(n, names[q], f, &t->metrics.tolerance[q]);
+  });
+  std::string why;
+  if (!t->Check(&why)) r.Fail(node, field, why);
+}
+
 void ParseReference(const Reader& r, const YAML::Node& node, const std::string& field,
                     Reference* ref) {
   r.CheckKeys(
@@ -232,8 +300,8 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
                    ScenarioConfig* s) {
   r.CheckKeys(node, field,
               {"name", "description", "case", "duration_s", "seed", "trials", "truth", "image_size",
-               "points", "motion", "measurements", "noise", "rendering", "methods", "reference",
-               "sweep_point"});
+               "points", "motion", "measurements", "noise", "rendering", "methods", "tracking",
+               "reference", "sweep_point"});
   r.If(node, "image_size", field, [&](auto n, auto f) {
     if (!n.IsSequence() || n.size() != 2) r.Fail(n, f, "expected [width, height]");
     s->image_width = r.Int(n[0], f + "[0]");
@@ -278,7 +346,11 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     }
     s->trials = static_cast<int>(trials);
   });
-  r.If(node, "truth", field, [&](auto n, auto f) { ParseCamera(r, n, f, &s->truth); });
+  r.If(node, "truth", field, [&](auto n, auto f) {
+    ParseCamera(r, n, f, &s->truth, {"changes"});
+    r.If(n, "changes", f, [&](auto m, auto g) { ParseChanges(r, m, g, s); });
+  });
+  r.If(node, "tracking", field, [&](auto n, auto f) { ParseTracking(r, n, f, &s->tracking); });
   r.If(node, "points", field, [&](auto n, auto f) { ParsePoints(r, n, f, s); });
   r.If(node, "motion", field, [&](auto n, auto f) { ParseMotion(r, n, f, s); });
   r.If(node, "measurements", field, [&](auto n, auto f) {
@@ -380,6 +452,14 @@ void Finish(const Reader& r, const YAML::Node& at, const std::string& field, Sce
     }
   }
   std::string why;
+  for (size_t i = 0; i < s->truth_changes.size(); ++i) {  // Against the final duration_s.
+    if (!s->truth_changes[i].Check(s->duration_s, &why)) {
+      const std::string mark = i < s->truth_change_marks.size() ? s->truth_change_marks[i]
+                                                                : r.file();
+      throw config_internal::ConfigError(mark + ": " + field + ".truth.changes[" +
+                                         std::to_string(i) + "]: " + why);
+    }
+  }
   if (!s->Check(&why))
     r.Fail(at, field + "." + why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
 }

@@ -2,6 +2,8 @@
 // instance per type, name = type), and the YAML visitors through which each method type reads and
 // writes its own options (methods/method.h: the methods never see YAML).
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <set>
 
 #include "bench/config/config_parsers.h"
@@ -23,6 +25,7 @@ class KeyCollector final : public OptionVisitor {
   }
   void Field(const char* key, LensModel*) override { keys.emplace_back(key); }
   void Field(const char* key, CameraSpec*) override { keys.emplace_back(key); }
+  void FieldOrAll(const char* key, double*) override { keys.emplace_back(key); }
   std::vector<std::string> keys;
 };
 
@@ -52,6 +55,12 @@ class YamlOptionReader final : public OptionVisitor {
     r_.If(node_, key, field_,
           [&](const YAML::Node& n, const std::string& f) { ParseCamera(r_, n, f, v); });
   }
+  void FieldOrAll(const char* key, double* v) override {
+    r_.If(node_, key, field_, [&](const YAML::Node& n, const std::string& f) {
+      *v = n.IsScalar() && n.Scalar() == "all" ? std::numeric_limits<double>::infinity()
+                                               : r_.Double(n, f);
+    });
+  }
 
  private:
   const Reader& r_;
@@ -76,6 +85,14 @@ class YamlOptionWriter final : public OptionVisitor {
   void Field(const char* key, CameraSpec* v) override {
     out_ << YAML::Key << key << YAML::Value;
     EmitCamera(out_, *v);
+  }
+  void FieldOrAll(const char* key, double* v) override {
+    out_ << YAML::Key << key << YAML::Value;
+    if (std::isinf(*v)) {
+      out_ << "all";
+    } else {
+      out_ << *v;
+    }
   }
 
  private:
@@ -176,9 +193,6 @@ void ParseMap(const Reader& r, const YAML::Node& node, const std::string& field,
 }
 
 }  // namespace
-
-void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& field,
-                 CameraSpec* c);  // config_io.cc
 
 void ParseMethods(const Reader& r, const YAML::Node& node, const std::string& field,
                   ScenarioConfig* s) {

@@ -13,9 +13,13 @@
 namespace calibench {
 namespace config_internal {
 
-// {intrinsics, R_C, x_C, allow_improper_rotation}: the truth and the adaptive initial guess.
-void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& field, CameraSpec* c);
-void EmitCamera(YAML::Emitter& out, const CameraSpec& c);
+// {intrinsics, R_C, x_C, allow_improper_rotation}: the truth and the adaptive initial guess. The
+// truth's section may also hold `changes` (extra_keys), parsed by the caller.
+void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& field, CameraSpec* c,
+                 const std::vector<std::string>& extra_keys = {});
+// `changes`, when given, is written as the map's `changes` list.
+void EmitCamera(YAML::Emitter& out, const CameraSpec& c,
+                const std::vector<CalibrationChange>* changes = nullptr);
 
 // `methods:` (config_methods.cc): a list of instances, or the map form applied onto s->methods.
 void ParseMethods(const Reader& r, const YAML::Node& node, const std::string& field,

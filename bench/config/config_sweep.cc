@@ -17,7 +17,8 @@ namespace {
 const std::set<std::string>& SweepableKeys() {
   static const std::set<std::string> keys = {
       "description", "case",   "duration_s",   "seed",  "trials",    "truth",   "image_size",
-      "points",      "motion", "measurements", "noise", "rendering", "methods", "reference"};
+      "points",      "motion", "measurements", "noise", "rendering", "methods", "reference",
+      "tracking"};
   return keys;
 }
 

@@ -5,6 +5,7 @@
 
 #include "bench/config/config_io.h"
 #include "bench/config/config_parsers.h"
+#include "metrics/tracking.h"
 
 namespace calibench {
 namespace {
@@ -44,7 +45,8 @@ void EmitRendering(YAML::Emitter& out, const RenderedSourceOptions& o) {
 
 }  // namespace
 
-void config_internal::EmitCamera(YAML::Emitter& out, const CameraSpec& c) {
+void config_internal::EmitCamera(YAML::Emitter& out, const CameraSpec& c,
+                                 const std::vector<CalibrationChange>* changes) {
   const CameraIntrinsics& k = c.intrinsics;
   out << YAML::BeginMap << YAML::Key << "intrinsics" << YAML::Value << YAML::Flow << YAML::BeginMap
       << YAML::Key << "fku_px" << YAML::Value << k.fku_px << YAML::Key << "fkv_px" << YAML::Value
@@ -57,8 +59,32 @@ void config_internal::EmitCamera(YAML::Emitter& out, const CameraSpec& c) {
   for (int r = 0; r < 3; ++r) EmitVector(out, c.r_c.row(r).transpose());
   out << YAML::EndSeq << YAML::Key << "x_C" << YAML::Value;
   EmitVector(out, c.x_c);
-  out << YAML::Key << "allow_improper_rotation" << YAML::Value << c.allow_improper_rotation
-      << YAML::EndMap;
+  out << YAML::Key << "allow_improper_rotation" << YAML::Value << c.allow_improper_rotation;
+  if (changes != nullptr && !changes->empty()) {
+    out << YAML::Key << "changes" << YAML::Value << YAML::BeginSeq;
+    for (const CalibrationChange& e : *changes) {
+      const bool step = e.kind == CalibrationChange::Kind::kStep;
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "kind" << YAML::Value
+          << (step ? "step" : "ramp");
+      if (step) {
+        out << YAML::Key << "at_s" << YAML::Value << e.from_s;
+      } else {
+        out << YAML::Key << "from_s" << YAML::Value << e.from_s << YAML::Key << "to_s"
+            << YAML::Value << e.to_s;
+      }
+      out << YAML::Key << "rpy_deg" << YAML::Value;
+      EmitVector(out, e.rpy_deg);
+      out << YAML::Key << "x_m" << YAML::Value;
+      EmitVector(out, e.x_m);
+      const std::pair<const char*, double> deltas[] = {{"fku_px", e.fku_px}, {"fkv_px", e.fkv_px},
+                                                       {"u0_px", e.u0_px},   {"v0_px", e.v0_px},
+                                                       {"phi_deg", e.phi_deg}};
+      for (const auto& [key, v] : deltas) out << YAML::Key << key << YAML::Value << v;
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
+  out << YAML::EndMap;
 }
 
 namespace {
@@ -74,7 +100,7 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
   out << YAML::Key << "seed" << YAML::Value << s.seed;
   out << YAML::Key << "trials" << YAML::Value << s.trials;
   out << YAML::Key << "truth" << YAML::Value;
-  EmitCamera(out, s.truth);
+  EmitCamera(out, s.truth, &s.truth_changes);
   out << YAML::Key << "image_size" << YAML::Value << YAML::Flow << YAML::BeginSeq << s.image_width
       << s.image_height << YAML::EndSeq;
   out << YAML::Key << "points" << YAML::Value << YAML::BeginMap;
@@ -133,6 +159,16 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
   EmitRendering(out, s.rendering);
   out << YAML::Key << "methods" << YAML::Value;
   config_internal::EmitMethods(out, s);
+  const TrackingConfig& t = s.tracking;
+  out << YAML::Key << "tracking" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled"
+      << YAML::Value << t.enabled << YAML::Key << "report_rate_hz" << YAML::Value
+      << t.report_rate_hz << YAML::Key << "band_samples" << YAML::Value << t.band_samples
+      << YAML::Key << "steady_fraction" << YAML::Value << t.metrics.steady_fraction << YAML::Key
+      << "tolerance" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  for (int q = 0; q < kTrackQuantities; ++q) {
+    out << YAML::Key << TrackQuantityNames()[q] << YAML::Value << t.metrics.tolerance[q];
+  }
+  out << YAML::EndMap << YAML::EndMap;
   const Reference& ref = s.reference;
   if (ref.Any() || !ref.source.empty()) {
     out << YAML::Key << "reference" << YAML::Value << YAML::BeginMap;

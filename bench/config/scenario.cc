@@ -27,6 +27,7 @@ SceneTruth ScenarioConfig::MakeScene() const {
   scene.intrinsics = truth.intrinsics;
   scene.parent_from_cam = truth.ParentFromCam();
   scene.allow_improper_rotation = truth.allow_improper_rotation;
+  scene.changes = truth_changes;
   scene.points = points;
   scene.duration_s = duration_s;
   Motion::Options motion_options;
@@ -66,6 +67,18 @@ OracleOptions ScenarioConfig::OracleSourceOptions() const {
   return o;
 }
 
+bool TrackingConfig::Check(std::string* why) const {
+  if (!(report_rate_hz >= 0 && std::isfinite(report_rate_hz))) {
+    if (why) *why = "report_rate_hz must be >= 0 (0: the frame times)";
+    return false;
+  }
+  if (band_samples < 2) {
+    if (why) *why = "band_samples must be >= 2";
+    return false;
+  }
+  return metrics.Check(why);
+}
+
 bool ScenarioConfig::Check(std::string* why) const {
   std::string reason;
   auto fail = [&](const std::string& field, const std::string& r) {
@@ -80,6 +93,13 @@ bool ScenarioConfig::Check(std::string* why) const {
     return fail("truth.R_C", reason);
   }
   if (points.empty()) return fail("points", "at least one feature point is needed");
+  for (size_t i = 0; i < truth_changes.size(); ++i) {
+    if (!truth_changes[i].Check(duration_s, &reason)) {
+      return fail("truth.changes[" + std::to_string(i) + "]", reason);
+    }
+  }
+  if (!CheckChangesDoNotOverlap(truth_changes, &reason)) return fail("truth.changes", reason);
+  if (!tracking.Check(&reason)) return fail("tracking", reason);
   if (!motion.Check(&reason)) return fail("motion", reason);
   if (!measurements.Check(&reason)) return fail("measurements", reason);
   // Frames per trial of each time grid, against kMaxFramesPerTrial.
@@ -231,6 +251,11 @@ bool operator==(const ScenarioConfig& a, const ScenarioConfig& b) {
   return a.name == b.name && a.description == b.description &&
          a.calibration_case == b.calibration_case && a.duration_s == b.duration_s &&
          a.seed == b.seed && a.trials == b.trials && a.truth == b.truth &&
+         a.truth_changes == b.truth_changes && a.tracking.enabled == b.tracking.enabled &&
+         a.tracking.report_rate_hz == b.tracking.report_rate_hz &&
+         a.tracking.band_samples == b.tracking.band_samples &&
+         a.tracking.metrics.tolerance == b.tracking.metrics.tolerance &&
+         a.tracking.metrics.steady_fraction == b.tracking.metrics.steady_fraction &&
          a.image_width == b.image_width && a.image_height == b.image_height &&
          a.boards == b.boards && a.aprilgrids == b.aprilgrids &&
          a.board_rpy_deg == b.board_rpy_deg && a.aprilgrid_rpy_deg == b.aprilgrid_rpy_deg &&

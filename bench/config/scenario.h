@@ -17,6 +17,7 @@
 #include "core/target.h"
 #include "detect/rendered_source.h"
 #include "methods/registry.h"
+#include "metrics/tracking.h"
 
 namespace calibench {
 
@@ -55,6 +56,17 @@ struct SweepPoint {
 };
 bool operator==(const SweepPoint& a, const SweepPoint& b);
 
+// Estimates over time (a calibration that changes, dynamic-calibration.md): recorded for every
+// method that reports them when the truth has changes, or when enabled.
+struct TrackingConfig {
+  bool enabled = false;         // Also without truth changes (e.g. the initial convergence).
+  double report_rate_hz = 0.0;  // Report times: 0 = the source's frame times; else k / rate.
+  // The per-time Monte Carlo bands (track_bands.csv) use at most this many report times per trial.
+  int band_samples = 600;
+  TrackingOptions metrics;  // Tolerances and the steady part of a segment.
+  bool Check(std::string* why) const;
+};
+
 struct ScenarioConfig {
   std::string name;
   std::string description;
@@ -64,7 +76,10 @@ struct ScenarioConfig {
   uint64_t seed = 1;
   int trials = 1;
 
-  CameraSpec truth;
+  CameraSpec truth;                             // At t = 0.
+  std::vector<CalibrationChange> truth_changes;  // truth.changes (core/scene.h).
+  std::vector<std::string> truth_change_marks;   // file:line:col of each (for messages).
+  TrackingConfig tracking;
   int image_width = 640, image_height = 480;  // For zhang's initialisation.
   // "thesis", "random", "boards", "aprilgrids" or empty (explicit list).
   std::string points_preset;
@@ -99,8 +114,10 @@ struct ScenarioConfig {
   // TrialSeed(PointSeed(seed, measurement_index), trial), so the method-only points of a group
   // see the same draws and every measurement point its own.
   uint64_t TrialSeedOf(int trial) const;
-  // The ground truth scene (motion integrated over duration_s).
+  // The ground truth scene (motion integrated over duration_s, changes included).
   SceneTruth MakeScene() const;
+  // Whether the trials record estimates over time (truth changes, or tracking.enabled).
+  bool Tracks() const { return tracking.enabled || !truth_changes.empty(); }
   // The planar boards (PlanarBoard or AprilGrid) in point order; empty for other point sets.
   std::vector<BoardLayout> BoardLayouts() const;
   // The instance named `instance`, or null.

@@ -26,12 +26,14 @@ namespace fs = std::filesystem;
 
 constexpr const char* kPartial = "run.partial";
 // The streamed files, in the order a task's blocks are appended (tasks.idx comes after them).
-constexpr const char* kStreamed[3] = {"runs.csv", "timings.csv", "curves.csv"};
+constexpr int kFiles = 6;
+constexpr const char* kStreamed[kFiles] = {"runs.csv",   "timings.csv", "curves.csv",
+                                           "events.csv", "tracks.csv",  "track_errors.csv"};
 
 // One finished task in tasks.idx: the end offsets of its blocks in the three streamed files.
 struct IndexEntry {
   long task = -1;
-  long end[3] = {0, 0, 0};
+  long end[kFiles] = {0, 0, 0, 0, 0, 0};
 };
 
 std::string IndexHeader(const ShardSpec& shard, long total) {
@@ -39,8 +41,9 @@ std::string IndexHeader(const ShardSpec& shard, long total) {
 }
 
 std::string IndexLine(const IndexEntry& e) {
-  return std::to_string(e.task) + " " + std::to_string(e.end[0]) + " " + std::to_string(e.end[1]) +
-         " " + std::to_string(e.end[2]) + "\n";
+  std::string line = std::to_string(e.task);
+  for (long end : e.end) line += " " + std::to_string(end);
+  return line + "\n";
 }
 
 std::string Slurp(const std::string& path) {
@@ -68,7 +71,9 @@ bool ReadIndex(const std::string& path, std::string* header, std::vector<IndexEn
     if (end == std::string::npos) break;  // Cut short by a kill: not a finished task.
     IndexEntry e;
     std::istringstream line(text.substr(pos, end - pos));
-    if (!(line >> e.task >> e.end[0] >> e.end[1] >> e.end[2])) {
+    line >> e.task;
+    for (long& end : e.end) line >> end;
+    if (!line) {
       *why = path + ": line " + std::to_string(entries->size() + 2) + ": malformed entry";
       return false;
     }
@@ -91,8 +96,8 @@ class PartialWriter {
   bool Open(const std::string& dir, const IndexEntry& last, std::string* why) {
     dir_ = dir;
     last_ = last;
-    for (int f = 0; f < 4; ++f) {
-      const std::string path = dir + "/" + (f < 3 ? kStreamed[f] : "tasks.idx");
+    for (int f = 0; f <= kFiles; ++f) {
+      const std::string path = dir + "/" + (f < kFiles ? kStreamed[f] : "tasks.idx");
       files_[f] = std::fopen(path.c_str(), "ab");
       if (files_[f] == nullptr) {
         *why = Errno(path, "cannot open for appending");
@@ -102,14 +107,14 @@ class PartialWriter {
     return true;
   }
 
-  bool Append(long task, const std::string (&blocks)[3], std::string* why) {
+  bool Append(long task, const std::string (&blocks)[kFiles], std::string* why) {
     IndexEntry entry;
     entry.task = task;
-    for (int f = 0; f < 3; ++f) {
+    for (int f = 0; f < kFiles; ++f) {
       if (!Write(f, blocks[f], why)) return false;
       entry.end[f] = last_.end[f] + static_cast<long>(blocks[f].size());
     }
-    if (!Write(3, IndexLine(entry), why)) return false;
+    if (!Write(kFiles, IndexLine(entry), why)) return false;
     last_ = entry;
     return true;
   }
@@ -128,7 +133,7 @@ class PartialWriter {
     if (text.empty()) return true;
     if (std::fwrite(text.data(), 1, text.size(), files_[f]) != text.size() ||
         std::fflush(files_[f]) != 0) {
-      *why = Errno(dir_ + "/" + (f < 3 ? kStreamed[f] : "tasks.idx"), "write failed");
+      *why = Errno(dir_ + "/" + (f < kFiles ? kStreamed[f] : "tasks.idx"), "write failed");
       return false;
     }
     return true;
@@ -136,14 +141,14 @@ class PartialWriter {
 
   std::string dir_;
   IndexEntry last_;
-  FILE* files_[4] = {nullptr, nullptr, nullptr, nullptr};
+  FILE* files_[kFiles + 1] = {};
 };
 
 std::string HeaderBlock(int file) {
-  const std::vector<std::string>& header = file == 0   ? RunRowHeader()
-                                           : file == 1 ? TimingHeader()
-                                                       : CurveHeader();
-  return CsvLine(header);
+  const std::vector<std::string>* headers[kFiles] = {&RunRowHeader(),  &TimingHeader(),
+                                                     &CurveHeader(),   &EventHeader(),
+                                                     &TrackHeader(),   &TrackErrorHeader()};
+  return CsvLine(*headers[file]);
 }
 
 // Creates run.partial with the three headers and tasks.idx's header and -1 entry (*headers).
@@ -157,7 +162,7 @@ bool CreatePartial(const std::string& partial, const std::string& index_header, 
     return false;
   }
   *headers = IndexEntry();
-  for (int f = 0; f < 3; ++f) {
+  for (int f = 0; f < kFiles; ++f) {
     const std::string block = HeaderBlock(f);
     headers->end[f] = static_cast<long>(block.size());
     if (!WriteFileAtomically(partial + "/" + kStreamed[f], block, why)) return false;
@@ -196,7 +201,7 @@ bool TruncatePartial(const std::string& partial, const std::string& index_header
   }
   *last = entries[done];
   *resumed = static_cast<long>(done);
-  for (int f = 0; f < 3; ++f) {
+  for (int f = 0; f < kFiles; ++f) {
     const std::string path = partial + "/" + kStreamed[f];
     std::error_code ec;
     const auto size = fs::file_size(path, ec);
@@ -249,9 +254,15 @@ bool Finalize(const RunConfig& config, const std::string& dir, std::string* why)
     }
     const std::string table = scenarios.empty() ? "" : ThesisTable(scenarios, rows);
     if (!WriteFileAtomically(partial + "/table.md", table, why)) return false;
+    std::string bands;
+    if (!SummarizeTrackErrors(partial + "/track_errors.csv", &bands, why) ||
+        !WriteFileAtomically(partial + "/track_bands.csv", bands, why)) {
+      return false;
+    }
   }
   for (const char* name :
-       {"runs.csv", "timings.csv", "curves.csv", "summary.csv", "table.md", "tasks.idx"}) {
+       {"runs.csv", "timings.csv", "curves.csv", "events.csv", "tracks.csv", "track_errors.csv",
+        "summary.csv", "track_bands.csv", "table.md", "tasks.idx"}) {
     const std::string from = partial + "/" + name;
     if (!fs::exists(from)) continue;
     if (std::rename(from.c_str(), (dir + "/" + name).c_str()) != 0) {
@@ -355,11 +366,18 @@ RunDirSummary RunToDirectory(const RunConfig& config, const RunDirOptions& optio
     run_options.curve_trials = options.curve_trials;
     const std::vector<TrialTask> remaining(tasks.begin() + first, tasks.end());
     std::string error;
+    std::map<std::string, int> band_samples;  // Per scenario: tracking.band_samples.
+    for (const ScenarioConfig& s : config.scenarios) {
+      band_samples[s.name] = s.tracking.band_samples;
+    }
     auto commit = [&](size_t position, std::vector<RunRow>&& rows) {
-      std::string blocks[3];
+      std::string blocks[kFiles];
       for (const RunRow& r : rows) {
         blocks[0] += CsvLine(RunRowFields(r));
         blocks[1] += CsvLine(TimingFields(r));
+        blocks[3] += EventLines(r);
+        if (r.trial == 0) blocks[4] += TrackLines(r);
+        blocks[5] += TrackErrorLines(r, band_samples.at(r.scenario));
         for (const auto& [t, e] : r.curve) {
           blocks[2] += CsvLine(
               {r.scenario, std::to_string(r.trial), r.method, FormatNumber(t), FormatNumber(e)});
@@ -451,9 +469,9 @@ bool MergeRunDirectories(const std::vector<std::string>& shard_dirs, const std::
   if (!CreatePartial(partial, IndexHeader(whole, total), &last, why)) return false;
   PartialWriter writer;
   if (!writer.Open(partial, last, why)) return false;
-  std::map<int, std::array<std::ifstream, 3>> streams;
+  std::map<int, std::array<std::ifstream, kFiles>> streams;
   for (auto& [k, shard] : shards) {
-    for (int f = 0; f < 3; ++f) {
+    for (int f = 0; f < kFiles; ++f) {
       streams[k][f].open(shard.dir + "/" + kStreamed[f], std::ios::binary);
     }
   }
@@ -466,8 +484,8 @@ bool MergeRunDirectories(const std::vector<std::string>& shard_dirs, const std::
     }
     const IndexEntry& from = shard.entries[shard.next - 1];
     const IndexEntry& to = shard.entries[shard.next++];
-    std::string blocks[3];
-    for (int f = 0; f < 3; ++f) {
+    std::string blocks[kFiles];
+    for (int f = 0; f < kFiles; ++f) {
       blocks[f].resize(static_cast<size_t>(to.end[f] - from.end[f]));
       streams[k][f].seekg(from.end[f]);
       if (!streams[k][f].read(blocks[f].data(), static_cast<long>(blocks[f].size()))) {

@@ -1,9 +1,11 @@
 #include "bench/run/run_row.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <functional>
 #include <type_traits>
 
+#include "bench/run/csv.h"
 #include "core/format.h"
 
 namespace calibench {
@@ -152,18 +154,107 @@ bool ParseRunRow(const std::vector<std::string>& header, const std::vector<std::
 }
 
 const std::vector<std::string>& TimingHeader() {
-  static const std::vector<std::string> header = {"scenario", "trial",      "method",
-                                                  "wall_ms",  "measure_ms", "reused"};
+  static const std::vector<std::string> header = {"scenario",   "trial",  "method",      "wall_ms",
+                                                  "measure_ms", "reused", "us_per_frame"};
   return header;
 }
 
 std::vector<std::string> TimingFields(const RunRow& r) {
+  const double per_frame = r.frames > 0 ? 1000.0 * r.wall_ms / r.frames : kUnset;
   return {r.scenario,
           std::to_string(r.trial),
           r.method,
           FormatNumber(r.wall_ms),
           FormatNumber(r.measure_ms),
-          r.reused ? "1" : "0"};
+          r.reused ? "1" : "0",
+          FormatNumber(per_frame)};
+}
+
+const std::vector<std::string>& EventHeader() {
+  static const std::vector<std::string> header = {
+      "scenario", "point", "trial", "method",       "event",      "quantity",
+      "at_s",     "tol",   "reconverge_s",          "steady_err", "peak_err"};
+  return header;
+}
+
+namespace {
+
+std::vector<std::string> TrackHeaderOf(bool estimates_and_truth) {
+  std::vector<std::string> header = {"scenario", "point", "trial", "method", "t_s"};
+  for (const char* q : TrackQuantityNames()) {
+    if (estimates_and_truth) {
+      header.push_back(std::string("est_") + q);
+      header.push_back(std::string("true_") + q);
+    } else {
+      header.push_back(std::string("err_") + q);
+    }
+  }
+  header.push_back("nees");
+  header.push_back("nees_rotation");
+  return header;
+}
+
+std::vector<std::string> RowKey(const RunRow& r) {
+  return {r.scenario, std::to_string(r.point), std::to_string(r.trial), r.method};
+}
+
+}  // namespace
+
+const std::vector<std::string>& TrackHeader() {
+  static const std::vector<std::string> header = TrackHeaderOf(true);
+  return header;
+}
+
+const std::vector<std::string>& TrackErrorHeader() {
+  static const std::vector<std::string> header = TrackHeaderOf(false);
+  return header;
+}
+
+std::string EventLines(const RunRow& r) {
+  std::string text;
+  for (const EventMetrics& e : r.events) {
+    std::vector<std::string> fields = RowKey(r);
+    fields.insert(fields.end(), {std::to_string(e.event), TrackQuantityNames()[e.quantity],
+                                 FormatNumber(e.at_s), FormatNumber(e.tol),
+                                 FormatNumber(e.reconverge_s), FormatNumber(e.steady_err),
+                                 FormatNumber(e.peak_err)});
+    text += CsvLine(fields);
+  }
+  return text;
+}
+
+std::string TrackLines(const RunRow& r) {
+  std::string text;
+  for (const TrackPoint& p : r.track) {
+    std::vector<std::string> fields = RowKey(r);
+    fields.push_back(FormatNumber(p.t_s));
+    for (int q = 0; q < kTrackQuantities; ++q) {
+      fields.push_back(FormatNumber(p.estimate[q]));
+      fields.push_back(FormatNumber(p.truth[q]));
+    }
+    fields.push_back(FormatNumber(p.nees));
+    fields.push_back(FormatNumber(p.nees_rotation));
+    text += CsvLine(fields);
+  }
+  return text;
+}
+
+std::string TrackErrorLines(const RunRow& r, int band_samples) {
+  std::string text;
+  const size_t n = r.track.size();
+  if (n == 0) return text;
+  const size_t stride = std::max<size_t>(1, (n + band_samples - 1) / band_samples);
+  for (size_t i = 0; i < n; i += stride) {
+    const size_t k = i + stride >= n ? n - 1 : i;  // The last block ends on the last sample.
+    const TrackPoint& p = r.track[k];
+    std::vector<std::string> fields = RowKey(r);
+    fields.push_back(FormatNumber(p.t_s));
+    for (int q = 0; q < kTrackQuantities; ++q) fields.push_back(FormatNumber(p.error[q]));
+    fields.push_back(FormatNumber(p.nees));
+    fields.push_back(FormatNumber(p.nees_rotation));
+    text += CsvLine(fields);
+  }
+  return text;
 }
 
 const std::vector<std::string>& CurveHeader() {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bench/config/scenario.h"
+#include "metrics/tracking.h"
 
 namespace calibench {
 
@@ -53,8 +54,13 @@ struct RunRow {
   double wall_ms = kUnset;     // The method's own wall time; 0 when copied (reused).
   double measure_ms = kUnset;  // Producing the group's measurements (render + detect).
   bool reused = false;         // Copied from an earlier point of the group with equal settings.
+  int frames = 0;              // Frames of the trial's source (timings.csv: cost per frame).
   // ||theta~||(t) of a method that reports estimates over time, when recorded (trial.h).
   std::vector<std::pair<double, double>> curve;
+  // When the scenario tracks (ScenarioConfig::Tracks) and the method reported estimates over
+  // time: its trajectory at the report times, and the per-event figures (metrics/tracking.h).
+  std::vector<TrackPoint> track;
+  std::vector<EventMetrics> events;
 };
 
 // runs.csv: header and fields; ParseRunRow is the inverse (false naming the bad column).
@@ -62,10 +68,26 @@ const std::vector<std::string>& RunRowHeader();
 std::vector<std::string> RunRowFields(const RunRow& row);
 bool ParseRunRow(const std::vector<std::string>& header, const std::vector<std::string>& fields,
                  RunRow* row, std::string* why);
-// timings.csv (scenario, trial, method, wall_ms, measure_ms, reused) and curves.csv (scenario,
-// trial, method, t_s, theta_err_norm).
+// timings.csv (scenario, trial, method, wall_ms, measure_ms, reused, us_per_frame: the method's
+// wall time per frame of the trial) and curves.csv (scenario, trial, method, t_s, theta_err_norm).
 const std::vector<std::string>& TimingHeader();
 std::vector<std::string> TimingFields(const RunRow& row);
 const std::vector<std::string>& CurveHeader();
+
+// The tracking files (a scenario whose truth changes; run_dir.h):
+//   events.csv        one line per (row, event, quantity): scenario, point, trial, method, event,
+//                     quantity, at_s, reconverge_s, tol, steady_err, peak_err;
+//   tracks.csv        trial 0's trajectories: scenario, point, trial, method, t_s, then per
+//                     quantity est_Q and true_Q, then nees, nees_rotation;
+//   track_errors.csv  every trial's errors at the band times (at most band_samples per trial):
+//                     scenario, point, trial, method, t_s, err_Q per quantity, nees,
+//                     nees_rotation.
+const std::vector<std::string>& EventHeader();
+const std::vector<std::string>& TrackHeader();
+const std::vector<std::string>& TrackErrorHeader();
+std::string EventLines(const RunRow& row);
+std::string TrackLines(const RunRow& row);
+// `band_samples`: the most report times per trial (evenly thinned, always keeping the last).
+std::string TrackErrorLines(const RunRow& row, int band_samples);
 
 }  // namespace calibench

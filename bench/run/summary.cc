@@ -145,4 +145,73 @@ bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::s
   return true;
 }
 
+bool SummarizeTrackErrors(const std::string& track_errors_csv, std::string* bands_csv,
+                          std::string* why) {
+  std::string out = CsvLine({"scenario", "point", "method", "t_s", "quantity", "n", "mean",
+                             "median", "median_abs", "p2_5", "p97_5"});
+  std::ifstream in(track_errors_csv, std::ios::binary);
+  if (!in) {
+    *bands_csv = out;
+    return true;
+  }
+  CsvReader reader(&in);
+  std::vector<std::string> header, fields;
+  std::string reason;
+  if (!reader.Next(&header, &reason)) {
+    *bands_csv = out;
+    return true;
+  }
+  const int first_value = 5;  // scenario, point, trial, method, t_s, then the values.
+  if (header.size() <= static_cast<size_t>(first_value)) {
+    if (why) *why = track_errors_csv + ": not a calibench track_errors.csv";
+    return false;
+  }
+  struct Key {
+    std::string scenario, point, method, t_s;
+    std::vector<std::vector<double>> values;  // Per value column.
+  };
+  std::vector<Key> keys;
+  std::map<std::vector<std::string>, size_t> index;
+  while (reader.Next(&fields, &reason)) {
+    if (fields.size() != header.size()) {
+      if (why) *why = track_errors_csv + ": record " + std::to_string(reader.record()) + ": bad";
+      return false;
+    }
+    const std::vector<std::string> id = {fields[0], fields[1], fields[3], fields[4]};
+    auto it = index.find(id);
+    if (it == index.end()) {
+      it = index.emplace(id, keys.size()).first;
+      keys.push_back({fields[0], fields[1], fields[3], fields[4], {}});
+      keys.back().values.resize(header.size() - first_value);
+    }
+    for (size_t c = first_value; c < header.size(); ++c) {
+      const double v = std::strtod(fields[c].c_str(), nullptr);
+      if (std::isfinite(v)) keys[it->second].values[c - first_value].push_back(v);
+    }
+  }
+  if (!reason.empty()) {
+    if (why) *why = track_errors_csv + ": " + reason;
+    return false;
+  }
+  for (const Key& k : keys) {
+    for (size_t c = 0; c < k.values.size(); ++c) {
+      const std::vector<double>& v = k.values[c];
+      std::string name = header[first_value + c];
+      if (name.rfind("err_", 0) == 0) name = name.substr(4);
+      double mean = kNaN;
+      std::vector<double> abs_values;
+      if (!v.empty()) {
+        double sum = 0;
+        for (double x : v) sum += x, abs_values.push_back(std::abs(x));
+        mean = sum / v.size();
+      }
+      out += CsvLine({k.scenario, k.point, k.method, k.t_s, name, std::to_string(v.size()),
+                      FormatNumber(mean), FormatNumber(Median(v)), FormatNumber(Median(abs_values)),
+                      FormatNumber(Quantile(v, 0.025)), FormatNumber(Quantile(v, 0.975))});
+    }
+  }
+  *bands_csv = std::move(out);
+  return true;
+}
+
 }  // namespace calibench

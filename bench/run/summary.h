@@ -25,4 +25,12 @@ const std::vector<std::string>& SummaryMetrics();
 // summary.csv text; false with *why naming the file and record on a malformed file.
 bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::string* why);
 
+// track_bands.csv from track_errors.csv (run_row.h): the per-time Monte Carlo summary of a tracking
+// scenario's errors over its trials, one row per (scenario, point, method, t_s, quantity), in the
+// order the (scenario, point, method, t_s) first appear; quantity: each tracked quantity, then
+// nees and nees_rotation. Columns: n (trials with a finite value), mean, median, median_abs,
+// p2_5, p97_5. A missing track_errors.csv gives the header only.
+bool SummarizeTrackErrors(const std::string& track_errors_csv, std::string* bands_csv,
+                          std::string* why);
+
 }  // namespace calibench

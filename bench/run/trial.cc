@@ -87,19 +87,26 @@ struct Outcome {
   int trajectory_samples = 0;
   double converge_time_s = kNoValue;
   std::vector<std::pair<double, double>> curve;
+  std::vector<TrackPoint> track;  // Tracking scenarios: at the report times.
+  std::vector<EventMetrics> events;
 };
 
+// What a method reports over time: theta_hat into ||theta~||(t), estimates into its trajectory.
 class TrackSink final : public EstimateSink {
  public:
-  explicit TrackSink(ThetaTrack* track) : track_(track) {}
+  TrackSink(ThetaTrack* theta, EstimateTrack* estimates) : theta_(theta), estimates_(estimates) {}
   void OnTheta(double t_s, const Vector16d& theta_hat) override {
-    track_->Add(t_s, theta_hat);
-    ++samples;
+    theta_->Add(t_s, theta_hat);
+    ++theta_samples;
   }
-  int samples = 0;
+  void OnEstimate(double t_s, const CameraEstimate& estimate) override {
+    if (estimates_ != nullptr) estimates_->Add(t_s, estimate);
+  }
+  int theta_samples = 0;
 
  private:
-  ThetaTrack* track_;
+  ThetaTrack* theta_;
+  EstimateTrack* estimates_;
 };
 
 // Runs the instances of one scenario of the group on the trial's measurements.
@@ -107,33 +114,49 @@ class ScenarioTrial {
  public:
   ScenarioTrial(const ScenarioConfig& s, const SceneTruth& scene, const MeasurementSource& source,
                 TrialCache* cache, const GroupTrialOptions& options)
-      : s_(s), cache_(cache), options_(options) {
+      : s_(s), scene_(scene), cache_(cache), options_(options) {
     input_.source = &source;
     input_.image_width = s.image_width;
     input_.image_height = s.image_height;
     input_.boards = s.BoardLayouts();
     input_.parent_from_points = [&scene](double t) { return scene.ParentFromPoints(t); };
     input_.cache = cache;
-    input_.prerequisite = [this](const std::string& name) -> const MethodResult& {
-      return OutcomeOf(*Resolve(s_, name, &defaults_)).result;
+    input_.prerequisite = [this](const std::string& name,
+                                 const MethodInput& on) -> const MethodResult& {
+      return OutcomeOf(*Resolve(s_, name, &defaults_), on).result;
     };
+    if (s.Tracks()) {
+      input_.report_times_s = s.tracking.report_rate_hz > 0
+                                  ? FrameTimes(s.tracking.report_rate_hz, source.Duration())
+                                  : input_.Frames().times_s;
+      for (const CalibrationChange& c : s.truth_changes) event_times_.push_back(c.from_s);
+    }
   }
 
   std::string Key(const MethodInstance& instance) { return KeyOf(s_, instance, 0, &defaults_); }
 
-  const Outcome& OutcomeOf(const MethodInstance& instance) {
-    return cache_->Get<Outcome>("outcome:" + Key(instance), [&] {
+  const Outcome& OutcomeOf(const MethodInstance& instance) { return OutcomeOf(instance, input_); }
+  const Outcome& OutcomeOf(const MethodInstance& instance, const MethodInput& input) {
+    return cache_->Get<Outcome>("outcome:" + Key(instance) + input.WindowKey(), [&] {
       ThetaTrack::Options track_options;
       track_options.tolerance = instance.convergence_tol;
       track_options.record_curve = options_.record_curve;
       track_options.max_samples = options_.curve_samples;
       ThetaTrack track(s_.truth, track_options);
-      TrackSink sink(&track);
+      EstimateTrack estimates;
+      const bool tracks = !input.report_times_s.empty();
+      TrackSink sink(&track, tracks ? &estimates : nullptr);
       Outcome outcome;
-      outcome.result = instance.method->Run(input_, &sink);
-      outcome.trajectory_samples = sink.samples;
+      outcome.result = instance.method->Run(input, &sink);
+      outcome.trajectory_samples = sink.theta_samples;
       outcome.converge_time_s = track.ConvergeTimeS();
       outcome.curve = track.Curve();
+      if (tracks && !estimates.empty()) {
+        outcome.track = estimates.Sample(input.report_times_s,
+                                         [this](double t) { return scene_.CameraAt(t); });
+        outcome.events = EvaluateEvents(outcome.track, event_times_, input.source->Duration(),
+                                        s_.tracking.metrics);
+      }
       return outcome;
     });
   }
@@ -189,6 +212,9 @@ class ScenarioTrial {
     row.std_v0 = e.intrinsics_std[4];
     FillCrlb(instance, shared, &row);
     row.curve = outcome.curve;
+    row.track = outcome.track;
+    row.events = outcome.events;
+    row.frames = input_.source->NumFrames();
     return row;
   }
 
@@ -223,6 +249,8 @@ class ScenarioTrial {
   }
 
   const ScenarioConfig& s_;
+  const SceneTruth& scene_;
+  std::vector<double> event_times_;  // The truth changes' start times.
   TrialCache* cache_;
   GroupTrialOptions options_;
   MethodInput input_;

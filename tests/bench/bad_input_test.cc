@@ -61,6 +61,8 @@ TEST_P(BadConfig, IsRefusedWithFileLineFieldAndReason) {
 }
 
 const std::string kFixedCamera = "  case: fixed_camera\n";
+// The minimal scenario's R_C and x_C lines (6, 7), for cases that add truth lines after them.
+const std::string kTruth = "    R_C: [[-1, 0, 0], [0, 0, 1], [0, 1, 0]]\n    x_C: [0, -2, 0.5]\n";
 
 INSTANTIATE_TEST_SUITE_P(
     Matrix, BadConfig,
@@ -188,11 +190,38 @@ INSTANTIATE_TEST_SUITE_P(
                             "[0, 3, 0], rpy_deg: [90, 0, 0]}]}"),
                    {"FILE:4:", "scenario.image_size", "[100000, 100000] px is larger than",
                     "16384 px per side", "MiB"}},
+        // Dynamic calibration (issue #13).
+        ConfigCase{"change_after_the_run",
+                   Scenario("", "", kTruth + "    changes: [{kind: step, at_s: 60, rpy_deg: [0, 0.5, 0]}]\n"),
+                   {"FILE:8:", "scenario.truth.changes[0]", "at_s = 60 s is outside the run [0, 10] s"}},
+        ConfigCase{"change_before_the_run",
+                   Scenario("", "", kTruth + "    changes: [{kind: ramp, from_s: -1, to_s: 5, fku_px: 2}]\n"),
+                   {"FILE:8:", "scenario.truth.changes[0]", "from_s = -1 s is outside the run"}},
+        ConfigCase{"overlapping_ramps",
+                   Scenario("", "", kTruth + "    changes:\n      - {kind: ramp, from_s: 1, to_s: 6, fku_px: 2}\n"
+                            "      - {kind: ramp, from_s: 5, to_s: 9, fku_px: 1}\n"),
+                   {"scenario.truth.changes", "changes[0] and changes[1] both ramp fku_px",
+                    "overlapping intervals [1, 6] and [5, 9] s"}},
+        ConfigCase{"nan_delta",
+                   Scenario("", "", kTruth + "    changes: [{kind: step, at_s: 5, rpy_deg: [0, .nan, 0]}]\n"),
+                   {"FILE:8:", "scenario.truth.changes[0]", "every delta must be finite"}},
+        ConfigCase{"negative_window",
+                   Scenario("  methods: {ceres: {enabled: true, window_s: -2}}\n"),
+                   {"FILE:4:", "scenario.methods.ceres", "window_s must be >= 0 (0: static) or all"}},
+        ConfigCase{"every_zero",
+                   Scenario("  methods: {dlt: {enabled: true, window_s: 5, every_s: 0}}\n"),
+                   {"FILE:4:", "scenario.methods.dlt", "every_s must be a positive number"}},
+        ConfigCase{"negative_forgetting",
+                   Scenario("  methods: {adaptive: {forgetting_beta: -0.1}}\n"),
+                   {"FILE:4:", "scenario.methods.adaptive", "forgetting_beta must be >= 0"}},
+        ConfigCase{"reset_threshold_above_gamma0",
+                   Scenario("  methods: {adaptive: {gamma0: 1, reset_threshold: 2}}\n"),
+                   {"FILE:4:", "scenario.methods.adaptive", "reset_threshold must lie in [0, 1)"}},
         ConfigCase{"duplicate_names",
                    "scenarios:\n  - " + std::string("{name: a, points: {preset: thesis}}\n") +
                        "  - {name: a, points: {preset: thesis}}\n",
                    {"scenario.name", "'a' is used by two scenarios"}}),
-    [](const testing::TestParamInfo<ConfigCase>& info) { return info.param.name; });
+    [](const testing::TestParamInfo<ConfigCase>& param_info) { return param_info.param.name; });
 
 TEST(BadConfigFile, CycleDirectoryAndDevicesAreRefused) {
   const std::string self = TempPath("self_base.yaml");

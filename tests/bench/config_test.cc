@@ -147,7 +147,8 @@ INSTANTIATE_TEST_SUITE_P(Configs, ResolvedYamlRoundTrip,
                          ::testing::Values("thesis/all.yaml", "batch/crlb50.yaml",
                                            "batch/rig_moving.yaml", "rendered/all.yaml",
                                            "sweeps/noise.yaml", "sweeps/points.yaml",
-                                           "sweeps/gain.yaml", "examples/named_instances.yaml"));
+                                           "sweeps/gain.yaml", "examples/named_instances.yaml",
+                                           "dynamic/all.yaml"));
 
 TEST(Config, BatchMethodsAndRandomPointsParse) {
   RunConfig config;

@@ -38,9 +38,10 @@ struct SyntheticTrial {
     t->input.boards = std::move(boards);
     t->input.parent_from_points = [t](double time) { return t->scene.ParentFromPoints(time); };
     t->input.cache = &t->cache;
-    t->input.prerequisite = [t](const std::string& type) -> const MethodResult& {
-      return t->cache.Get<MethodResult>("prerequisite " + type, [&] {
-        return FindMethodType(type)->create()->Run(t->input, nullptr);
+    t->input.prerequisite = [t](const std::string& type,
+                                const MethodInput& on) -> const MethodResult& {
+      return t->cache.Get<MethodResult>("prerequisite " + type + on.WindowKey(), [&] {
+        return FindMethodType(type)->create()->Run(on, nullptr);
       });
     };
     return trial;

@@ -16,7 +16,9 @@ constexpr double kConvergedThetaErr = 1e-6;
 class Recorder final : public EstimateSink {
  public:
   void OnTheta(double t, const Vector16d& theta) override { samples.emplace_back(t, theta); }
+  void OnEstimate(double t, const CameraEstimate& e) override { estimates.emplace_back(t, e); }
   std::vector<std::pair<double, Vector16d>> samples;
+  std::vector<std::pair<double, CameraEstimate>> estimates;
 };
 
 TEST(AdaptiveMethod, ReachesTheTruthOnThesisSim3AndReportsItsTrajectory) {
