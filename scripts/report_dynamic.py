@@ -178,35 +178,39 @@ def method_table(data, scenario, changed):
             else:
                 cells.append("–")
         lines.append("| " + " | ".join(cells) + " |")
-        last_ev, last_q, _ = per_event[-1]
-        x = e[(e.event == last_ev) & (e.quantity == last_q)]
-        rows.append((m, x.reconverge_s.median(), x.steady_err.median(), cost))
+        first_ev, first_q, _ = per_event[1] if len(per_event) > 1 else per_event[0]
+        x = e[(e.event == first_ev) & (e.quantity == first_q)]
+        rows.append((m, first_q, x.reconverge_s.median(), x.steady_err.median(), cost))
     return "\n".join(lines), rows
 
 
 def pareto(all_rows, path):
-    fig, ax = plt.subplots(figsize=(7.5, 5))
-    drawn = False
-    for s, (scenario, rows) in enumerate(all_rows.items()):
-        for i, (m, rec, steady, cost) in enumerate(rows):
-            if not (np.isfinite(steady) and np.isfinite(cost)):
-                continue
-            x = rec if np.isfinite(rec) else None
-            marker = "o" if x is not None else "x"
-            ax.scatter(x if x is not None else 0, steady, s=max(8, math.sqrt(cost) * 2),
-                       marker=marker, color=f"C{i % 10}", alpha=0.7)
-            ax.annotate(f"{m} ({scenario.split('_')[0]})", (x if x is not None else 0, steady),
-                        fontsize=5)
-            drawn = True
-    if not drawn:
-        plt.close(fig)
+    """Steady error against re-convergence after each scenario's first change, one panel per unit
+    (angle events in deg, intrinsic events in px); marker area ~ cost per frame, x: never."""
+    panels = {"deg": [], "px": []}
+    for scenario, rows in all_rows.items():
+        for i, (m, q, rec, steady, cost) in enumerate(rows):
+            if np.isfinite(steady) and np.isfinite(cost):
+                panels["deg" if q in ANGLES else "px"].append((scenario, i, m, q, rec, steady, cost))
+    used = [u for u in panels if panels[u]]
+    if not used:
         return False
-    ax.set_xscale("symlog", linthresh=0.1)
-    ax.set_yscale("log")
-    ax.set_xlabel("re-convergence time after the last event (s; median; x at 0: never)")
-    ax.set_ylabel("steady error (median)")
-    ax.set_title("steady error vs re-convergence; marker area ~ cost per frame")
-    ax.grid(True, which="both", alpha=0.3)
+    fig, axes = plt.subplots(1, len(used), figsize=(7.5 * len(used), 5.2), squeeze=False)
+    for ax, unit in zip(axes.flat, used):
+        for scenario, i, m, q, rec, steady, cost in panels[unit]:
+            never = not np.isfinite(rec)
+            ax.scatter(0 if never else rec, steady, s=max(8, math.sqrt(cost) * 2),
+                       marker="x" if never else "o", color=f"C{i % 10}", alpha=0.7)
+            label = scenario.replace("_oracle", "").replace("_rendered", " rendered")
+            ax.annotate(f"{m} ({label})", (0 if never else rec, steady),
+                        fontsize=5)
+        ax.set_xscale("symlog", linthresh=0.1)
+        ax.set_yscale("log")
+        ax.set_xlabel("re-convergence after the first change (s, median; x at 0: never)")
+        ax.set_ylabel(f"steady error after it ({unit}, median)")
+        ax.set_title(f"changes of {'an angle' if unit == 'deg' else 'an intrinsic'}; "
+                     "marker area ~ cost per frame")
+        ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -4,18 +4,14 @@
 // byte-identical for 1 and 2 threads and across shards.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-
 #include "bench/config/config_io.h"
 #include "bench/run/run_dir.h"
 #include "bench/run/runner.h"
+#include "tests/common/temp_files.h"
 
 namespace calibench {
 namespace {
 
-namespace fs = std::filesystem;
 const std::string kShort = std::string(CALIBENCH_SOURCE_DIR) + "/tests/bench/dynamic/short.yaml";
 
 RunConfig LoadShort() {
@@ -74,18 +70,7 @@ TEST(Dynamic, MethodsTrackAPitchStep) {
   EXPECT_TRUE(std::isnan(adaptive.track.back().nees));
 }
 
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::string TempDir(const std::string& name) {
-  const std::string dir = testing::TempDir() + "calibench_dynamic_" + name;
-  fs::remove_all(dir);
-  return dir;
-}
+std::string TempDir(const std::string& name) { return FreshTempDir("calibench_dynamic_", name); }
 
 TEST(Dynamic, TrackingFilesDoNotDependOnThreadsOrShards) {
   const RunConfig config = LoadShort();

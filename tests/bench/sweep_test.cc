@@ -5,7 +5,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "bench/config/config_io.h"
 #include "bench/run/csv.h"
@@ -14,6 +13,7 @@
 #include "bench/run/stats.h"
 #include "bench/run/summary.h"
 #include "tests/common/scenario_yaml.h"
+#include "tests/common/temp_files.h"
 
 namespace calibench {
 namespace {
@@ -32,18 +32,7 @@ RunConfig LoadSmall() {
   return config;
 }
 
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::string TempDir(const std::string& name) {
-  const std::string dir = testing::TempDir() + "calibench_sweep_" + name;
-  fs::remove_all(dir);
-  return dir;
-}
+std::string TempDir(const std::string& name) { return FreshTempDir("calibench_sweep_", name); }
 
 TEST(Sweep, ExpandsTheCartesianProductWithMethodAxesFastest) {
   const RunConfig config = LoadSmall();
