@@ -97,6 +97,30 @@ bool CovarianceOfIntrinsics(ceres::Problem* problem, Parameters* params, double 
   return true;
 }
 
+// The indices of the free intrinsics (not in `fixed`), increasing: SubsetManifold's tangent.
+std::vector<int> FreeIntrinsics(const std::vector<int>& fixed) {
+  std::vector<int> free;
+  for (int i = 0; i < kN; ++i) {
+    if (std::find(fixed.begin(), fixed.end(), i) == fixed.end()) free.push_back(i);
+  }
+  return free;
+}
+
+// The inverse of a symmetric information matrix J^T J, or false when its condition number passes
+// 1e14 (a parameter the data do not determine).
+bool InvertInformation(const Eigen::MatrixXd& information, Eigen::MatrixXd* inverse,
+                       std::string* why) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(information);
+  const Eigen::VectorXd& values = eig.eigenvalues();
+  if (!(values[0] > 1e-14 * values[values.size() - 1])) {
+    if (why) *why = "covariance: the Jacobian is rank deficient (parameters not observable)";
+    return false;
+  }
+  *inverse =
+      eig.eigenvectors() * values.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+  return true;
+}
+
 // The joint covariance (RefineResult::joint_covariance) of the intrinsics and the one shared pose,
 // scale (J^T J)^-1 from the Jacobian in the tangent spaces (Problem::Evaluate): 10x faster than
 // ceres::Covariance's DENSE_SVD on tall problems (a window of 300 frames: 96k residuals), which
@@ -123,24 +147,79 @@ bool JointCovariance(ceres::Problem* problem, Parameters* params, const std::vec
     }
   }
   jtj = jtj.selfadjointView<Eigen::Upper>();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
-  const Eigen::VectorXd& values = eig.eigenvalues();
-  if (!(values[0] > 1e-14 * values[n - 1])) {
-    if (why) *why = "covariance: the Jacobian is rank deficient (parameters not observable)";
-    return false;
-  }
-  const Eigen::MatrixXd inverse =
-      eig.eigenvectors() * values.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+  Eigen::MatrixXd inverse;
+  if (!InvertInformation(jtj, &inverse, why)) return false;
   // Tangent coordinates -> the 16 rows: the intrinsics' tangent holds the free parameters in
   // increasing index order (SubsetManifold).
-  std::vector<int> rows;
-  for (int i = 0; i < kN; ++i) {
-    if (std::find(fixed.begin(), fixed.end(), i) == fixed.end()) rows.push_back(i);
-  }
+  std::vector<int> rows = FreeIntrinsics(fixed);
   for (int i = 0; i < 6; ++i) rows.push_back(kN + i);
   *covariance = Eigen::MatrixXd::Zero(kN + 6, kN + 6);
   for (int a = 0; a < n; ++a) {
     for (int b = 0; b < n; ++b) (*covariance)(rows[a], rows[b]) = scale * inverse(a, b);
+  }
+  return true;
+}
+
+// The intrinsics' covariance with one pose per view, scale (J^T J)^-1 restricted to the intrinsics:
+// the Schur complement S = A - sum_v B_v D_v^-1 B_v^T of the Jacobian in the tangent spaces
+// (A: intrinsics x intrinsics, D_v: view v's 6 x 6 pose block, B_v: their coupling; a residual
+// sees one pose, so D is block diagonal), inverted. The same matrix as ceres::Covariance's
+// DENSE_SVD of the whole Jacobian, which costs 0.1 s on 30 views (190 parameters) against ~2 ms.
+bool PerViewIntrinsicsCovariance(ceres::Problem* problem, Parameters* params,
+                                 const std::vector<int>& fixed, double scale,
+                                 IntrinsicsCovariance* covariance, std::string* why) {
+  ceres::Problem::EvaluateOptions options;
+  options.parameter_blocks.push_back(params->intrinsics.data());
+  for (size_t v = 0; v < params->rotations.size(); ++v) {
+    options.parameter_blocks.push_back(params->rotations[v].data());
+    options.parameter_blocks.push_back(params->translations[v].data());
+  }
+  options.apply_loss_function = true;
+  ceres::CRSMatrix jacobian;
+  if (!problem->Evaluate(options, nullptr, nullptr, nullptr, &jacobian)) {
+    if (why) *why = "covariance: the Jacobian could not be evaluated";
+    return false;
+  }
+  const int free = kN - static_cast<int>(fixed.size());
+  const int views = static_cast<int>(params->rotations.size());
+  if (jacobian.num_cols != free + 6 * views) {
+    if (why) *why = "covariance: unexpected Jacobian layout";
+    return false;
+  }
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(free, free);
+  std::vector<Eigen::Matrix<double, 6, 6>> d(views, Eigen::Matrix<double, 6, 6>::Zero());
+  std::vector<Eigen::Matrix<double, Eigen::Dynamic, 6>> b(views, Eigen::MatrixXd::Zero(free, 6));
+  for (int r = 0; r < jacobian.num_rows; ++r) {
+    for (int i = jacobian.rows[r]; i < jacobian.rows[r + 1]; ++i) {
+      const int ci = jacobian.cols[i];
+      for (int j = jacobian.rows[r]; j < jacobian.rows[r + 1]; ++j) {
+        const int cj = jacobian.cols[j];
+        const double p = jacobian.values[i] * jacobian.values[j];
+        if (ci < free && cj < free) {
+          a(ci, cj) += p;
+        } else if (ci < free) {
+          b[(cj - free) / 6](ci, (cj - free) % 6) += p;
+        } else if (cj >= free && (ci - free) / 6 == (cj - free) / 6) {
+          d[(ci - free) / 6]((ci - free) % 6, (cj - free) % 6) += p;
+        }
+      }
+    }
+  }
+  Eigen::MatrixXd schur = a;
+  for (int v = 0; v < views; ++v) {
+    const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(d[v]);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) {
+      if (why) *why = "covariance: a view's pose is not observable";
+      return false;
+    }
+    schur -= b[v] * ldlt.solve(b[v].transpose());
+  }
+  Eigen::MatrixXd inverse;
+  if (!InvertInformation(schur, &inverse, why)) return false;
+  const std::vector<int> rows = FreeIntrinsics(fixed);  // The intrinsics' tangent, in order.
+  covariance->setZero();
+  for (int i = 0; i < free; ++i) {
+    for (int j = 0; j < free; ++j) (*covariance)(rows[i], rows[j]) = scale * inverse(i, j);
   }
   return true;
 }
@@ -240,6 +319,11 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
         return finish(MethodStatus::kFailed, why);
       }
       result.covariance = result.joint_covariance.topLeftCorner<kN, kN>();
+    } else if (!options.shared_pose && !options.autodiff) {
+      if (!PerViewIntrinsicsCovariance(&problem, &params, fixed, sigma * sigma, &result.covariance,
+                                       &why)) {
+        return finish(MethodStatus::kFailed, why);
+      }
     } else if (!CovarianceOfIntrinsics(&problem, &params, sigma * sigma, &result.covariance,
                                        &why)) {
       return finish(MethodStatus::kFailed, why);
@@ -248,7 +332,6 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
       const bool is_fixed = std::find(fixed.begin(), fixed.end(), i) != fixed.end();
       if (!is_fixed) result.intrinsics_std[i] = std::sqrt(result.covariance(i, i));
     }
-
   }
   return finish(MethodStatus::kOk, "");
 }

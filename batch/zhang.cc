@@ -69,6 +69,10 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
     case LensModel::kPinholeRadTan5:
       break;
   }
+  // LM's normal equations by LU, not OpenCV's default SVD: the SVD of the (6 views + intrinsics)^2
+  // matrix at every iteration was 90% of a call (0.4 s on 30 views); the system is positive
+  // definite for a calibration that converges, and the solution agrees to ~1e-9 relative.
+  flags |= cv::CALIB_USE_LU;
   UseSequentialOpenCv();
   cv::Mat camera_matrix = cv::Mat::eye(3, 3, CV_64F), dist = cv::Mat::zeros(5, 1, CV_64F);
   std::vector<cv::Mat> rvecs, tvecs;

@@ -1,6 +1,7 @@
 #include "core/measurements.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -26,6 +27,8 @@ bool NoiseOptions::Check(std::string* why) const {
     msg << "hold_s must be > 0, got " << hold_s;
   } else if (hold_frames < 0) {
     msg << "hold_frames must be >= 0 (0: one draw for the whole run), got " << hold_frames;
+  } else if (!std::isfinite(tag_radial_bias_px)) {
+    msg << "tag_radial_bias_px must be finite, got " << tag_radial_bias_px;
   }
   if (msg.str().empty()) return true;
   if (why) *why = msg.str();
@@ -125,6 +128,23 @@ std::unique_ptr<OracleSource> OracleSource::Create(const SceneTruth& scene,
   return source;
 }
 
+void OracleSource::AddTagRadialBias(double bias_px, std::vector<Eigen::Vector2d>* pixels) {
+  if (bias_px == 0) return;
+  for (size_t first = 0; first + 3 < pixels->size(); first += 4) {
+    const Eigen::Vector2d* c = pixels->data() + first;
+    const auto h = [](const Eigen::Vector2d& p) { return Eigen::Vector3d(p.x(), p.y(), 1.0); };
+    const Eigen::Vector2d centre =
+        h(c[0]).cross(h(c[2])).cross(h(c[1]).cross(h(c[3]))).hnormalized();
+    if (!centre.allFinite()) continue;  // A degenerate (collapsed) tag: left as it is.
+    std::array<Eigen::Vector2d, 4> moved;
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector2d out = c[k] - centre;
+      moved[k] = out.norm() > 0 ? Eigen::Vector2d(c[k] + bias_px * out.normalized()) : c[k];
+    }
+    for (int k = 0; k < 4; ++k) (*pixels)[first + k] = moved[k];
+  }
+}
+
 void OracleSource::AddNoise(int segment, Frame* frame) const {
   if (point_noise_.empty()) return;
   const int hold = options_.noise.hold_frames;
@@ -148,6 +168,7 @@ void OracleSource::Measure(double t, int segment, Frame* frame) const {
   }
   // Create() verified every point is in front of the camera over the whole duration.
   scene_.Observe(observed_at, &frame->points_in_parent, &frame->pixels, nullptr);
+  AddTagRadialBias(options_.noise.tag_radial_bias_px, &frame->pixels);
   AddNoise(segment, frame);
 }
 

@@ -65,8 +65,13 @@ struct NoiseOptions {
   double hold_s = 0.1;
   // Sampled sources: one draw per this many consecutive frames; 0: one draw for the whole run.
   int hold_frames = 1;
+  // A deterministic detector-like error (px) for points that come as tags of 4 corners (AprilGrid
+  // targets: points 4k..4k+3): every corner moves this far along its tag's diagonal, outward
+  // from the tag's projected centre (where the projected diagonals cross); negative: inward. Added
+  // to the exact projection before the noise, in every frame. 0: none.
+  double tag_radial_bias_px = 0.0;
   bool Check(std::string* why) const;
-  bool Active() const { return point_sigma_m > 0 || pixel_sigma_px > 0; }
+  bool Active() const { return point_sigma_m > 0 || pixel_sigma_px > 0; }  // Random noise.
 };
 
 struct OracleOptions {
@@ -82,6 +87,8 @@ struct OracleOptions {
 
 class OracleSource final : public MeasurementSource {
  public:
+  // NoiseOptions::tag_radial_bias_px applied to the exact pixels of one frame (all its points).
+  static void AddTagRadialBias(double bias_px, std::vector<Eigen::Vector2d>* pixels);
   // Returns nullptr and says why when the options are invalid or a point is behind the camera (or
   // outside a required image) at any frame time or at any of 2000 instants over the duration.
   static std::unique_ptr<OracleSource> Create(const SceneTruth& scene, const OracleOptions& options,

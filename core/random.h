@@ -20,7 +20,7 @@ inline uint64_t TrialSeed(uint64_t config_seed, uint64_t trial) {
 }
 
 // Independent streams inside one trial (noise on points, noise on pixels, ...).
-enum class RngStream : uint64_t { kPointNoise = 1, kPixelNoise = 2, kScene = 3 };
+enum class RngStream : uint64_t { kPointNoise = 1, kPixelNoise = 2, kScene = 3, kMotionPhase = 4 };
 
 class Rng {
  public:

@@ -14,7 +14,9 @@
 // 1/n px) — but only pixels whose
 // four corners do not all see the same shade of the same board are supersampled (features are
 // assumed larger than a pixel: tag cells of a few pixels). Then optional Gaussian blur (PSF sigma
-// in px), Gaussian noise in gray levels, and rounding to 8 bits.
+// in px; computed only near the boards: the uniform background is unchanged by it), Gaussian
+// noise in gray levels (iid within a frame, read from a fixed table of normals in blocks the
+// frame's rng chooses: render.cc AddImageNoise), and rounding to 8 bits.
 // Speed: FrameRenderer undistorts the rays of the (w + 1) x (h + 1) pixel corners once per camera;
 // the rays of the samples inside a pixel are interpolated bilinearly between its four corner rays
 // (exact without distortion; with |k1| <= 0.3 the error is below 1e-3 px).

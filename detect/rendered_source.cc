@@ -15,8 +15,9 @@ struct FrameResult {
   Frame frame;
   DetectionCounts counts;
   int tags_expected = 0;
-  std::vector<Eigen::Vector2d> errors;  // Detected minus exact, per corner.
-  std::string error;                    // Non-empty: rendering failed.
+  std::vector<Eigen::Vector2d> errors;   // Detected minus exact, per corner.
+  std::vector<Eigen::Vector2d> outward;  // Per corner: unit, from its tag's centre (projected).
+  std::string error;                     // Non-empty: rendering failed.
 };
 
 }  // namespace
@@ -56,8 +57,11 @@ void DetectionStatsAccumulator::AddFrame(int tags_expected, const DetectionCount
   stats_.border_tags += counts.border_tags;
 }
 
-void DetectionStatsAccumulator::AddCornerError(const Eigen::Vector2d& e) {
+void DetectionStatsAccumulator::AddCornerError(const Eigen::Vector2d& e,
+                                               const Eigen::Vector2d& outward) {
   sum_ += e;
+  sum_radial_tangent_ +=
+      Eigen::Vector2d(e.dot(outward), e.dot(Eigen::Vector2d(-outward.y(), outward.x())));
   sum_sq_ += e.squaredNorm();
   norms_.push_back(e.norm());
 }
@@ -70,6 +74,8 @@ DetectionStats DetectionStatsAccumulator::Finish() const {
   stats.rms_px = std::sqrt(sum_sq_ / n);
   stats.bias_x_px = sum_.x() / n;
   stats.bias_y_px = sum_.y() / n;
+  stats.bias_radial_px = sum_radial_tangent_.x() / n;
+  stats.bias_tangent_px = sum_radial_tangent_.y() / n;
   std::vector<double> norms = norms_;
   const size_t p95 = std::min(norms.size() - 1, static_cast<size_t>(std::ceil(0.95 * n)) - 1);
   std::nth_element(norms.begin(), norms.begin() + p95, norms.end());
@@ -84,6 +90,10 @@ bool RenderedSourceOptions::Check(std::string* why) const {
   }
   if (threads < 0) {
     if (why) *why = "threads must be >= 0 (0: all cores)";
+    return false;
+  }
+  if (!(corner_error_clip_px >= 0)) {
+    if (why) *why = "corner_error_clip_px must be >= 0 (infinity: the detected corners)";
     return false;
   }
   return render.Check(why) && detection.Check(why);
@@ -171,9 +181,18 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
         r.frame.point_ids.push_back(o.point_id);
         r.frame.points_in_parent.push_back(parent_from_points * scene.points[o.point_id]);
         r.frame.pixels.push_back(o.pixel);
-        Eigen::Vector2d exact;
-        if (ProjectPoint(intrinsics, cam_from_points * scene.points[o.point_id], &exact)) {
+        Eigen::Vector2d exact, centre;
+        const int first_corner = o.point_id - o.point_id % 4;  // Tags own 4 consecutive points.
+        const Eigen::Vector3d centre_in_points =
+            (scene.points[first_corner] + scene.points[first_corner + 2]) / 2;
+        if (ProjectPoint(intrinsics, cam_from_points * scene.points[o.point_id], &exact) &&
+            ProjectPoint(intrinsics, cam_from_points * centre_in_points, &centre)) {
           r.errors.push_back(o.pixel - exact);
+          r.outward.push_back((exact - centre).normalized());
+          const Eigen::Vector2d e = o.pixel - exact;
+          if (e.norm() > options.corner_error_clip_px) {
+            r.frame.pixels.back() = exact + e * (options.corner_error_clip_px / e.norm());
+          }
         }
       }
     }
@@ -195,7 +214,7 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
       return nullptr;
     }
     stats.AddFrame(r.tags_expected, r.counts, r.frame.pixels.empty());
-    for (const Eigen::Vector2d& e : r.errors) stats.AddCornerError(e);
+    for (size_t i = 0; i < r.errors.size(); ++i) stats.AddCornerError(r.errors[i], r.outward[i]);
     source->frames_.push_back(std::move(r.frame));
   }
   source->stats_ = stats.Finish();

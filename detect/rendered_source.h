@@ -11,6 +11,7 @@
 // Frames without any detection are kept (empty) and counted, never fatal.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,6 +29,11 @@ struct RenderedSourceOptions {
   RenderOptions render;  // width, height: the camera's image size.
   FrameDetectorOptions detection;
   int threads = 1;  // Frames produced in parallel; 0: all cores.
+  // A diagnostic (config: rendering.corner_error_clip_px): each detected corner is reported at its
+  // exact projection plus its detection error shortened to at most this length (px): 0 keeps the
+  // pipeline's selection of corners (which tags, which frames) and removes its corner errors;
+  // 0.3 removes only the outliers. Infinity (the default): the detected corners.
+  double corner_error_clip_px = std::numeric_limits<double>::infinity();
   bool Check(std::string* why) const;
 };
 
@@ -42,6 +48,10 @@ struct DetectionStats {
   long border_tags = 0;     // Dropped for touching the image border.
   long corners = 0;
   double rms_px = 0, bias_x_px = 0, bias_y_px = 0, p95_px = 0;  // Per-corner Euclidean error.
+  // Mean error along each tag's diagonal, outward from the tag's projected centre (> 0: tags
+  // look larger), and perpendicular to it (+90 degrees in the image): the symmetric errors that a
+  // mean over x and y cancels (detect/corner_bias.h). NaN when no corner had its tag's direction.
+  double bias_radial_px = 0, bias_tangent_px = 0;
   double DetectionRate() const {
     return tags_expected > 0 ? static_cast<double>(tags_detected) / tags_expected : 0.0;
   }
@@ -51,12 +61,14 @@ struct DetectionStats {
 class DetectionStatsAccumulator {
  public:
   void AddFrame(int tags_expected, const DetectionCounts& counts, bool no_detection);
-  void AddCornerError(const Eigen::Vector2d& detected_minus_exact);
+  // `outward`: the unit vector from the tag's projected centre to the corner's exact projection.
+  void AddCornerError(const Eigen::Vector2d& detected_minus_exact, const Eigen::Vector2d& outward);
   DetectionStats Finish() const;
 
  private:
   DetectionStats stats_;
   Eigen::Vector2d sum_ = Eigen::Vector2d::Zero();
+  Eigen::Vector2d sum_radial_tangent_ = Eigen::Vector2d::Zero();
   double sum_sq_ = 0;
   std::vector<double> norms_;
 };

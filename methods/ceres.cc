@@ -6,8 +6,14 @@
 // Online mode (window_s, every_s; methods/online.h): each window's solve starts from the previous
 // window's solution (the first from its init on that window) and reports the joint covariance of
 // the intrinsics and the extrinsic (core/estimate.h's layout).
+// `views: init` (the twin of a planar-target calibration): instead of every frame with the rig
+// constraint, exactly the views its init used (zhang's, after max_views), with one board pose per
+// view and no rig constraint, the extrinsic then by chordal averaging of the per-view poses as
+// zhang does; so "less data" and "worse estimator" can be told apart. Its rows carry no CRLB (the
+// bound of the rig parametrisation would not be its own).
 #include <cmath>
 
+#include "batch/extrinsic_from_views.h"
 #include "batch/refine.h"
 #include "methods/method.h"
 #include "methods/online.h"
@@ -32,6 +38,7 @@ class CeresMethod final : public Method {
     v->Field("loss_scale_px", &options_.loss_scale_px);
     v->Field("max_iterations", &options_.max_iterations);
     v->Field("autodiff", &options_.autodiff);
+    v->Field("views", &views_, {"frames", "init"});
     online_.Visit(v);
   }
   bool Check(std::string* why) const override {
@@ -39,10 +46,17 @@ class CeresMethod final : public Method {
       if (why) *why = "init must name the method it starts from (dlt, zhang or an instance)";
       return false;
     }
+    if (views_ == "init" && online_.Online()) {
+      if (why) *why = "views: init has no online mode (window_s must be 0)";
+      return false;
+    }
     return options_.Check(why) && online_.Check(why);
   }
   std::vector<std::string> Prerequisites() const override { return {init_}; }
-  std::optional<RefineOptions> BoundParametrisation() const override { return options_; }
+  std::optional<RefineOptions> BoundParametrisation() const override {
+    if (views_ == "init") return std::nullopt;
+    return options_;
+  }
 
   MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {
     return RunMaybeOnline(input, online_, sink,
@@ -63,6 +77,7 @@ class CeresMethod final : public Method {
         return result;
       }
       start = &init.estimate;
+      if (views_ == "init") return SolveOnInitViews(init);
     }
     RefineOptions options = options_;
     options.compute_pose_covariance = online_.Online();
@@ -78,6 +93,39 @@ class CeresMethod final : public Method {
     e.parent_from_cam = r.cam_from_object[0].Inverse();
     e.intrinsics_std = r.intrinsics_std;
     if (r.joint_covariance.size() > 0) e.covariance = EstimateCovariance(r, e);
+    return result;
+  }
+
+  // views: init. The init's per-view problem re-solved by this instance's model, then the
+  // extrinsic by chordal averaging of parent_from_board_v * cam_from_board_v^-1.
+  MethodResult SolveOnInitViews(const MethodResult& init) const {
+    MethodResult result;
+    if (init.per_view == nullptr || init.per_view->views.empty()) {
+      result.status = MethodStatus::kFailed;
+      result.message = "views: init needs an init that solves per-view problems (zhang); " + init_ +
+                       " reports none";
+      return result;
+    }
+    const PerViewSolution& pv = *init.per_view;
+    RefineOptions options = options_;
+    options.shared_pose = false;
+    const RefineResult r =
+        RefineCalibration(pv.views, init.estimate.intrinsics, pv.cam_from_board, options);
+    static_cast<MethodSummary&>(result) = r;
+    result.frames_used = init.frames_used;
+    result.observations_used = init.observations_used;
+    if (!r.IsUsable()) return result;
+    std::vector<Rigid3> parent_from_cam_views;
+    for (size_t v = 0; v < pv.views.size(); ++v)
+      parent_from_cam_views.push_back(pv.parent_from_board[v] * r.cam_from_object[v].Inverse());
+    CameraEstimate& e = result.estimate;
+    e.has_camera = true;
+    e.intrinsics = r.intrinsics;
+    e.lens = options_.model;
+    e.parent_from_cam = AveragePoses(parent_from_cam_views);
+    e.cam_from_parent = e.parent_from_cam.Inverse();
+    e.intrinsics_std = r.intrinsics_std;
+    e.fit_rms_px = r.rms_reproj_px;  // One pose per view, as zhang's figure.
     return result;
   }
 
@@ -98,6 +146,7 @@ class CeresMethod final : public Method {
   }
 
   std::string init_ = "dlt";
+  std::string views_ = "frames";  // frames: every frame, one shared pose; init: the init's views.
   RefineOptions options_;
   OnlineOptions online_;
 };

@@ -25,6 +25,16 @@ FrameSet ReadFrames(const MeasurementSource& source) {
   return frames;
 }
 
+void CountDataUsed(const FrameSet& frames, long* frames_used, long* observations_used) {
+  *frames_used = 0;
+  *observations_used = 0;
+  for (const View& view : frames.views) {
+    if (view.pixels.empty()) continue;
+    ++*frames_used;
+    *observations_used += static_cast<long>(view.pixels.size());
+  }
+}
+
 const FrameSet& MethodInput::Frames() const {
   if (window_frames) return *window_frames;
   return cache->Get<FrameSet>("frames", [this] { return ReadFrames(*source); });

@@ -68,12 +68,29 @@ struct FrameSet {
   std::vector<std::vector<int>> point_ids;  // Per frame: the scene point of each entry.
 };
 FrameSet ReadFrames(const MeasurementSource& source);
+// Frames with at least one observation, and observations, of `frames`.
+void CountDataUsed(const FrameSet& frames, long* frames_used, long* observations_used);
+
+// The per-view problem of a planar-target calibration (zhang): the views it used, with the board
+// points in the board frame, each view's solved board pose and where that board was in the parent
+// frame (known body motion and board placement). A method that re-solves exactly those views
+// (ceres with `views: init`) starts from it.
+struct PerViewSolution {
+  std::vector<View> views;                // Board-local points and measured pixels.
+  std::vector<Rigid3> cam_from_board;     // Per view, as solved.
+  std::vector<Rigid3> parent_from_board;  // Per view, known.
+};
 
 struct MethodResult : MethodSummary {
   CameraEstimate estimate;
   // Persistent-excitation index of the data the method integrated (adaptive/estimator.h); NaN when
   // the method computes none.
   double pe_min_eig = std::numeric_limits<double>::quiet_NaN();
+  // The data the estimate used (runs.csv n_frames_used, n_obs_used): frames with at least one
+  // observation, and corner observations. -1: every frame of the input (the harness counts them).
+  long frames_used = -1, observations_used = -1;
+  // Set by methods that solve per-view problems (see PerViewSolution); null otherwise.
+  std::shared_ptr<const PerViewSolution> per_view;
 };
 
 // Estimates over time, in the order the method produces them.

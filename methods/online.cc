@@ -22,7 +22,8 @@ MethodResult RunMaybeOnline(const MethodInput& input, const OnlineOptions& optio
   if (!options.Online()) return solve(input, nullptr);
   const double duration = input.source->Duration();
   std::vector<double> times;
-  for (long k = 1; k * options.every_s <= duration + 1e-9; ++k) times.push_back(k * options.every_s);
+  for (long k = 1; k * options.every_s <= duration + 1e-9; ++k)
+    times.push_back(k * options.every_s);
   if (times.empty() || times.back() < duration - 1e-9) times.push_back(duration);
   MethodResult last, result;
   bool have_estimate = false;
@@ -46,14 +47,18 @@ MethodResult RunMaybeOnline(const MethodInput& input, const OnlineOptions& optio
     warm = last.estimate;
     have_estimate = true;
     result = last;
+    // The row reports the data of the estimate it holds: the last window's.
+    if (result.frames_used < 0)
+      CountDataUsed(window.Frames(), &result.frames_used, &result.observations_used);
     if (sink != nullptr) sink->OnEstimate(t, last.estimate);
   }
   if (!have_estimate) result = last;  // Every solve failed: the last one's reason.
   std::ostringstream note;
   note << "online: " << solves << " solves";
   if (failed > 0) note << " (" << failed << " failed)";
-  note << ", window " << (std::isinf(options.window_s) ? std::string("all")
-                                                       : std::to_string(options.window_s) + " s")
+  note << ", window "
+       << (std::isinf(options.window_s) ? std::string("all")
+                                        : std::to_string(options.window_s) + " s")
        << " every " << options.every_s << " s";
   if (!last.IsUsable() && have_estimate) note << "; the last solve failed: " << last.message;
   if (!result.message.empty()) note << "; " << result.message;

@@ -12,6 +12,7 @@
 #include "batch/zhang.h"
 
 #include <algorithm>
+#include <set>
 
 #include "batch/extrinsic_from_views.h"
 #include "methods/method.h"
@@ -46,10 +47,12 @@ struct ZhangSettings {
 // One calibrateCamera on a trial's views, and what both extrinsic estimates need from it.
 struct ZhangSolve {
   ZhangResult result;
-  std::string message;                        // Why it failed, or the note both rows carry.
-  std::vector<Rigid3> parent_from_cam_views;  // Per used view, from the known board placement.
-  std::vector<Rigid3> parent_from_points0;    // Board 0's views: the points frame's pose...
-  std::vector<Rigid3> cam_from_board0;        // ... and the board's pose in the camera.
+  std::string message;                          // Why it failed, or the note both rows carry.
+  std::vector<Rigid3> parent_from_cam_views;    // Per used view, from the known board placement.
+  std::vector<Rigid3> parent_from_points0;      // Board 0's views: the points frame's pose...
+  std::vector<Rigid3> cam_from_board0;          // ... and the board's pose in the camera.
+  long frames_used = 0, observations_used = 0;  // Of the used views.
+  std::shared_ptr<const PerViewSolution> per_view;  // The used views, for a ceres twin.
 };
 
 ZhangSolve Solve(const MethodInput& input, const ZhangSettings& settings) {
@@ -97,11 +100,18 @@ ZhangSolve Solve(const MethodInput& input, const ZhangSettings& settings) {
     return solve;
   }
   const ZhangResult& z = solve.result;
+  auto per_view = std::make_shared<PerViewSolution>();
+  std::set<double> frame_times;
   for (size_t i = 0; i < z.used_views.size(); ++i) {
     const auto [time, b] = view_time_board[z.used_views[i]];
     const Rigid3 parent_from_points = input.parent_from_points(time);
     const Rigid3 parent_from_board = parent_from_points * layouts[b].points_from_board;
     solve.parent_from_cam_views.push_back(parent_from_board * z.cam_from_board[i].Inverse());
+    frame_times.insert(time);
+    solve.observations_used += static_cast<long>(views[z.used_views[i]].pixels.size());
+    per_view->views.push_back(views[z.used_views[i]]);
+    per_view->cam_from_board.push_back(z.cam_from_board[i]);
+    per_view->parent_from_board.push_back(parent_from_board);
     if (b == 0) {
       // Hand-eye sees board 0 as the target, moving with the points frame.
       solve.parent_from_points0.push_back(parent_from_points);
@@ -109,6 +119,8 @@ ZhangSolve Solve(const MethodInput& input, const ZhangSettings& settings) {
                                       Rigid3{layouts[0].points_from_board.Inverse()});
     }
   }
+  solve.frames_used = static_cast<long>(frame_times.size());
+  solve.per_view = std::move(per_view);
   solve.message = z.message + "; " + std::to_string(views.size()) + " views";
   return solve;
 }
@@ -134,6 +146,9 @@ class ZhangBase : public Method {
     e.lens = settings_.model;
     e.intrinsics_std = solve.result.intrinsics_std;
     e.fit_rms_px = solve.result.rms_reproj_px;
+    result->frames_used = solve.frames_used;
+    result->observations_used = solve.observations_used;
+    result->per_view = solve.per_view;
     return solve;
   }
   static void SetExtrinsic(const Rigid3& parent_from_cam, CameraEstimate* e) {
@@ -143,10 +158,9 @@ class ZhangBase : public Method {
   }
   // Runs SolveOn statically or on windows (online mode).
   MethodResult RunMode(const MethodInput& input, EstimateSink* sink) const {
-    return RunMaybeOnline(input, settings_.online, sink,
-                          [this](const MethodInput& window, const CameraEstimate*) {
-                            return SolveOn(window);
-                          });
+    return RunMaybeOnline(
+        input, settings_.online, sink,
+        [this](const MethodInput& window, const CameraEstimate*) { return SolveOn(window); });
   }
   virtual MethodResult SolveOn(const MethodInput& input) const = 0;
 

@@ -1,12 +1,12 @@
 #!/usr/bin/python3
 """Compare the runs.csv and summary.csv of two calibench run directories.
 
-Usage: compare_runs.py REF_DIR NEW_DIR [--approx [SWEEP:]METHOD ...] [--rel 1e-5]
+Usage: compare_runs.py REF_DIR NEW_DIR [--approx [SWEEP:]METHOD[=REL] ...] [--rel 1e-5]
 
 Every row of REF must be in NEW, in the same order, with the same bytes in every column REF has;
 NEW may append columns (after REF's last). Rows of an --approx method (or of a method within one
 sweep, SWEEP:METHOD) may differ in their last digits: numbers must agree to |a - b| <= rel *
-max(1, |a|, |b|), text exactly. (cv::calibrateCamera is not bit-reproducible: README,
+max(1, |a|, |b|), text exactly; rel is --rel, or the entry's own after '='. (cv::calibrateCamera is not bit-reproducible: README,
 "Reproducibility of zhang".) Files may be gzipped (runs.csv.gz). Exit 0 when they agree, 1 with
 the differences listed otherwise.
 """
@@ -46,13 +46,15 @@ def compare(name, ref, new, approx, rel, problems):
     sweep = ref_header.index("sweep")
     loose = 0
     for k, (a, b) in enumerate(zip(ref[1:], new[1:]), start=2):
-        is_approx = a[method] in approx or f"{a[sweep]}:{a[method]}" in approx
+        tol = approx.get(f"{a[sweep]}:{a[method]}", approx.get(a[method]))
+        is_approx = tol is not None
+        tol = rel if tol is None or tol < 0 else tol
         for c, column in enumerate(ref_header):
             if a[c] == b[c]:
                 continue
             x, y = number(a[c]), number(b[c])
             if is_approx and x is not None and y is not None and (
-                    abs(x - y) <= rel * max(1.0, abs(x), abs(y)) or
+                    abs(x - y) <= tol * max(1.0, abs(x), abs(y)) or
                     (math.isnan(x) and math.isnan(y))):
                 loose += 1
                 continue
@@ -68,11 +70,16 @@ def main():
     parser.add_argument("--rel", type=float, default=1e-5)
     args = parser.parse_args()
     problems = []
+    approx = {}  # [SWEEP:]METHOD -> its tolerance, -1: --rel.
+    for entry in args.approx:
+        key, _, tol = entry.partition("=")
+        approx[key] = float(tol) if tol else -1.0
     for name in ("runs.csv", "summary.csv"):
         ref, new = read(args.ref, name), read(args.new, name)
-        loose = compare(name, ref, new, set(args.approx), args.rel, problems)
+        loose = compare(name, ref, new, approx, args.rel, problems)
         print(f"compare_runs: {name}: {len(ref) - 1} reference rows; {loose} fields of "
-              f"{', '.join(args.approx) or 'no method'} within {args.rel:g} relative, every other "
+              f"{', '.join(args.approx) or 'no method'} within {args.rel:g} relative (or their own), every "
+              f"other "
               f"field identical" if not problems else f"compare_runs: {name}: checked")
     for p in problems[:50]:
         print("  " + p)

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "bench/run/csv.h"
+#include "core/format.h"
 #include "core/random.h"
 
 namespace calibench {
@@ -58,7 +59,7 @@ bool WriteRenderedFrames(const ScenarioConfig& s, const FramesOptions& o, const 
     if (why) *why = dir + ": cannot create the directory: " + ec.message();
     return false;
   }
-  const SceneTruth scene = s.MakeScene();
+  const SceneTruth scene = s.MakeScene(s.TrialSeedOf(o.trial));
   const auto renderer =
       SceneRenderer::Create(scene, s.aprilgrids, s.RenderingOptions().render, why);
   if (!renderer) return false;
@@ -109,7 +110,7 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
     if (o.max_frames > 0) {
       shortened.duration_s = std::min(s.duration_s, o.max_frames / s.measurements.sample_rate_hz);
     }
-    const SceneTruth scene = shortened.MakeScene();
+    const SceneTruth scene = shortened.MakeScene(s.TrialSeedOf(o.trial));
     const auto source = RenderedSource::Create(scene, s.aprilgrids, s.RenderingOptions(),
                                                s.TrialSeedOf(o.trial), why);
     if (!source) return false;
@@ -141,6 +142,8 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
   const auto detector = FrameDetector::Create(s.aprilgrids, s.rendering.detection, why);
   if (!detector) return false;
   DetectionStatsAccumulator acc;
+  std::string errors_csv =
+      CsvLine({"frame", "point", "u_px", "v_px", "du_px", "dv_px", "radial_px", "tangent_px"});
   for (const auto& [frame, expected] : truth) {
     const std::string path = frames_dir + "/" + FrameName(frame);
     const cv::Mat gray = cv::imread(path, cv::IMREAD_GRAYSCALE);
@@ -162,24 +165,50 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
     acc.AddFrame(expected.tags_in_view, counts, obs.empty());
     for (const Observation& ob : obs) {
       const auto it = expected.pixels.find(ob.point_id);
-      if (it != expected.pixels.end()) acc.AddCornerError(ob.pixel - it->second);
+      if (it == expected.pixels.end()) continue;
+      // The tag's projected centre: where its projected diagonals cross (corners 0-2 and 1-3).
+      const int first = ob.point_id - ob.point_id % 4;
+      Eigen::Vector2d c[4];
+      bool all = true;
+      for (int k = 0; k < 4; ++k) {
+        const auto corner = expected.pixels.find(first + k);
+        all = all && corner != expected.pixels.end();
+        if (all) c[k] = corner->second;
+      }
+      if (!all) continue;
+      const Eigen::Vector3d d02 =
+          Eigen::Vector3d(c[0].x(), c[0].y(), 1).cross(Eigen::Vector3d(c[2].x(), c[2].y(), 1));
+      const Eigen::Vector3d d13 =
+          Eigen::Vector3d(c[1].x(), c[1].y(), 1).cross(Eigen::Vector3d(c[3].x(), c[3].y(), 1));
+      const Eigen::Vector3d centre = d02.cross(d13);
+      const Eigen::Vector2d e = ob.pixel - it->second;
+      const Eigen::Vector2d outward = (it->second - centre.hnormalized()).normalized();
+      acc.AddCornerError(e, outward);
+      if (!o.errors_path.empty()) {
+        errors_csv +=
+            CsvLine({std::to_string(frame), std::to_string(ob.point_id),
+                     FormatNumber(it->second.x()), FormatNumber(it->second.y()),
+                     FormatNumber(e.x()), FormatNumber(e.y()), FormatNumber(e.dot(outward)),
+                     FormatNumber(e.dot(Eigen::Vector2d(-outward.y(), outward.x())))});
+      }
     }
   }
   *stats = acc.Finish();
-  return true;
+  return o.errors_path.empty() || WriteFileAtomically(o.errors_path, errors_csv, why);
 }
 
 std::string FormatDetectionStats(const DetectionStats& s) {
-  char text[640];
+  char text[800];
   std::snprintf(text, sizeof(text),
                 "frames %d (%d without detections)\n"
                 "tags: %ld detected of %ld fully in view: detection rate %.4f; %ld unknown ids, "
                 "%ld dropped at the border, %ld unrefined\n"
                 "corner error vs truth over %ld corners: RMS %.4f px, bias (%.4f, %.4f) px, "
-                "p95 %.4f px\n",
+                "p95 %.4f px; along the tag diagonals: radial (outward) bias %.4f px, tangential "
+                "%.4f px\n",
                 s.frames, s.frames_without_detections, s.tags_detected, s.tags_expected,
                 s.DetectionRate(), s.unknown_tags, s.border_tags, s.unrefined_tags, s.corners,
-                s.rms_px, s.bias_x_px, s.bias_y_px, s.p95_px);
+                s.rms_px, s.bias_x_px, s.bias_y_px, s.p95_px, s.bias_radial_px, s.bias_tangent_px);
   return text;
 }
 

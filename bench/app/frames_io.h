@@ -24,6 +24,9 @@ namespace calibench {
 struct FramesOptions {
   int trial = 0;
   int max_frames = 0;  // 0: every frame of the scenario's duration.
+  // detect --frames: also write every matched corner's error here (CSV: frame, point, u_px, v_px
+  // exact, du_px, dv_px, radial_px, tangent_px along the tag's diagonal); empty: none.
+  std::string errors_path;
 };
 
 // Returns false with *why (file and reason) when the scenario cannot be rendered or DIR written.

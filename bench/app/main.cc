@@ -13,9 +13,10 @@
 #include <string>
 
 #include "bench/app/calibrate.h"
+#include "bench/app/corner_bias_cmd.h"
+#include "bench/app/frames_io.h"
 #include "bench/config/config_io.h"
 #include "bench/run/csv.h"
-#include "bench/app/frames_io.h"
 #include "bench/run/run_dir.h"
 #include "bench/run/runner.h"
 #include "bench/run/table.h"
@@ -283,8 +284,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   calibrate->add_option("--target", cal.target_path,
                         "Kalibr target YAML (target_type: aprilgrid or checkerboard)");
   calibrate->add_option("--out", cal.out_path, "Output camera.yaml (OpenCV FileStorage)");
-  calibrate->add_option("--model", cal.model,
-                        "Lens model: " + LensModelList());
+  calibrate->add_option("--model", cal.model, "Lens model: " + LensModelList());
   calibrate->add_flag("--skew", cal.skew, "Estimate the skew angle phi too");
   FramesArgs render_args, detect_args;
   CLI::App* render =
@@ -296,6 +296,18 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   AddFramesOptions(detect, &detect_args);
   detect->add_option("--frames", detect_args.frames_dir,
                      "Read frames + corners.csv from here (default: render in memory)");
+  detect->add_option("--errors", detect_args.options.errors_path,
+                     "With --frames: write every matched corner's error (CSV)");
+  calibench::CornerBiasArgs bias_args;
+  CLI::App* corner_bias =
+      app.add_subcommand("corner-bias",
+                         "Corner bias and noise of render + detect + refine vs exact projections, "
+                         "against viewing angle, tag size, blur and image position");
+  corner_bias->add_option("--out", bias_args.out_path, "Output CSV")->required();
+  corner_bias->add_option("--views", bias_args.views,
+                          "Sub-pixel shifted views per case (default 8)");
+  corner_bias->add_option("--draws", bias_args.draws, "Noise draws per view (default 8)");
+  corner_bias->add_option("--threads", bias_args.threads, "Worker threads (default 2)");
   CLI11_PARSE(app, argc, argv);
   try {
     if (run->parsed()) return Run(run_args);
@@ -305,6 +317,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
     }
     if (render->parsed()) return RenderOrDetect(render_args, true);
     if (detect->parsed()) return RenderOrDetect(detect_args, false);
+    if (corner_bias->parsed()) return calibench::CornerBias(bias_args);
     if (calibrate->parsed()) {
       if (cal.points_path.empty() && cal.images_dir.empty()) {
         std::cerr << "calibench: calibrate: give --points FILE or --images DIR --target T.yaml\n";

@@ -179,8 +179,10 @@ void ParseMotion(const Reader& r, const YAML::Node& node, const std::string& fie
                  ScenarioConfig* s) {
   r.CheckKeys(node, field,
               {"preset", "v_const", "v_cos", "v_sin", "w_const", "w_cos", "w_sin",
-               "frequency_rad_s", "frame"});
+               "frequency_rad_s", "frame", "random_phase"});
   s->motion = TwistProfile();
+  s->motion_random_phase = false;
+  r.Set(node, "random_phase", field, &s->motion_random_phase);
   s->motion_preset.clear();
   if (node["preset"].IsDefined()) {
     for (const char* key :
@@ -227,8 +229,8 @@ void ParseChanges(const Reader& r, const YAML::Node& node, const std::string& fi
     CalibrationChange c;
     const bool step = r.Choice(e["kind"], f + ".kind", {"step", "ramp"}) == "step";
     c.kind = step ? CalibrationChange::Kind::kStep : CalibrationChange::Kind::kRamp;
-    std::vector<std::string> keys = {"kind",   "rpy_deg", "x_m",    "fku_px",
-                                     "fkv_px", "u0_px",   "v0_px",  "phi_deg"};
+    std::vector<std::string> keys = {"kind",   "rpy_deg", "x_m",   "fku_px",
+                                     "fkv_px", "u0_px",   "v0_px", "phi_deg"};
     const std::vector<std::string> times =
         step ? std::vector<std::string>{"at_s"} : std::vector<std::string>{"from_s", "to_s"};
     keys.insert(keys.end(), times.begin(), times.end());
@@ -279,10 +281,9 @@ void ParseTracking(const Reader& r, const YAML::Node& node, const std::string& f
 
 void ParseReference(const Reader& r, const YAML::Node& node, const std::string& field,
                     Reference* ref) {
-  r.CheckKeys(
-      node, field,
-      {"source", "method", "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "x_C",
-       "theta_err_below"});
+  r.CheckKeys(node, field,
+              {"source", "method", "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "x_C",
+               "theta_err_below"});
   *ref = Reference();
   r.Set(node, "source", field, &ref->source);
   r.Set(node, "method", field, &ref->method);
@@ -369,19 +370,20 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     if (!check.Check(&why)) r.Fail(n, f, why);
   });
   r.If(node, "noise", field, [&](auto n, auto f) {
-    r.CheckKeys(n, f, {"point_sigma_m", "pixel_sigma_px", "hold_s", "hold_frames"});
+    r.CheckKeys(n, f,
+                {"point_sigma_m", "pixel_sigma_px", "hold_s", "hold_frames", "tag_radial_bias_px"});
     NoiseOptions& noise = s->measurements.noise;
     r.Set(n, "point_sigma_m", f, &noise.point_sigma_m);
     r.Set(n, "pixel_sigma_px", f, &noise.pixel_sigma_px);
     r.Set(n, "hold_s", f, &noise.hold_s);
     r.Set(n, "hold_frames", f, &noise.hold_frames);
+    r.Set(n, "tag_radial_bias_px", f, &noise.tag_radial_bias_px);
     std::string why;
     if (!noise.Check(&why)) r.Fail(n, f, why);
   });
   r.If(node, "rendering", field,
        [&](auto n, auto f) { config_internal::ParseRendering(r, n, f, &s->rendering); });
-  r.If(node, "methods", field,
-       [&](auto n, auto f) { config_internal::ParseMethods(r, n, f, s); });
+  r.If(node, "methods", field, [&](auto n, auto f) { config_internal::ParseMethods(r, n, f, s); });
   r.If(node, "reference", field, [&](auto n, auto f) { ParseReference(r, n, f, &s->reference); });
   r.If(node, "sweep_point", field, [&](auto n, auto f) {  // Written by ResolvedYaml.
     r.CheckKeys(n, f, {"sweep", "index", "measurement_index", "params"});
@@ -454,8 +456,8 @@ void Finish(const Reader& r, const YAML::Node& at, const std::string& field, Sce
   std::string why;
   for (size_t i = 0; i < s->truth_changes.size(); ++i) {  // Against the final duration_s.
     if (!s->truth_changes[i].Check(s->duration_s, &why)) {
-      const std::string mark = i < s->truth_change_marks.size() ? s->truth_change_marks[i]
-                                                                : r.file();
+      const std::string mark =
+          i < s->truth_change_marks.size() ? s->truth_change_marks[i] : r.file();
       throw config_internal::ConfigError(mark + ": " + field + ".truth.changes[" +
                                          std::to_string(i) + "]: " + why);
     }
@@ -473,9 +475,8 @@ void ExpandSweptScenario(const Reader& r, const YAML::Node& root, const std::str
       config_internal::ParseSweep(r, root["sweep"]);
   for (size_t i = 0; i < axes.size(); ++i) {
     if (axes[i].methods_only && axes[i].path.size() > 1) {
-      config_internal::CheckSweptMethod(r, axes[i].field_node,
-                                        "sweep[" + std::to_string(i) + "].field", axes[i].path[1],
-                                        swept);
+      config_internal::CheckSweptMethod(
+          r, axes[i].field_node, "sweep[" + std::to_string(i) + "].field", axes[i].path[1], swept);
     }
   }
   std::vector<config_internal::SweepPointSpec> points;

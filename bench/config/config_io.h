@@ -15,30 +15,35 @@
 //                              origin: [3], rpy_deg: [3]}, ...]}  (AprilTag rig)
 //     image_size: [640, 480]
 //     motion: {preset: small}  |  {v_const, v_cos, v_sin, w_const, w_cos, w_sin: [3],
-//              frequency_rad_s, frame: auto | body | world}
+//              frequency_rad_s, frame: auto | body | world}; either form may add
+//              random_phase: true (each trial starts the profile at its own phase)
 //     measurements: {detections: oracle | rendered, sample_rate_hz: 0, eval_rate_hz: 10,
 //                    outside_image: fail | keep}   (oracle: a projection outside image_size)
-//     noise: {point_sigma_m, pixel_sigma_px, hold_s, hold_frames}
-//     rendering: {supersample, blur_sigma_px, noise_sigma_gray, ..., detector: {...}}
+//     noise: {point_sigma_m, pixel_sigma_px, hold_s, hold_frames, tag_radial_bias_px}
+//     rendering: {supersample, blur_sigma_px, noise_sigma_gray, ..., refine_corners,
+//                 min_border_distance_px, corner_error_clip_px (diagnostic), detector: {...}}
 //     methods:                                   # named instances (methods/registry.h), in row
 //       - {name: a100, type: adaptive, alpha: 100}   # order; keys: name (default: the type),
 //       - {name: ceres, type: ceres, init: dlt}      # type, enabled (default true),
 //                                                     # convergence_tol, the type's options
 //     methods: {adaptive: {alpha: 100}, ceres: {enabled: true}}   # or the map form: one
 //             # instance per type, name = type, enabled as the type says (adaptive only); a key
-//             # may also name an existing instance, and `zhang:` configures zhang_handeye too.
+//             # may also name an existing instance, and `zhang:` configures zhang_handeye too;
+//             # a new name with `type:` adds an instance: {twin: {type: ceres, init: zhang}}.
 //       type options:  adaptive: alpha, gamma0, rtol, max_step_s, initial_step_s, max_steps,
 //                                initial: {intrinsics, R_C, x_C, allow_improper_rotation}
 //                      dlt: min_planarity_ratio
 //                      zhang, zhang_handeye: model, view_stride, max_views
 //                      ceres: init (an instance or type to start from: dlt, zhang), model,
-//                             estimate_skew, loss, loss_scale_px, max_iterations, autodiff
+//                             estimate_skew, loss, loss_scale_px, max_iterations, autodiff,
+//                             views (frames: every frame, rig constraint; init: the init's own
+//                             per-view problem, e.g. zhang's views)
 //     reference: {source, method, fku_px, fkv_px, phi_deg, u0_px, v0_px, x_C, theta_err_below}
 //
 // `base:` loads another scenario file first; this file's fields then override it (a `points`,
 // `motion` or `reference` section replaces the base's as a whole; a `methods:` list replaces the
-// instances, a map updates them). A sweep axis `methods.NAME.field` changes one instance. Unknown keys, wrong types and
-// invalid values are errors of the form "FILE:LINE:COL: FIELD: REASON".
+// instances, a map updates them). A sweep axis `methods.NAME.field` changes one instance. Unknown
+// keys, wrong types and invalid values are errors of the form "FILE:LINE:COL: FIELD: REASON".
 #pragma once
 
 #include <string>

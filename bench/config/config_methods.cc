@@ -100,13 +100,16 @@ class YamlOptionWriter final : public OptionVisitor {
 };
 
 // Applies one entry (a mapping of instance keys and options) to `instance`.
-void ApplyEntry(const Reader& r, const YAML::Node& node, const std::string& field, bool list_form,
+enum class EntryForm { kList, kMap, kNewInMap };  // kNewInMap: `NAME: {type: T, ...}`.
+
+void ApplyEntry(const Reader& r, const YAML::Node& node, const std::string& field, EntryForm form,
                 MethodInstance* instance) {
   if (node.IsNull()) return;  // `dlt:` with nothing after it: no change.
   KeyCollector keys;
   instance->method->VisitOptions(&keys);
   std::vector<std::string> allowed = {"enabled", "convergence_tol"};
-  if (list_form) allowed.insert(allowed.begin(), {"name", "type"});
+  if (form == EntryForm::kList) allowed.insert(allowed.begin(), {"name", "type"});
+  if (form == EntryForm::kNewInMap) allowed.insert(allowed.begin(), "type");
   allowed.insert(allowed.end(), keys.keys.begin(), keys.keys.end());
   r.CheckKeys(node, field, allowed);
   r.Set(node, "enabled", field, &instance->enabled);
@@ -118,6 +121,25 @@ void ApplyEntry(const Reader& r, const YAML::Node& node, const std::string& fiel
   instance->method->VisitOptions(&reader);
   std::string why;
   if (!instance->method->Check(&why)) r.Fail(node, field, why);
+}
+
+// A type name, or why not (naming the registered types).
+bool CheckTypeName(const Reader& r, const YAML::Node& node, const std::string& field,
+                   std::string* type) {
+  *type = r.String(node, field);
+  if (FindMethodType(*type) != nullptr) return true;
+  r.Fail(node, field,
+         "unknown method type '" + *type + "'; registered types: " + MethodTypeNames());
+  return false;
+}
+
+// An instance name, or a refusal saying what a name may hold.
+void CheckInstanceName(const Reader& r, const YAML::Node& at, const std::string& field,
+                       const std::string& name) {
+  if (name.empty() || name.find_first_of(".[],;= ") != std::string::npos) {
+    r.Fail(at, field,
+           "'" + name + "': an instance name must be non-empty, without spaces or . [ ] , ; =");
+  }
 }
 
 std::string InstanceNames(const ScenarioConfig& s) {
@@ -137,18 +159,12 @@ void ParseList(const Reader& r, const YAML::Node& node, const std::string& field
       r.Fail(entry, f,
              "missing 'type': every instance names its method type (" + MethodTypeNames() + ")");
     }
-    const std::string type = r.String(entry["type"], f + ".type");
-    if (FindMethodType(type) == nullptr) {
-      r.Fail(entry["type"], f + ".type",
-             "unknown method type '" + type + "'; registered types: " + MethodTypeNames());
-    }
+    std::string type;
+    CheckTypeName(r, entry["type"], f + ".type", &type);
     std::string name = type;
     r.Set(entry, "name", f, &name);
     const YAML::Node at = entry["name"].IsDefined() ? entry["name"] : entry;
-    if (name.empty() || name.find_first_of(".[],;= ") != std::string::npos) {
-      r.Fail(at, f + ".name",
-             "'" + name + "': an instance name must be non-empty, without spaces or . [ ] , ; =");
-    }
+    CheckInstanceName(r, at, f + ".name", name);
     for (size_t j = 0; j < instances.size(); ++j) {
       if (instances[j].name == name) {
         std::string reason = "'" + name + "' is already the name of ";
@@ -159,7 +175,7 @@ void ParseList(const Reader& r, const YAML::Node& node, const std::string& field
     }
     MethodInstance instance = MethodInstance::OfType(type, name);
     instance.enabled = true;  // Listing an instance runs it unless it says otherwise.
-    ApplyEntry(r, entry, f, /*list_form=*/true, &instance);
+    ApplyEntry(r, entry, f, EntryForm::kList, &instance);
     instances.push_back(std::move(instance));
   }
   s->methods = std::move(instances);
@@ -174,20 +190,45 @@ void ParseMap(const Reader& r, const YAML::Node& node, const std::string& field,
       allowed.push_back(t.name);
     }
   }
+  // A key naming no instance and no type adds an instance when its entry gives a type.
+  std::vector<std::string> added;
+  for (const auto& kv : node) {
+    const std::string key = kv.first.Scalar();
+    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    if (!kv.second.IsMap() || !kv.second["type"].IsDefined()) continue;  // CheckKeys refuses it.
+    const std::string f = Reader::Join(field, key);
+    std::string type;
+    CheckTypeName(r, kv.second["type"], f + ".type", &type);
+    CheckInstanceName(r, kv.first, f, key);
+    MethodInstance instance = MethodInstance::OfType(type, key);
+    instance.enabled = true;  // As a listed instance.
+    ApplyEntry(r, kv.second, f, EntryForm::kNewInMap, &instance);
+    s->methods.push_back(std::move(instance));
+    allowed.push_back(key);
+    added.push_back(key);
+  }
   r.CheckKeys(node, field, allowed);
   for (const auto& kv : node) {
     const std::string key = kv.first.Scalar();
     const std::string f = Reader::Join(field, key);
+    if (std::find(added.begin(), added.end(), key) != added.end()) continue;
+    if (kv.second.IsMap() && kv.second["type"].IsDefined()) {
+      const MethodInstance* existing = s->FindMethod(key);
+      r.Fail(kv.second["type"], f + ".type",
+             "'" + key + "' is already " +
+                 (existing ? "an instance of type " + existing->type : "a method type") +
+                 "; `type:` in the map form only adds a new instance");
+    }
     auto instance_named = [&](const std::string& name) {
       if (MethodInstance* found = s->FindMethod(name)) return found;
       s->methods.push_back(MethodInstance::OfType(name, name));  // A type name (CheckKeys).
       return &s->methods.back();
     };
     MethodInstance* instance = instance_named(key);
-    ApplyEntry(r, kv.second, f, /*list_form=*/false, instance);
+    ApplyEntry(r, kv.second, f, EntryForm::kMap, instance);
     if (instance->name != instance->type) continue;
     for (const std::string& companion : FindMethodType(instance->type)->companions) {
-      ApplyEntry(r, kv.second, f, /*list_form=*/false, instance_named(companion));
+      ApplyEntry(r, kv.second, f, EntryForm::kMap, instance_named(companion));
     }
   }
 }

@@ -32,7 +32,8 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
                     RenderedSourceOptions* o) {
   r.CheckKeys(node, field,
               {"supersample", "blur_sigma_px", "noise_sigma_gray", "background_gray", "black_gray",
-               "white_gray", "threads", "refine_corners", "detector"});
+               "white_gray", "threads", "refine_corners", "min_border_distance_px",
+               "corner_error_clip_px", "detector"});
   RenderOptions& ro = o->render;
   r.Set(node, "supersample", field, &ro.supersample);
   r.Set(node, "blur_sigma_px", field, &ro.blur_sigma_px);
@@ -42,6 +43,8 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
   r.Set(node, "white_gray", field, &ro.white_gray);
   r.Set(node, "threads", field, &o->threads);
   r.Set(node, "refine_corners", field, &o->detection.refine_corners);
+  r.Set(node, "min_border_distance_px", field, &o->detection.min_border_distance_px);
+  r.Set(node, "corner_error_clip_px", field, &o->corner_error_clip_px);
   r.If(node, "detector", field, [&](const YAML::Node& d, const std::string& df) {
     r.CheckKeys(d, df,
                 {"quad_decimate", "quad_sigma", "refine_edges", "decode_sharpening", "threads",
@@ -59,6 +62,11 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
   std::string why;
   if (o->threads < 0) r.Fail(node, Reader::Join(field, "threads"), "must be >= 0 (0: all cores)");
   if (!ro.Check(&why)) r.Fail(node, field, why);
+  if (!o->detection.Check(&why)) r.Fail(node, field, why);
+  if (!(o->corner_error_clip_px >= 0)) {
+    r.Fail(node, Reader::Join(field, "corner_error_clip_px"),
+           "must be >= 0 (.inf, the default: the detected corners)");
+  }
 }
 
 }  // namespace config_internal

@@ -35,7 +35,9 @@ void EmitRendering(YAML::Emitter& out, const RenderedSourceOptions& o) {
       << ro.background_gray << YAML::Key << "black_gray" << YAML::Value << ro.black_gray
       << YAML::Key << "white_gray" << YAML::Value << ro.white_gray << YAML::Key << "threads"
       << YAML::Value << o.threads << YAML::Key << "refine_corners" << YAML::Value
-      << o.detection.refine_corners << YAML::Key << "detector" << YAML::Value << YAML::Flow
+      << o.detection.refine_corners << YAML::Key << "min_border_distance_px" << YAML::Value
+      << o.detection.min_border_distance_px << YAML::Key << "corner_error_clip_px" << YAML::Value
+      << o.corner_error_clip_px << YAML::Key << "detector" << YAML::Value << YAML::Flow
       << YAML::BeginMap << YAML::Key << "quad_decimate" << YAML::Value << a.quad_decimate
       << YAML::Key << "quad_sigma" << YAML::Value << a.quad_sigma << YAML::Key << "refine_edges"
       << YAML::Value << a.refine_edges << YAML::Key << "decode_sharpening" << YAML::Value
@@ -76,8 +78,10 @@ void config_internal::EmitCamera(YAML::Emitter& out, const CameraSpec& c,
       EmitVector(out, e.rpy_deg);
       out << YAML::Key << "x_m" << YAML::Value;
       EmitVector(out, e.x_m);
-      const std::pair<const char*, double> deltas[] = {{"fku_px", e.fku_px}, {"fkv_px", e.fkv_px},
-                                                       {"u0_px", e.u0_px},   {"v0_px", e.v0_px},
+      const std::pair<const char*, double> deltas[] = {{"fku_px", e.fku_px},
+                                                       {"fkv_px", e.fkv_px},
+                                                       {"u0_px", e.u0_px},
+                                                       {"v0_px", e.v0_px},
                                                        {"phi_deg", e.phi_deg}};
       for (const auto& [key, v] : deltas) out << YAML::Key << key << YAML::Value << v;
       out << YAML::EndMap;
@@ -144,7 +148,8 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
   }
   out << YAML::Key << "frequency_rad_s" << YAML::Value << m.frequency_rad_s;
   out << YAML::Key << "frame" << YAML::Value
-      << (m.frame == TwistProfile::Frame::kWorld ? "world" : "body") << YAML::EndMap;
+      << (m.frame == TwistProfile::Frame::kWorld ? "world" : "body") << YAML::Key << "random_phase"
+      << YAML::Value << s.motion_random_phase << YAML::EndMap;
   out << YAML::Key << "measurements" << YAML::Value << YAML::BeginMap << YAML::Key << "detections"
       << YAML::Value << s.detections << YAML::Key << "sample_rate_hz" << YAML::Value
       << s.measurements.sample_rate_hz << YAML::Key << "eval_rate_hz" << YAML::Value
@@ -154,7 +159,8 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
   out << YAML::Key << "noise" << YAML::Value << YAML::BeginMap << YAML::Key << "point_sigma_m"
       << YAML::Value << n.point_sigma_m << YAML::Key << "pixel_sigma_px" << YAML::Value
       << n.pixel_sigma_px << YAML::Key << "hold_s" << YAML::Value << n.hold_s << YAML::Key
-      << "hold_frames" << YAML::Value << n.hold_frames << YAML::EndMap;
+      << "hold_frames" << YAML::Value << n.hold_frames << YAML::Key << "tag_radial_bias_px"
+      << YAML::Value << n.tag_radial_bias_px << YAML::EndMap;
   out << YAML::Key << "rendering" << YAML::Value;
   EmitRendering(out, s.rendering);
   out << YAML::Key << "methods" << YAML::Value;

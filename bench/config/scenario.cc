@@ -21,7 +21,7 @@ uint64_t ScenarioConfig::TrialSeedOf(int trial) const {
   return TrialSeed(point_seed, t);
 }
 
-SceneTruth ScenarioConfig::MakeScene() const {
+SceneTruth ScenarioConfig::MakeScene(uint64_t trial_seed) const {
   SceneTruth scene;
   scene.calibration_case = calibration_case;
   scene.intrinsics = truth.intrinsics;
@@ -32,7 +32,19 @@ SceneTruth ScenarioConfig::MakeScene() const {
   scene.duration_s = duration_s;
   Motion::Options motion_options;
   motion_options.duration_s = duration_s;
-  scene.motion = Motion(motion, motion_options);
+  TwistProfile profile = motion;
+  if (motion_random_phase) {
+    // c cos(f t + p) + s sin(f t + p) = (c cos p + s sin p) cos f t + (s cos p - c sin p) sin f t.
+    const double p = 2 * M_PI * Rng(trial_seed, RngStream::kMotionPhase).Uniform();
+    const auto shift = [p](Eigen::Vector3d* c, Eigen::Vector3d* s) {
+      const Eigen::Vector3d c0 = *c, s0 = *s;
+      *c = c0 * std::cos(p) + s0 * std::sin(p);
+      *s = s0 * std::cos(p) - c0 * std::sin(p);
+    };
+    shift(&profile.v_cos, &profile.v_sin);
+    shift(&profile.w_cos, &profile.w_sin);
+  }
+  scene.motion = Motion(profile, motion_options);
   return scene;
 }
 
@@ -102,6 +114,12 @@ bool ScenarioConfig::Check(std::string* why) const {
   if (!tracking.Check(&reason)) return fail("tracking", reason);
   if (!motion.Check(&reason)) return fail("motion", reason);
   if (!measurements.Check(&reason)) return fail("measurements", reason);
+  if (measurements.noise.tag_radial_bias_px != 0 &&
+      (aprilgrids.empty() || !boards.empty() || detections != "oracle")) {
+    return fail("noise.tag_radial_bias_px",
+                "needs oracle detections of a target made of AprilGrids only (its points are the "
+                "tags' corners, 4 by 4)");
+  }
   // Frames per trial of each time grid, against kMaxFramesPerTrial.
   const bool continuous_noise = measurements.noise.Active() && measurements.sample_rate_hz == 0;
   const std::pair<const char*, double> grids[] = {
@@ -204,7 +222,8 @@ bool SameOracle(const OracleOptions& a, const OracleOptions& b) {
          a.require_in_image_width == b.require_in_image_width &&
          a.require_in_image_height == b.require_in_image_height &&
          n.point_sigma_m == m.point_sigma_m && n.pixel_sigma_px == m.pixel_sigma_px &&
-         n.hold_s == m.hold_s && n.hold_frames == m.hold_frames;
+         n.hold_s == m.hold_s && n.hold_frames == m.hold_frames &&
+         n.tag_radial_bias_px == m.tag_radial_bias_px;
 }
 
 bool SameRendering(const RenderedSourceOptions& a, const RenderedSourceOptions& b) {
@@ -217,7 +236,8 @@ bool SameRendering(const RenderedSourceOptions& a, const RenderedSourceOptions& 
          r.blur_sigma_px == s.blur_sigma_px && r.noise_sigma_gray == s.noise_sigma_gray &&
          r.background_gray == s.background_gray && r.black_gray == s.black_gray &&
          r.white_gray == s.white_gray && d.refine_corners == e.refine_corners &&
-         d.min_border_distance_px == e.min_border_distance_px && t.family == u.family &&
+         d.min_border_distance_px == e.min_border_distance_px &&
+         a.corner_error_clip_px == b.corner_error_clip_px && t.family == u.family &&
          t.quad_decimate == u.quad_decimate && t.quad_sigma == u.quad_sigma &&
          t.refine_edges == u.refine_edges && t.decode_sharpening == u.decode_sharpening &&
          t.threads == u.threads && t.max_hamming == u.max_hamming &&
@@ -259,7 +279,8 @@ bool operator==(const ScenarioConfig& a, const ScenarioConfig& b) {
          a.image_width == b.image_width && a.image_height == b.image_height &&
          a.boards == b.boards && a.aprilgrids == b.aprilgrids &&
          a.board_rpy_deg == b.board_rpy_deg && a.aprilgrid_rpy_deg == b.aprilgrid_rpy_deg &&
-         a.points == b.points && SameTwist(a.motion, b.motion) && a.detections == b.detections &&
+         a.points == b.points && SameTwist(a.motion, b.motion) &&
+         a.motion_random_phase == b.motion_random_phase && a.detections == b.detections &&
          a.outside_image == b.outside_image && SameOracle(a.measurements, b.measurements) &&
          SameRendering(a.rendering, b.rendering) && a.methods == b.methods &&
          a.reference == b.reference && a.sweep_point == b.sweep_point;

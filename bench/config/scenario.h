@@ -26,8 +26,8 @@ namespace calibench {
 // trials of one scenario.
 constexpr double kMaxFramesPerTrial = 1e7;
 constexpr long kMaxTrials = 1'000'000;
-// An image larger than the renderer's bound (core/render.h) is refused for every scenario: no camera
-// calibrated here has one.
+// An image larger than the renderer's bound (core/render.h) is refused for every scenario: no
+// camera calibrated here has one.
 constexpr int kMaxImageSide = kMaxRenderSide;
 constexpr double kMaxImagePixels = kMaxRenderPixels;
 
@@ -76,7 +76,7 @@ struct ScenarioConfig {
   uint64_t seed = 1;
   int trials = 1;
 
-  CameraSpec truth;                             // At t = 0.
+  CameraSpec truth;                              // At t = 0.
   std::vector<CalibrationChange> truth_changes;  // truth.changes (core/scene.h).
   std::vector<std::string> truth_change_marks;   // file:line:col of each (for messages).
   TrackingConfig tracking;
@@ -94,6 +94,9 @@ struct ScenarioConfig {
   std::vector<Eigen::Vector3d> points;
   std::string motion_preset;  // A ThesisMotionPreset name or empty (explicit twist).
   TwistProfile motion;        // Frame already resolved from the case.
+  // motion.random_phase: each trial's twist starts at its own phase of the profile's period
+  // (drawn from the trial seed), so trials see different views, not only different noise.
+  bool motion_random_phase = false;
 
   // oracle: exact projections + noise (OracleSource); rendered: frames rendered at
   // measurements.sample_rate_hz, detected and matched (RenderedSource; needs aprilgrids).
@@ -115,7 +118,9 @@ struct ScenarioConfig {
   // see the same draws and every measurement point its own.
   uint64_t TrialSeedOf(int trial) const;
   // The ground truth scene (motion integrated over duration_s, changes included).
-  SceneTruth MakeScene() const;
+  // The scene of a trial (of any trial when the motion has no random phase: then trial_seed is
+  // not used).
+  SceneTruth MakeScene(uint64_t trial_seed = 0) const;
   // Whether the trials record estimates over time (truth changes, or tracking.enabled).
   bool Tracks() const { return tracking.enabled || !truth_changes.empty(); }
   // The planar boards (PlanarBoard or AprilGrid) in point order; empty for other point sets.

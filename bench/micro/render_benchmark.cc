@@ -1,12 +1,22 @@
 // Rendering and detection speed: one 640x480 frame of a 6x5 AprilTag grid, 4x4 supersampling at
 // edges; raw AprilTag 3 detection of that frame through the wrapper and through the C API.
+// The rendered pipeline of the default sweeps per frame (BM_RigPipeline: render + detect + refine
+// + match, configs/sweeps/rig.yaml's options, frames cycling through the trial's 240 poses) against
+// the raw C API call on the same frames at quad_decimate 1 (BM_RigDetectCApi/1) and 2 (/2): the
+// issue-#14 target is BM_RigPipeline <= 1.5 x BM_RigDetectCApi/1.
 #include <apriltag/apriltag.h>
 #include <apriltag/tag36h11.h>
 #include <benchmark/benchmark.h>
 
+#include <memory>
+#include <string>
+
+#include "bench/config/config_io.h"
 #include "core/render.h"
 #include "core/synthetic.h"
 #include "detect/apriltag_detector.h"
+#include "detect/frame_detector.h"
+#include "detect/rendered_source.h"
 
 namespace calibench {
 namespace {
@@ -67,6 +77,75 @@ void BM_DetectCApi(benchmark::State& state) {
   tag36h11_destroy(family);
 }
 BENCHMARK(BM_DetectCApi)->Unit(benchmark::kMillisecond);
+
+// The rig scenario of the default sweeps, rendered as its trial 0 renders it.
+struct Rig {
+  ScenarioConfig scenario;
+  SceneTruth scene;
+  std::unique_ptr<SceneRenderer> renderer;
+  std::vector<double> times;
+  static const Rig& Get() {
+    static const Rig rig = [] {
+      Rig r;
+      RunConfig config;
+      std::string why;
+      if (!LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/sweeps/rig.yaml", &config,
+                         &why)) {
+        std::fprintf(stderr, "rig.yaml: %s\n", why.c_str());
+        std::abort();
+      }
+      r.scenario = config.scenarios.at(0);
+      r.scene = r.scenario.MakeScene();
+      r.renderer = SceneRenderer::Create(r.scene, r.scenario.aprilgrids,
+                                         r.scenario.RenderingOptions().render, &why);
+      r.times = FrameTimes(r.scenario.measurements.sample_rate_hz, r.scenario.duration_s);
+      return r;
+    }();
+    return rig;
+  }
+};
+
+void BM_RigPipeline(benchmark::State& state) {
+  const Rig& rig = Rig::Get();
+  const auto detector = FrameDetector::Create(rig.scenario.aprilgrids,
+                                              rig.scenario.RenderingOptions().detection, nullptr);
+  GrayImage image;
+  std::vector<BoardView> views;
+  size_t k = 0;
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
+    const int frame = static_cast<int>(k++ % rig.times.size());
+    rig.renderer->Render(rig.times[frame], 1, frame, &image, &views, nullptr);
+    DetectionCounts counts;
+    benchmark::DoNotOptimize(detector->Detect(image, &counts));
+  }
+}
+BENCHMARK(BM_RigPipeline)->Unit(benchmark::kMillisecond);
+
+// The raw C API on the rig's frames (rendered once, outside the timing).
+void BM_RigDetectCApi(benchmark::State& state) {
+  const Rig& rig = Rig::Get();
+  std::vector<GrayImage> frames(16);
+  std::vector<BoardView> views;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const int frame = static_cast<int>(f * rig.times.size() / frames.size());
+    rig.renderer->Render(rig.times[frame], 1, frame, &frames[f], &views, nullptr);
+  }
+  apriltag_family_t* family = tag36h11_create();
+  apriltag_detector_t* detector = apriltag_detector_create();
+  apriltag_detector_add_family_bits(detector, family, 1);
+  detector->quad_decimate = static_cast<float>(state.range(0));
+  size_t k = 0;
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
+    GrayImage& img = frames[k++ % frames.size()];
+    image_u8_t view{img.width, img.height, img.width, img.pixels.data()};
+    zarray_t* detections = apriltag_detector_detect(detector, &view);
+    benchmark::DoNotOptimize(detections);
+    apriltag_detections_destroy(detections);
+  }
+  apriltag_detector_destroy(detector);
+  tag36h11_destroy(family);
+}
+BENCHMARK(BM_RigDetectCApi)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace calibench

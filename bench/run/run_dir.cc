@@ -72,7 +72,7 @@ bool ReadIndex(const std::string& path, std::string* header, std::vector<IndexEn
     IndexEntry e;
     std::istringstream line(text.substr(pos, end - pos));
     line >> e.task;
-    for (long& end : e.end) line >> end;
+    for (long& offset : e.end) line >> offset;
     if (!line) {
       *why = path + ": line " + std::to_string(entries->size() + 2) + ": malformed entry";
       return false;
@@ -145,9 +145,9 @@ class PartialWriter {
 };
 
 std::string HeaderBlock(int file) {
-  const std::vector<std::string>* headers[kFiles] = {&RunRowHeader(),  &TimingHeader(),
-                                                     &CurveHeader(),   &EventHeader(),
-                                                     &TrackHeader(),   &TrackErrorHeader()};
+  const std::vector<std::string>* headers[kFiles] = {&RunRowHeader(), &TimingHeader(),
+                                                     &CurveHeader(),  &EventHeader(),
+                                                     &TrackHeader(),  &TrackErrorHeader()};
   return CsvLine(*headers[file]);
 }
 

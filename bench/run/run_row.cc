@@ -111,6 +111,9 @@ const std::vector<Column>& Columns() {
       Num("err_roll_deg", &RunRow::err_roll_deg),
       Num("err_pitch_deg", &RunRow::err_pitch_deg),
       Num("err_yaw_deg", &RunRow::err_yaw_deg),
+      Int("n_frames_used", &RunRow::n_frames_used),
+      Int("n_obs_used", &RunRow::n_obs_used),
+      Num("corner_radial_bias_px", &RunRow::corner_radial_bias_px),
   };
   return columns;
 }
@@ -171,9 +174,9 @@ std::vector<std::string> TimingFields(const RunRow& r) {
 }
 
 const std::vector<std::string>& EventHeader() {
-  static const std::vector<std::string> header = {
-      "scenario", "point", "trial", "method",       "event",      "quantity",
-      "at_s",     "tol",   "reconverge_s",          "steady_err", "peak_err"};
+  static const std::vector<std::string> header = {"scenario",     "point",      "trial",   "method",
+                                                  "event",        "quantity",   "at_s",    "tol",
+                                                  "reconverge_s", "steady_err", "peak_err"};
   return header;
 }
 
@@ -214,10 +217,10 @@ std::string EventLines(const RunRow& r) {
   std::string text;
   for (const EventMetrics& e : r.events) {
     std::vector<std::string> fields = RowKey(r);
-    fields.insert(fields.end(), {std::to_string(e.event), TrackQuantityNames()[e.quantity],
-                                 FormatNumber(e.at_s), FormatNumber(e.tol),
-                                 FormatNumber(e.reconverge_s), FormatNumber(e.steady_err),
-                                 FormatNumber(e.peak_err)});
+    fields.insert(fields.end(),
+                  {std::to_string(e.event), TrackQuantityNames()[e.quantity], FormatNumber(e.at_s),
+                   FormatNumber(e.tol), FormatNumber(e.reconverge_s), FormatNumber(e.steady_err),
+                   FormatNumber(e.peak_err)});
     text += CsvLine(fields);
   }
   return text;

@@ -50,6 +50,12 @@ struct RunRow {
   // Per-angle extrinsic errors: roll, pitch, yaw of R_C (README convention), estimate minus truth,
   // wrapped to (-180, 180]. Appended after `message` (the columns before it are unchanged).
   double err_roll_deg = kUnset, err_pitch_deg = kUnset, err_yaw_deg = kUnset;
+  // The data the method's estimate used (methods/method.h MethodResult::frames_used): frames with
+  // at least one observation and corner observations. Appended after err_yaw_deg.
+  long n_frames_used = -1, n_obs_used = -1;
+  // detections: rendered: the mean corner error along the tags' diagonals, outward (> 0: tags
+  // look larger; detect/rendered_source.h). NaN for oracle. Appended after n_obs_used.
+  double corner_radial_bias_px = kUnset;
   // Not in runs.csv (they vary from run to run): timings.csv and curves.csv.
   double wall_ms = kUnset;     // The method's own wall time; 0 when copied (reused).
   double measure_ms = kUnset;  // Producing the group's measurements (render + detect).

@@ -23,6 +23,7 @@ std::unique_ptr<MeasurementSource> MakeSource(const ScenarioConfig& s, const Sce
       const DetectionStats& stats = rendered->stats();
       base->detect_rate = stats.DetectionRate();
       base->corner_rms_px = stats.rms_px;
+      base->corner_radial_bias_px = stats.bias_radial_px;
       base->frames_no_detection = stats.frames_without_detections;
     }
     source = std::move(rendered);
@@ -152,8 +153,8 @@ class ScenarioTrial {
       outcome.converge_time_s = track.ConvergeTimeS();
       outcome.curve = track.Curve();
       if (tracks && !estimates.empty()) {
-        outcome.track = estimates.Sample(input.report_times_s,
-                                         [this](double t) { return scene_.CameraAt(t); });
+        outcome.track =
+            estimates.Sample(input.report_times_s, [this](double t) { return scene_.CameraAt(t); });
         outcome.events = EvaluateEvents(outcome.track, event_times_, input.source->Duration(),
                                         s_.tracking.metrics);
       }
@@ -204,6 +205,9 @@ class ScenarioTrial {
     if (r.IsUsable() && outcome.trajectory_samples > 0)
       row.converge_time_s = outcome.converge_time_s;
     row.pe_min_eig = r.pe_min_eig;
+    row.n_frames_used = r.frames_used;
+    row.n_obs_used = r.observations_used;
+    if (r.frames_used < 0) CountDataUsed(input_.Frames(), &row.n_frames_used, &row.n_obs_used);
     const double deg = 180.0 / M_PI;
     row.std_fku = e.intrinsics_std[0];
     row.std_fkv = e.intrinsics_std[1];
@@ -232,7 +236,7 @@ class ScenarioTrial {
     auto compute = [&] {
       return CramerRaoStd(input_.Frames().views, s_.truth, *model, noise.pixel_sigma_px);
     };
-    if (shared != nullptr) {
+    if (shared != nullptr && !s_.motion_random_phase) {  // Else every trial has its own views.
       std::lock_guard<std::mutex> lock(shared->mutex);
       auto it = shared->crlb.find(key);
       if (it == shared->crlb.end()) it = shared->crlb.emplace(key, compute()).first;
@@ -276,7 +280,7 @@ std::vector<RunRow> RunGroupTrialUnguarded(const std::vector<const ScenarioConfi
   const ScenarioConfig& first = *group.front();
   RunRow base = BaseRow(first, trial);
   std::string why;
-  const SceneTruth scene = first.MakeScene();
+  const SceneTruth scene = first.MakeScene(first.TrialSeedOf(trial));
   const std::unique_ptr<MeasurementSource> source = MakeSource(first, scene, &base, &why);
   TrialCache cache;  // Shared by the group: same measurements.
   std::vector<RunRow> rows;
@@ -290,6 +294,7 @@ std::vector<RunRow> RunGroupTrialUnguarded(const std::vector<const ScenarioConfi
     RunRow row_base = BaseRow(s, trial);
     row_base.detect_rate = base.detect_rate;
     row_base.corner_rms_px = base.corner_rms_px;
+    row_base.corner_radial_bias_px = base.corner_radial_bias_px;
     row_base.frames_no_detection = base.frames_no_detection;
     row_base.measure_ms = j == 0 ? base.measure_ms : 0.0;
     if (!source) {

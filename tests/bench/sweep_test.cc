@@ -202,15 +202,54 @@ TEST(Sweep, MapFormConfiguresInstancesByName) {
       "base: ../../../configs/sweeps/rig.yaml\nscenario:\n  name: m\n"
       "  methods: {zhang: {max_views: 12}, ceres: {loss: cauchy}}\n");
   const ScenarioConfig& s = c.scenarios.at(0);
-  ASSERT_EQ(s.methods.size(), MethodTypes().size());
+  ASSERT_EQ(s.methods.size(), MethodTypes().size() + 2);  // One per type, and rig.yaml's twins.
   EXPECT_EQ(MethodOption(s, "zhang", "max_views"), "12");
   EXPECT_EQ(MethodOption(s, "zhang_handeye", "max_views"), "12");
   EXPECT_EQ(MethodOption(s, "ceres", "loss"), "cauchy");
   EXPECT_EQ(MethodOption(s, "ceres", "init"), "zhang");  // From rig.yaml, kept.
   std::vector<std::string> enabled;
   for (const MethodInstance* m : s.EnabledMethods()) enabled.push_back(m->name);
-  EXPECT_EQ(enabled,
-            (std::vector<std::string>{"adaptive", "dlt", "zhang", "zhang_handeye", "ceres"}));
+  EXPECT_EQ(enabled, (std::vector<std::string>{"adaptive", "dlt", "zhang", "zhang_handeye", "ceres",
+                                               "ceres_zhang_views_k2", "ceres_zhang_views"}));
+}
+
+// motion.random_phase: a trial's scene comes from its seed (the same seed, the same motion;
+// another seed, another phase of the same profile); without it every trial has one motion.
+TEST(Sweep, RandomPhaseGivesEachTrialItsOwnViews) {
+  const RunConfig c = FromString("base: ../../../configs/sweeps/rig.yaml\nscenario: {name: p}\n");
+  const ScenarioConfig& s = c.scenarios.at(0);
+  ASSERT_TRUE(s.motion_random_phase);
+  const auto pose_at = [&](int trial) {
+    return s.MakeScene(s.TrialSeedOf(trial)).motion.WorldFromBody(20.0);
+  };
+  EXPECT_EQ(pose_at(0).rotation, pose_at(0).rotation);
+  EXPECT_GT((pose_at(0).rotation - pose_at(1).rotation).norm(), 1e-3);
+  ScenarioConfig fixed = s;
+  fixed.motion_random_phase = false;
+  EXPECT_EQ(fixed.MakeScene(s.TrialSeedOf(0)).motion.WorldFromBody(20.0).rotation,
+            fixed.MakeScene(s.TrialSeedOf(1)).motion.WorldFromBody(20.0).rotation);
+}
+
+// A map key naming a new instance with `type:` adds it (enabled); `type:` on an existing name is
+// refused.
+TEST(Sweep, MapFormAddsATypedInstance) {
+  const RunConfig c = FromString(
+      "base: ../../../configs/sweeps/rig.yaml\nscenario:\n  name: m\n"
+      "  methods: {twin: {type: ceres, init: zhang, views: init}}\n");
+  const MethodInstance* twin = c.scenarios.at(0).FindMethod("twin");
+  ASSERT_NE(twin, nullptr);
+  EXPECT_EQ(twin->type, "ceres");
+  EXPECT_TRUE(twin->enabled);
+  EXPECT_EQ(MethodOption(c.scenarios.at(0), "twin", "views"), "init");
+  RunConfig refused;
+  std::string error;
+  EXPECT_FALSE(LoadRunConfigFromString(
+      "base: ../../../configs/sweeps/rig.yaml\nscenario:\n  name: m\n"
+      "  methods: {ceres: {type: dlt}}\n",
+      std::string(CALIBENCH_SOURCE_DIR) + "/tests/bench/sweeps/x.yaml", &refused, &error));
+  EXPECT_NE(error.find("methods.ceres.type: 'ceres' is already an instance of type ceres"),
+            std::string::npos)
+      << error;
 }
 
 TEST(RunDir, FilesDoNotDependOnThreadsShardsOrInterruptions) {

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
+#include <vector>
+
 #include "core/random.h"
 #include "core/synthetic.h"
 
@@ -125,6 +129,37 @@ TEST(Random, TrialSeedsAreDistinctAndDrawsReproducible) {
   // Mean: standard error 1/sqrt(n) = 0.0022; variance: sqrt(2/n) = 0.0032. Four of each.
   EXPECT_NEAR(sum / n, 0.0, 0.009);
   EXPECT_NEAR(sum_sq / n, 1.0, 0.013);
+}
+
+// tag_radial_bias_px on a perspective quadrilateral: each corner moves by exactly the bias along
+// the line from where the diagonals cross (computed here independently, by solving for the
+// intersection parameter), and the crossing itself does not move (for a parallelogram-free
+// quadrilateral too, to 1e-9 px).
+TEST(OracleSource, TagRadialBiasMovesCornersAlongTheDiagonals) {
+  const std::vector<Eigen::Vector2d> tag = {{100, 200}, {140, 205}, {138, 160}, {103, 166}};
+  auto crossing = [](const std::vector<Eigen::Vector2d>& c) {
+    // c0 + s (c2 - c0) = c1 + r (c3 - c1).
+    Eigen::Matrix2d m;
+    m << c[2] - c[0], c[1] - c[3];
+    const Eigen::Vector2d sr = m.inverse() * (c[1] - c[0]);
+    return Eigen::Vector2d(c[0] + sr[0] * (c[2] - c[0]));
+  };
+  std::vector<Eigen::Vector2d> pixels = tag;
+  pixels.insert(pixels.end(), tag.begin(), tag.end());  // Two tags: each moved on its own.
+  OracleSource::AddTagRadialBias(0.25, &pixels);
+  const Eigen::Vector2d centre = crossing(tag);
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector2d before = tag[k % 4] - centre, after = pixels[k] - centre;
+    EXPECT_NEAR(after.norm() - before.norm(), 0.25, 1e-9) << "corner " << k;
+    EXPECT_NEAR(after.normalized().dot(before.normalized()), 1.0, 1e-12) << "corner " << k;
+  }
+  const std::vector<Eigen::Vector2d> first(pixels.begin(), pixels.begin() + 4);
+  EXPECT_LT((crossing(first) - centre).norm(), 1e-9);
+  NoiseOptions bad;
+  bad.tag_radial_bias_px = std::nan("");
+  std::string why;
+  EXPECT_FALSE(bad.Check(&why));
+  EXPECT_NE(why.find("tag_radial_bias_px must be finite"), std::string::npos) << why;
 }
 
 }  // namespace

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 namespace calibench {
 namespace {
 
@@ -78,6 +82,84 @@ TEST(Render, BackgroundNoiseAndBlurBehave) {
   too_many.grid.tag_cols = 30;  // 900 tags > 587 codes.
   EXPECT_FALSE(RenderFrame(k, {too_many}, RenderOptions(), nullptr, &img, &why));
   EXPECT_NE(why.find("587"), std::string::npos) << why;
+}
+
+// The noise table (render.cc AddImageNoise): a frame's noise is uncorrelated between neighbours
+// in a row, between rows and between the two halves of a row block boundary (|rho| below
+// kRhoBound = 5 / sqrt(n), 5 sigma of a zero correlation over n pairs); a seed gives one frame;
+// two seeds give frames whose noise is uncorrelated.
+TEST(Render, NoiseIsUncorrelatedWithinAndAcrossFrames) {
+  const CameraIntrinsics k{500, 500, 90, 319.5, 239.5};
+  RenderOptions o;
+  o.noise_sigma_gray = 8.0;
+  o.background_gray = 128;
+  auto frame = [&](uint64_t seed) {
+    Rng rng(seed);
+    GrayImage img;
+    EXPECT_TRUE(RenderFrame(k, {}, o, &rng, &img, nullptr));
+    std::vector<double> v(img.pixels.begin(), img.pixels.end());
+    for (double& x : v) x -= 128;
+    return v;
+  };
+  const std::vector<double> a = frame(1), b = frame(2);
+  EXPECT_EQ(a, frame(1));
+  const int w = 640, h = 480;
+  auto rho = [](const std::vector<double>& x, const std::vector<double>& y) {
+    double xy = 0, xx = 0, yy = 0;
+    for (size_t i = 0; i < x.size(); ++i) xy += x[i] * y[i], xx += x[i] * x[i], yy += y[i] * y[i];
+    return xy / std::sqrt(xx * yy);
+  };
+  std::vector<double> left, right, up, down, across_a, across_b;
+  for (int j = 0; j + 1 < h; ++j) {
+    for (int i = 0; i + 1 < w; ++i) {
+      left.push_back(a[j * w + i]), right.push_back(a[j * w + i + 1]);
+      up.push_back(a[j * w + i]), down.push_back(a[(j + 1) * w + i]);
+    }
+  }
+  const double bound = 5.0 / std::sqrt(static_cast<double>(left.size()));
+  EXPECT_LT(std::abs(rho(left, right)), bound);
+  EXPECT_LT(std::abs(rho(up, down)), bound);
+  EXPECT_LT(std::abs(rho(a, b)), 5.0 / std::sqrt(static_cast<double>(a.size())));
+}
+
+// Blur is computed near the boards only: the same as an independent separable Gaussian (edges
+// clamped) of the unblurred rendering over the whole frame, to float rounding (at most one gray
+// level after rounding to 8 bits).
+TEST(Render, BlurNearTheBoardsEqualsAWholeFrameBlur) {
+  const CameraIntrinsics k{500, 500, 90, 319.5, 239.5};
+  RenderOptions sharp;
+  GrayImage unblurred, blurred;
+  const BoardView board = FrontoParallel(-0.1, -0.05);
+  RenderOptions o = sharp;
+  o.blur_sigma_px = 1.2;
+  // The unblurred values before rounding: black 20 and white 235 with supersampled edges; round
+  // trip through 8 bits loses < 0.5 gray, which the blur then averages (the bound below holds).
+  ASSERT_TRUE(RenderFrame(k, {board}, sharp, nullptr, &unblurred, nullptr));
+  ASSERT_TRUE(RenderFrame(k, {board}, o, nullptr, &blurred, nullptr));
+  const int w = unblurred.width, h = unblurred.height;
+  const int radius = static_cast<int>(std::ceil(3 * o.blur_sigma_px));
+  std::vector<double> kernel(2 * radius + 1);
+  double sum = 0;
+  for (int i = -radius; i <= radius; ++i)
+    sum += kernel[i + radius] = std::exp(-0.5 * i * i / (o.blur_sigma_px * o.blur_sigma_px));
+  for (double& x : kernel) x /= sum;
+  std::vector<double> tmp(static_cast<size_t>(w) * h), out(tmp.size());
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      double acc = 0;
+      for (int d = -radius; d <= radius; ++d)
+        acc += kernel[d + radius] * unblurred.at(std::clamp(i + d, 0, w - 1), j);
+      tmp[j * w + i] = acc;
+    }
+  int worst = 0;
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      double acc = 0;
+      for (int d = -radius; d <= radius; ++d)
+        acc += kernel[d + radius] * tmp[std::clamp(j + d, 0, h - 1) * w + i];
+      worst = std::max(worst, std::abs(static_cast<int>(std::lround(acc)) - blurred.at(i, j)));
+    }
+  EXPECT_LE(worst, 1);
 }
 
 TEST(Render, UndistortInvertsTheDistortion) {

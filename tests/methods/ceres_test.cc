@@ -1,6 +1,7 @@
 // Method `ceres` through the registry: exact from dlt on noise-free data; on noisy data its
 // reported standard deviations match the Cramer-Rao bound of its parametrisation; an init that
-// fails gives a failed result naming it.
+// fails gives a failed result naming it; `views: init` re-solves exactly zhang's views (zhang's
+// twin) and reports their data.
 #include <gtest/gtest.h>
 
 #include "core/random.h"
@@ -71,6 +72,53 @@ TEST(CeresMethod, AFailedInitIsNamed) {
   std::string why;
   EXPECT_FALSE(SetOption(m.get(), "init", "", &why));
   EXPECT_NE(why.find("init must name"), std::string::npos) << why;
+}
+
+// zhang's twin: with zhang's lens model on zhang's views (per-view poses, no rig constraint) the
+// maximum-likelihood optimum is zhang's own, so the intrinsics agree to what calibrateCamera's
+// float32 points and stopping rule leave (kOptimiserPx); both report the same data, fewer frames
+// than the trial's; an init without per-view problems is refused by name.
+TEST(CeresMethod, ViewsInitReSolvesZhangsViews) {
+  constexpr double kOptimiserPx = 1e-3;
+  const BoardRigScene rig = SwayingBoardRig();
+  OracleOptions options;
+  options.sample_rate_hz = 2;
+  options.noise.pixel_sigma_px = 0.3;
+  auto trial = SyntheticTrial::Create(rig.scene, options, 3, rig.layouts);
+  ASSERT_NE(trial, nullptr);
+  std::unique_ptr<Method> twin = MakeMethod("ceres");
+  std::string why;
+  for (const auto& [key, value] :
+       std::vector<std::pair<std::string, std::string>>{{"init", "zhang"},
+                                                        {"views", "init"},
+                                                        {"model", "pinhole-k2"},
+                                                        {"estimate_skew", "false"}}) {
+    ASSERT_TRUE(SetOption(twin.get(), key, value, &why)) << key << ": " << why;
+  }
+  EXPECT_FALSE(twin->BoundParametrisation().has_value());  // Not the rig's bound.
+  const MethodResult r = twin->Run(trial->input, nullptr);
+  const MethodResult& zhang = trial->input.Prerequisite("zhang");
+  ASSERT_TRUE(r.IsUsable()) << r.message;
+  ASSERT_TRUE(zhang.IsUsable()) << zhang.message;
+  const IntrinsicsArray a = r.estimate.intrinsics.Params(), b = zhang.estimate.intrinsics.Params();
+  for (int i : {0, 1, 3, 4}) EXPECT_NEAR(a[i], b[i], kOptimiserPx) << "parameter " << i;
+  EXPECT_EQ(r.frames_used, zhang.frames_used);
+  EXPECT_EQ(r.observations_used, zhang.observations_used);
+  ASSERT_NE(zhang.per_view, nullptr);
+  EXPECT_EQ(zhang.observations_used, [&] {
+    long n = 0;
+    for (const View& v : zhang.per_view->views) n += static_cast<long>(v.pixels.size());
+    return n;
+  }());
+  EXPECT_LT(zhang.frames_used, static_cast<long>(trial->input.Frames().views.size()));
+  EXPECT_GT(zhang.frames_used, 0);
+
+  ASSERT_TRUE(SetOption(twin.get(), "init", "dlt", &why)) << why;
+  const MethodResult refused = twin->Run(trial->input, nullptr);
+  EXPECT_EQ(refused.status, MethodStatus::kFailed);
+  EXPECT_NE(refused.message.find("views: init needs an init that solves per-view problems"),
+            std::string::npos)
+      << refused.message;
 }
 
 }  // namespace
