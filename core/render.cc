@@ -214,8 +214,9 @@ int TraceBoards(const std::vector<BoardShader>& boards, double x, double y) {
 // normals drawn once (Box-Muller from a fixed seed): each row of a frame reads its own block of
 // kNoiseBlock consecutive entries, blocks (a + r b) mod the block count for row-block r with a
 // and b (odd) drawn from `rng` per frame, so a frame's noise is iid Gaussian (its blocks are
-// distinct) at the cost of a copy; frames reuse table entries at other places. Images of more
-// than kNoiseTable pixels draw every normal from `rng` (Box-Muller: 6x slower, 5 ms at 640 x 480).
+// distinct) at the cost of a copy. Frames reuse the table's blocks (occasionally one at the same
+// row: 0.1 rows per pair of 480-row frames). Images needing more row blocks than the table holds
+// (4096: 4096 rows of <= 1024 px) draw every normal from `rng` (Box-Muller: 6x slower).
 void AddImageNoise(double sigma, int width, int height, Rng* rng, std::vector<float>* values) {
   constexpr int kNoiseBits = 22, kBlockBits = 10;
   constexpr size_t kNoiseTable = size_t{1} << kNoiseBits, kNoiseBlock = size_t{1} << kBlockBits;

@@ -28,7 +28,9 @@ struct CaseSums {
   // Eigen's default constructor does not zero: every sum starts from Zero() (CaseSums()).
   std::array<Eigen::Vector2d, 4> bias_sum, bias_sq_sum;  // Over views, of b_vk.
   std::array<Eigen::Vector2d, 4> radial_sum;             // Over views, of r_vk.
-  double noise_sq_sum = 0;  // Over views, draws and corners, of |e - b_v|^2.
+  double noise_sq_sum = 0;   // Over views, draws and corners, of |e - b_v|^2.
+  double noise_dof = 0;      // Sum over views of (draws - 1): b_v uses one draw's worth.
+  double inverse_draws = 0;  // Sum over views of 1 / draws (the noise left in each b_v).
   int views = 0, draws = 0;
   CaseSums() {
     for (int k = 0; k < 4; ++k)
@@ -48,6 +50,8 @@ struct CaseSums {
     }
     ++views;
     draws += static_cast<int>(errors.size());
+    noise_dof += static_cast<double>(errors.size()) - 1;
+    inverse_draws += 1.0 / static_cast<double>(errors.size());
   }
   std::array<CornerStats, 4> Stats() const {
     std::array<CornerStats, 4> s;
@@ -61,9 +65,14 @@ struct CaseSums {
       s[k].radial_px = s[k].bias.dot(r);
       s[k].tangent_px = s[k].bias.dot(Eigen::Vector2d(-r.y(), r.x()));
     }
+    // Noise: the residual variance about each view's mean, per corner (|e|^2 sums two axes), on
+    // its degrees of freedom. View-to-view: the spread of the view means less the noise each of
+    // them still holds (noise^2 / draws, averaged over the views).
+    const double noise_sq = noise_dof > 0 ? noise_sq_sum / (4.0 * noise_dof) : NAN;
+    const double view_noise_sq = std::isnan(noise_sq) ? 0.0 : noise_sq * inverse_draws / views;
     for (int k = 0; k < 4; ++k) {
-      s[k].view_rms_px = std::sqrt(view_sq / 4);
-      s[k].noise_rms_px = draws > 0 ? std::sqrt(noise_sq_sum / (4.0 * draws)) : NAN;
+      s[k].view_rms_px = std::sqrt(std::max(0.0, view_sq / 4 - view_noise_sq));
+      s[k].noise_rms_px = std::sqrt(noise_sq);
     }
     return s;
   }

@@ -12,8 +12,10 @@
 //   e_vdk    = detected - projected                              (px, pixel-centre convention)
 //   b_vk     = mean_d e_vdk                   the view's bias: what averaging frames cannot remove
 //   bias_k   = mean_v b_vk                    the systematic bias of the case
-//   view_rms = RMS_v,k |b_vk - bias_k|        the bias that depends on the sub-pixel phase
-//   noise    = RMS_v,d,k |e_vdk - b_vk|       what averaging frames removes
+//   view_rms = RMS_v,k |b_vk - bias_k|        the bias that depends on the sub-pixel phase (net of
+//                                             the noise left in b_vk: noise^2 / draws)
+//   noise    = RMS_v,d,k |e_vdk - b_vk|       what averaging frames removes (on sum_v (D_v - 1)
+//                                             degrees of freedom)
 //   radial   = bias_k . r_k,  r_k = unit(projected_k - projected centre of the tag)
 //                              (> 0: outward along the tag's diagonal, the tag looks larger)
 //   tangent  = bias_k . (r_k rotated by +90 degrees)
@@ -50,7 +52,7 @@ struct CornerBiasOptions {
   double noise_sigma_gray = 2.0;  // As the default sweeps.
   int supersample = 4;
   double quad_decimate = 2.0;  // As the default sweeps.
-  uint64_t seed = 1;           // Draw d of case c uses Rng(seed, c, d).
+  uint64_t seed = 1;           // View v of case c and its draws derive from (seed, c, v).
   bool Check(std::string* why) const;
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <thread>
 
 #include "core/random.h"
@@ -69,7 +70,10 @@ void DetectionStatsAccumulator::AddCornerError(const Eigen::Vector2d& e,
 DetectionStats DetectionStatsAccumulator::Finish() const {
   DetectionStats stats = stats_;
   stats.corners = static_cast<long>(norms_.size());
-  if (norms_.empty()) return stats;
+  if (norms_.empty()) {
+    stats.bias_radial_px = stats.bias_tangent_px = std::numeric_limits<double>::quiet_NaN();
+    return stats;
+  }
   const double n = static_cast<double>(norms_.size());
   stats.rms_px = std::sqrt(sum_sq_ / n);
   stats.bias_x_px = sum_.x() / n;

@@ -135,8 +135,9 @@ class ZhangBase : public Method {
   // The solve for these settings, computed once per trial; *result gets its status, message, wall
   // time, intrinsics, standard deviations and fit RMS.
   const ZhangSolve& SharedSolve(const MethodInput& input, MethodResult* result) const {
-    const ZhangSolve& solve = input.cache->Get<ZhangSolve>("zhang:" + OptionsKey(*this),
-                                                           [&] { return Solve(input, settings_); });
+    // Per window in online mode: the trial's cache outlives the windows.
+    const ZhangSolve& solve = input.cache->Get<ZhangSolve>(
+        "zhang:" + OptionsKey(*this) + input.WindowKey(), [&] { return Solve(input, settings_); });
     result->status = solve.result.status;
     result->message = solve.message;
     result->wall_ms = solve.result.wall_ms;

@@ -207,7 +207,9 @@ class ScenarioTrial {
     row.pe_min_eig = r.pe_min_eig;
     row.n_frames_used = r.frames_used;
     row.n_obs_used = r.observations_used;
-    if (r.frames_used < 0) CountDataUsed(input_.Frames(), &row.n_frames_used, &row.n_obs_used);
+    if (r.frames_used < 0 && r.IsUsable()) {  // A failed row used nothing: it keeps -1.
+      CountDataUsed(input_.Frames(), &row.n_frames_used, &row.n_obs_used);
+    }
     const double deg = 180.0 / M_PI;
     row.std_fku = e.intrinsics_std[0];
     row.std_fkv = e.intrinsics_std[1];
