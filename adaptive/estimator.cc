@@ -172,8 +172,7 @@ bool AdaptiveOptions::Check(std::string* why) const {
 }
 
 AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vector16d& theta0,
-                                     const AdaptiveOptions& options,
-                                     const ThetaObserver& observer,
+                                     const AdaptiveOptions& options, const ThetaObserver& observer,
                                      const std::vector<double>& stop_times_s) {
   const SummaryClock clock;
   AdaptiveSummary summary;

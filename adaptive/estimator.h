@@ -28,8 +28,8 @@
 //       (the gain alpha Gamma ~ alpha beta / c instead of alpha / (c t)). Forgetting towards P0,
 //       not towards 0 (d/dt P = -beta P + W_bar^T W_bar), keeps Gamma <= gamma0 I: a direction the
 //       data never excite would otherwise see Gamma grow as e^(beta t), and theta has one always
-//       (W_bar(theta_hat) theta_hat = 0: M is known up to scale; measured on the rig, tr Gamma = 405
-//       after 30 s at beta = 0.2, e^720 after an hour);
+//       (W_bar(theta_hat) theta_hat = 0: M is known up to scale; measured on the rig, tr Gamma =
+//       405 after 30 s at beta = 0.2, e^720 after an hour);
 //   bounded-gain forgetting (also forgetting_gain_bound = k0 < inf): beta(t) = beta (1 -
 //       tr(Gamma) / k0), clipped at 0 (Slotine & Li): forgetting slows as the gain approaches k0;
 //   covariance resetting (reset_threshold = rho > 0): after an accepted step, if
@@ -45,8 +45,8 @@
 
 #include <functional>
 #include <limits>
-#include <vector>
 #include <string>
+#include <vector>
 
 #include "core/measurements.h"
 #include "core/projection_matrix.h"

@@ -1,7 +1,7 @@
 #include "core/scene.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace calibench {
@@ -52,17 +52,24 @@ bool CheckChangesDoNotOverlap(const std::vector<CalibrationChange>& changes, std
   using Kind = CalibrationChange::Kind;
   const auto touches = [](const CalibrationChange& c, int q) {
     switch (q) {
-      case 0: return c.RotatesMount();
-      case 1: return c.ShiftsCamera();
-      case 2: return c.fku_px != 0;
-      case 3: return c.fkv_px != 0;
-      case 4: return c.u0_px != 0;
-      case 5: return c.v0_px != 0;
-      default: return c.phi_deg != 0;
+      case 0:
+        return c.RotatesMount();
+      case 1:
+        return c.ShiftsCamera();
+      case 2:
+        return c.fku_px != 0;
+      case 3:
+        return c.fkv_px != 0;
+      case 4:
+        return c.u0_px != 0;
+      case 5:
+        return c.v0_px != 0;
+      default:
+        return c.phi_deg != 0;
     }
   };
-  const char* names[7] = {"the mount rotation", "the position", "fku_px", "fkv_px",
-                          "u0_px",              "v0_px",        "phi_deg"};
+  const char* names[7] = {
+      "the mount rotation", "the position", "fku_px", "fkv_px", "u0_px", "v0_px", "phi_deg"};
   for (size_t i = 0; i < changes.size(); ++i) {
     for (size_t j = i + 1; j < changes.size(); ++j) {
       const CalibrationChange &a = changes[i], &b = changes[j];

@@ -212,9 +212,8 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
     const uint64_t view_seed = Mix64(options.seed ^ Mix64(1000003ULL * case_index + v));
     Rng shift_rng(view_seed);
     const Eigen::Vector2d shift(shift_rng.Uniform(-0.5, 0.5), shift_rng.Uniform(-0.5, 0.5));
-    TagView view;
-    if (!MakeView(c, c.centre_px + (v == 0 ? Eigen::Vector2d::Zero() : shift), grid, family, k,
-                  &view, &result.message))
+    TagView view = view0;  // View 0 is the case's own; the others are shifted.
+    if (v > 0 && !MakeView(c, c.centre_px + shift, grid, family, k, &view, &result.message))
       return result;
     std::vector<std::array<Eigen::Vector2d, 4>> raw_errors, refined_errors;
     for (int d = 0; d < options.draws; ++d) {

@@ -20,10 +20,9 @@ class DltMethod final : public Method {
   bool Check(std::string* why) const override { return options_.Check(why) && online_.Check(why); }
 
   MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {
-    return RunMaybeOnline(input, online_, sink,
-                          [this](const MethodInput& window, const CameraEstimate*) {
-                            return Solve(window);
-                          });
+    return RunMaybeOnline(
+        input, online_, sink,
+        [this](const MethodInput& window, const CameraEstimate*) { return Solve(window); });
   }
 
  private:

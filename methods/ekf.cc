@@ -10,7 +10,8 @@
 // Measurement: every corner of a frame through the projection model,
 //   z_i = Project(A(x), R_C^T (x_bar_i - x_C)) + n,  n ~ N(0, pixel_sigma_px^2 I),
 // its Jacobian H from ceres::Jet<double, 11>; the update in information form (R is diagonal):
-//   P+ = (P^-1 + H^T H / sigma^2)^-1,   x_(k+1) = x- + P+ H^T (z - h(x_k) - H (x- - x_k)) / sigma^2,
+//   P+ = (P^-1 + H^T H / sigma^2)^-1,   x_(k+1) = x- + P+ H^T (z - h(x_k) - H (x- - x_k)) /
+//   sigma^2,
 // `iterations` times (1: the EKF; more: the iterated EKF, Gauss-Newton on the MAP cost).
 // Start: the estimate of `init` (an instance or type: dlt, zhang, ceres) on the first
 // init_window_s seconds, with diagonal P0 (p0_*); the filter runs on the frames after it. A
@@ -46,8 +47,8 @@ bool ProjectState(const T* x, const Eigen::Matrix3d& r_c_nominal, const CameraIn
   ceres::AngleAxisRotatePoint(minus_dtheta, v, w);
   T point_in_cam[3];
   for (int r = 0; r < 3; ++r) {
-    point_in_cam[r] = T(r_c_nominal(0, r)) * w[0] + T(r_c_nominal(1, r)) * w[1] +
-                      T(r_c_nominal(2, r)) * w[2];
+    point_in_cam[r] =
+        T(r_c_nominal(0, r)) * w[0] + T(r_c_nominal(1, r)) * w[1] + T(r_c_nominal(2, r)) * w[2];
   }
   const T params[PinholeSkewCamera::kNumParams] = {
       x[0], x[1], x[2], x[3], x[4], T(lens.k1), T(lens.k2), T(lens.p1), T(lens.p2), T(lens.k3)};
@@ -234,13 +235,12 @@ class EkfMethod final : public Method {
   }
 
   std::string init_ = "dlt";
-  double init_window_s_ = 2.0;   // The start's data (s).
+  double init_window_s_ = 2.0;  // The start's data (s).
   bool estimate_skew_ = true;
   double pixel_sigma_px_ = 0.3;  // Measurement noise per pixel coordinate.
   int iterations_ = 1;           // 1: EKF; > 1: iterated EKF.
   // Random walks (variance per second): ROVIO's 1e-8 rad^2/s on the extrinsic rotation.
-  double q_focal_ = 1e-4, q_center_ = 1e-4, q_skew_ = 1e-10, q_rotation_ = 1e-8,
-         q_position_ = 1e-8;
+  double q_focal_ = 1e-4, q_center_ = 1e-4, q_skew_ = 1e-10, q_rotation_ = 1e-8, q_position_ = 1e-8;
   // Initial standard deviations about the start.
   double p0_focal_ = 10.0, p0_center_ = 10.0, p0_skew_deg_ = 0.5, p0_rotation_deg_ = 1.0,
          p0_position_ = 0.05;

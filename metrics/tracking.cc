@@ -80,8 +80,8 @@ std::vector<TrackPoint> EstimateTrack::Sample(
     const Entry& e = entries_[next - 1];
     p.estimate = TrackQuantitiesOf(e.intrinsics, e.r_c, e.improper);
     for (int q = 0; q < kTrackQuantities; ++q) {
-      p.error[q] = q < 3 ? AngleDifferenceDeg(p.estimate[q], p.truth[q])
-                         : p.estimate[q] - p.truth[q];
+      p.error[q] =
+          q < 3 ? AngleDifferenceDeg(p.estimate[q], p.truth[q]) : p.estimate[q] - p.truth[q];
     }
     if (e.covariance.rows() == CameraEstimate::kCovarianceSize) {
       const Eigen::Vector3d dtheta = LogSO3(truth.r_c * e.r_c.transpose());
@@ -130,7 +130,8 @@ std::vector<EventMetrics> EvaluateEvents(const std::vector<TrackPoint>& track,
       for (const TrackPoint& p : track) {
         if (p.t_s < from || p.t_s >= to) continue;
         any = true;
-        const double error = p.valid ? std::abs(p.error[q]) : std::numeric_limits<double>::infinity();
+        const double error =
+            p.valid ? std::abs(p.error[q]) : std::numeric_limits<double>::infinity();
         if (p.valid) peak = std::max(peak, error);
         if (p.t_s >= steady_from && p.valid) steady.push_back(error);
         if (!(error <= m.tol)) {

@@ -16,9 +16,9 @@ namespace {
 // The scenario keys an axis may start with ("name" keys the rows; sweep_point is ours).
 const std::set<std::string>& SweepableKeys() {
   static const std::set<std::string> keys = {
-      "description", "case",   "duration_s",   "seed",  "trials",    "truth",   "image_size",
-      "points",      "motion", "measurements", "noise", "rendering", "methods", "reference",
-      "tracking"};
+      "description", "case",       "duration_s", "seed",      "trials",
+      "truth",       "image_size", "points",     "motion",    "measurements",
+      "noise",       "rendering",  "methods",    "reference", "tracking"};
   return keys;
 }
 

@@ -38,10 +38,10 @@ TEST(Changes, StepsAndRampsComposeOnTheInitialCamera) {
   EXPECT_LT((scene.ParentFromCamAt(60).rotation - pitched).norm(), kExactTol);
   // Half-way through the ramp: half its deltas; the second step on top of the first.
   EXPECT_DOUBLE_EQ(scene.IntrinsicsAt(150).fku_px, scene.intrinsics.fku_px + 4.0);
-  EXPECT_LT((scene.ParentFromCamAt(150).translation - initial.translation -
-             Eigen::Vector3d(0.01, 0, 0))
-                .norm(),
-            kExactTol);
+  EXPECT_LT(
+      (scene.ParentFromCamAt(150).translation - initial.translation - Eigen::Vector3d(0.01, 0, 0))
+          .norm(),
+      kExactTol);
   const Eigen::Matrix3d both = FromRollPitchYawDeg({0.3, 0, 0}) * pitched;
   EXPECT_LT((scene.ParentFromCamAt(150).rotation - both).norm(), kExactTol);
   EXPECT_DOUBLE_EQ(scene.IntrinsicsAt(240).fku_px, scene.intrinsics.fku_px + 8.0);

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "core/synthetic.h"
+#include "methods/options.h"
 #include "metrics/metrics.h"
 #include "metrics/tracking.h"
-#include "methods/options.h"
 #include "tests/common/method_input.h"
 
 namespace calibench {

@@ -16,8 +16,8 @@ TEST(Registry, ListsTheTypesInMapFormRowOrder) {
   std::vector<std::string> names;
   for (const MethodType& t : MethodTypes()) names.push_back(t.name);
   // The order the pre-registry harness wrote rows in (the map form keeps it), then the new ones.
-  EXPECT_EQ(names,
-            (std::vector<std::string>{"adaptive", "dlt", "zhang", "zhang_handeye", "ceres", "ekf"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"adaptive", "dlt", "zhang", "zhang_handeye", "ceres",
+                                             "ekf"}));
   EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
   EXPECT_EQ(FindMethodType("nope"), nullptr);
   EXPECT_TRUE(FindMethodType("adaptive")->enabled_by_default);

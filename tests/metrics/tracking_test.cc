@@ -51,7 +51,8 @@ TEST(Tracking, EventFiguresOfAKnownTrajectory) {
   // A quantity whose error never settles: NaN.
   std::vector<TrackPoint> drifting = SyntheticTrack();
   for (TrackPoint& p : drifting) p.error[3] = p.t_s;  // f*ku error grows 1 px/s.
-  EXPECT_TRUE(std::isnan(EvaluateEvents(drifting, {5.0}, 10.05, TrackingOptions())[3].reconverge_s));
+  EXPECT_TRUE(
+      std::isnan(EvaluateEvents(drifting, {5.0}, 10.05, TrackingOptions())[3].reconverge_s));
 }
 
 // Estimates drawn around the truth from a covariance P, reported with P: the mean NEES over many
@@ -95,8 +96,7 @@ TEST(Tracking, NeesOfErrorsDrawnFromTheReportedCovariance) {
     track.Add(k, e);
     times.push_back(k);
   }
-  const std::vector<TrackPoint> points =
-      track.Sample(times, [&](double) { return truth; });
+  const std::vector<TrackPoint> points = track.Sample(times, [&](double) { return truth; });
   double nees = 0, nees_rotation = 0;
   for (const TrackPoint& q : points) nees += q.nees, nees_rotation += q.nees_rotation;
   // Mean of n chi-square(d): std sqrt(2 d / n) = 0.06 (d = 7), 0.04 (d = 3); 5 sigma.
@@ -107,7 +107,8 @@ TEST(Tracking, NeesOfErrorsDrawnFromTheReportedCovariance) {
 TEST(Tracking, ChiSquareBandMatchesTheSpec) {
   // dynamic-calibration.md: N = 50: d = 1 -> [0.65, 1.43]; d = 3 -> [2.36, 3.72];
   // N = 100, d = 3 -> [2.54, 3.50].
-  const auto a = ChiSquareMeanBand(50, 1), b = ChiSquareMeanBand(50, 3), c = ChiSquareMeanBand(100, 3);
+  const auto a = ChiSquareMeanBand(50, 1), b = ChiSquareMeanBand(50, 3),
+             c = ChiSquareMeanBand(100, 3);
   EXPECT_NEAR(a.first, 0.65, 0.01);
   EXPECT_NEAR(a.second, 1.43, 0.01);
   EXPECT_NEAR(b.first, 2.36, 0.01);
