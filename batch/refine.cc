@@ -38,6 +38,11 @@ struct Parameters {
   }
 };
 
+// The hand-written Jacobians cover the radtan family; other families use the ceres::Jet residual.
+bool AnalyticJacobians(const RefineOptions& o) {
+  return !o.autodiff && FamilyOf(o.model) == LensFamily::kRadTan;
+}
+
 ceres::LossFunction* MakeLoss(const RefineOptions& o) {
   if (o.loss == "huber") return new ceres::HuberLoss(o.loss_scale_px);
   if (o.loss == "cauchy") return new ceres::CauchyLoss(o.loss_scale_px);
@@ -50,7 +55,8 @@ int BuildProblem(const std::vector<View>& views, const RefineOptions& options, P
   int points = 0;
   // Per-view blocks for plain least squares (same cost, less overhead); per-point blocks for a
   // robust loss (it must act on each point) and for the autodiff reference.
-  const bool per_view = options.loss == "none" && !options.autodiff;
+  const bool per_view = options.loss == "none" && AnalyticJacobians(options);
+  const LensFamily family = FamilyOf(options.model);
   for (size_t v = 0; v < views.size(); ++v) {
     const size_t pose = options.shared_pose ? 0 : v;
     double* blocks[3] = {params->intrinsics.data(), params->rotations[pose].data(),
@@ -64,13 +70,16 @@ int BuildProblem(const std::vector<View>& views, const RefineOptions& options, P
     }
     for (size_t i = 0; i < views[v].points.size(); ++i) {
       ceres::CostFunction* cost =
-          options.autodiff ? ReprojectionError::Create(views[v].pixels[i], views[v].points[i])
-                           : new ReprojectionCostFunction(views[v].pixels[i], views[v].points[i]);
+          AnalyticJacobians(options)
+              ? new ReprojectionCostFunction(views[v].pixels[i], views[v].points[i])
+              : ReprojectionError::Create(views[v].pixels[i], views[v].points[i], family);
       problem->AddResidualBlock(cost, MakeLoss(options), blocks, 3);
     }
   }
   const std::vector<int> fixed = FixedIntrinsics(options.model, options.estimate_skew);
-  if (!fixed.empty()) {
+  if (options.fix_intrinsics) {
+    problem->SetParameterBlockConstant(params->intrinsics.data());
+  } else if (!fixed.empty()) {
     problem->SetManifold(params->intrinsics.data(), new ceres::SubsetManifold(kN, fixed));
   }
   for (auto& q : params->rotations)
@@ -259,11 +268,20 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
   }
   if (!initial.Check(&why)) return finish(MethodStatus::kFailed, "initial intrinsics: " + why);
 
-  Parameters params(initial, initial_poses);
+  // An initial guess of another lens family (e.g. a radtan zhang for an equidistant refinement)
+  // contributes its pinhole part only.
+  CameraIntrinsics start = initial;
+  if (start.family != FamilyOf(options.model)) {
+    start = CameraIntrinsics();
+    start.family = FamilyOf(options.model);
+    start.fku_px = initial.fku_px, start.fkv_px = initial.fkv_px, start.phi_deg = initial.phi_deg;
+    start.u0_px = initial.u0_px, start.v0_px = initial.v0_px;
+  }
+  Parameters params(start, initial_poses);
   // Parameters the model leaves out take their neutral values (an initialisation from a richer
   // model, e.g. OpenCV's k1, k2, must not stay frozen in): no distortion, phi = 90 degrees.
   for (int i : FixedIntrinsics(options.model, options.estimate_skew)) {
-    params.intrinsics[i] = i == 2 ? M_PI / 2 : 0.0;
+    if (!options.fix_intrinsics) params.intrinsics[i] = i == 2 ? M_PI / 2 : 0.0;
   }
   ceres::Problem problem;
   result.num_points = BuildProblem(views, options, &params, &problem);
@@ -286,7 +304,8 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
     return finish(MethodStatus::kFailed, "ceres: " + summary.message);
   }
 
-  result.intrinsics = CameraIntrinsics::FromParams(params.intrinsics.data());
+  result.intrinsics =
+      CameraIntrinsics::FromParams(params.intrinsics.data(), FamilyOf(options.model));
   for (size_t p = 0; p < params.rotations.size(); ++p)
     result.cam_from_object.push_back(params.Pose(p));
   double sum_sq = 0.0;
@@ -302,14 +321,16 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
     result.view_rms_px.push_back(std::sqrt(view_sq / std::max<size_t>(1, views[v].points.size())));
   }
   result.rms_reproj_px = std::sqrt(sum_sq / result.num_points);
-  const int free_params =
-      kN - static_cast<int>(FixedIntrinsics(options.model, options.estimate_skew).size()) +
-      6 * static_cast<int>(expected_poses);
+  const int free_intrinsics =
+      options.fix_intrinsics
+          ? 0
+          : kN - static_cast<int>(FixedIntrinsics(options.model, options.estimate_skew).size());
+  const int free_params = free_intrinsics + 6 * static_cast<int>(expected_poses);
   const int dof = 2 * result.num_points - free_params;
   if (dof <= 0) return finish(MethodStatus::kFailed, "fewer residuals than free parameters");
   result.sigma_hat_px = std::sqrt(sum_sq / dof);
 
-  if (options.compute_covariance) {
+  if (options.compute_covariance && !options.fix_intrinsics) {
     const double sigma =
         options.known_pixel_sigma_px > 0 ? options.known_pixel_sigma_px : result.sigma_hat_px;
     const std::vector<int> fixed = FixedIntrinsics(options.model, options.estimate_skew);
@@ -319,7 +340,7 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
         return finish(MethodStatus::kFailed, why);
       }
       result.covariance = result.joint_covariance.topLeftCorner<kN, kN>();
-    } else if (!options.shared_pose && !options.autodiff) {
+    } else if (!options.shared_pose && AnalyticJacobians(options)) {
       if (!PerViewIntrinsicsCovariance(&problem, &params, fixed, sigma * sigma, &result.covariance,
                                        &why)) {
         return finish(MethodStatus::kFailed, why);

@@ -42,6 +42,9 @@ struct RefineOptions {
   double known_pixel_sigma_px =
       0.0;                // > 0: scale the covariance by it; 0: estimate from residuals.
   bool autodiff = false;  // true: ceres::Jet residual (the reference); false: analytic Jacobians.
+  // Keep every intrinsic at its initial value and move only the poses: evaluates a given
+  // calibration on new views (view_rms_px, rms_reproj_px); no covariance.
+  bool fix_intrinsics = false;
   bool Check(std::string* why) const;
 };
 

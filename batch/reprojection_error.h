@@ -4,9 +4,11 @@
 //     residual = Project(intrinsics, q * point_in_object + t) - pixel        [px]
 //
 // Parameter blocks:
-//   0: intrinsics[10]  PinholeSkewCamera order: fku, fkv, phi_rad, u0, v0, k1, k2, p1, p2, k3
+//   0: intrinsics[10]  the lens family's raw order (core/camera.h); radtan: fku, fkv, phi_rad,
+//                      u0, v0, k1, k2, p1, p2, k3; equidistant: ..., k1, k2, k3, k4, unused
 //   1: rotation[4]     cam_from_object quaternion, Eigen order (x, y, z, w);
-//   EigenQuaternionManifold 2: translation[3]  cam_from_object translation
+//                      EigenQuaternionManifold
+//   2: translation[3]  cam_from_object translation
 // A point behind the camera makes the evaluation fail (Ceres then shortens the step) instead of
 // producing a silent zero.
 #pragma once
@@ -22,9 +24,11 @@
 
 namespace calibench {
 
+// The Jet reference for every lens family (ReprojectionCostFunction below is radtan only).
 struct ReprojectionError {
-  ReprojectionError(const Eigen::Vector2d& measured_pixel, const Eigen::Vector3d& point)
-      : pixel(measured_pixel), point_in_object(point) {}
+  ReprojectionError(const Eigen::Vector2d& measured_pixel, const Eigen::Vector3d& point,
+                    LensFamily lens_family = LensFamily::kRadTan)
+      : pixel(measured_pixel), point_in_object(point), family(lens_family) {}
 
   template <typename T>
   bool operator()(const T* intrinsics, const T* rotation, const T* translation, T* residual) const {
@@ -33,26 +37,30 @@ struct ReprojectionError {
     const Eigen::Matrix<T, 3, 1> point_in_cam =
         cam_from_object_q * point_in_object.cast<T>() + cam_from_object_t;
     T projected[2];
-    if (!PinholeSkewCamera::Project(intrinsics, point_in_cam.data(), projected)) return false;
+    if (!ProjectLens(family, intrinsics, point_in_cam.data(), projected)) return false;
     residual[0] = projected[0] - T(pixel.x());
     residual[1] = projected[1] - T(pixel.y());
     return true;
   }
 
   static ceres::CostFunction* Create(const Eigen::Vector2d& pixel,
-                                     const Eigen::Vector3d& point_in_object) {
+                                     const Eigen::Vector3d& point_in_object,
+                                     LensFamily family = LensFamily::kRadTan) {
     return new ceres::AutoDiffCostFunction<ReprojectionError, 2, PinholeSkewCamera::kNumParams, 4,
-                                           3>(new ReprojectionError(pixel, point_in_object));
+                                           3>(
+        new ReprojectionError(pixel, point_in_object, family));
   }
 
   Eigen::Vector2d pixel;
   Eigen::Vector3d point_in_object;
+  LensFamily family;
 };
 
-// The same residual with hand-written Jacobians (the hot path of every batch calibration: 10x
-// faster than Jet<double, 17>). Same parameter blocks as ReprojectionError; its Jacobians are
-// checked against ReprojectionError's ceres::Jet derivatives in tests/batch/refine_test.cc.
-// Chain: pixel <- (xd, yd) <- (x, y) = (X/Z, Y/Z) <- X = q * point + t, with
+// The same residual (radtan family) with hand-written Jacobians (the hot path of every batch
+// calibration: 10x faster than Jet<double, 17>). Same parameter blocks as ReprojectionError; its
+// Jacobians are checked against ReprojectionError's ceres::Jet derivatives in
+// tests/batch/refine_test.cc. Chain: pixel <- (xd, yd) <- (x, y) = (X/Z, Y/Z) <- X = q * point + t,
+// with
 //   d(q * p)/dw = 2 (q_v x p),
 //   d(q * p)/dq_v = -2 w [p]x - 2 [q_v x p]x - 2 [q_v]x [p]x     (Eigen's q * p formula, unit q).
 class ReprojectionCostFunction final

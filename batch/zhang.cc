@@ -23,6 +23,70 @@ bool ZhangOptions::Check(std::string* why) const {
   return false;
 }
 
+namespace {
+
+Rigid3 PoseFromRodrigues(const cv::Mat& rvec, const cv::Mat& tvec) {
+  cv::Mat r;
+  cv::Rodrigues(rvec, r);
+  Rigid3 pose;
+  cv::cv2eigen(r, pose.rotation);
+  for (int i = 0; i < 3; ++i) pose.translation[i] = tvec.at<double>(i);
+  return pose;
+}
+
+// The equidistant lens through cv::fisheye::calibrate (OpenCV's Kannala-Brandt k1..k4; its own
+// initialisation: f from the image size, c at the centre, extrinsics from homographies). It
+// reports no standard deviations; the per-point RMS is recomputed with our projection.
+ZhangResult CalibrateFisheye(const std::vector<std::vector<cv::Point3f>>& object_points,
+                             const std::vector<std::vector<cv::Point2f>>& image_points,
+                             const ZhangOptions& options, ZhangResult* result,
+                             const SummaryClock& clock) {
+  auto finish = [&](MethodStatus status, const std::string& message) {
+    return clock.Finish(result, status, message);
+  };
+  UseSequentialOpenCv();
+  cv::Matx33d camera_matrix = cv::Matx33d::eye();
+  cv::Vec4d dist(0, 0, 0, 0);
+  std::vector<cv::Mat> rvecs, tvecs;
+  const int flags = cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC | cv::fisheye::CALIB_FIX_SKEW;
+  try {
+    cv::fisheye::calibrate(
+        object_points, image_points, cv::Size(options.image_width, options.image_height),
+        camera_matrix, dist, rvecs, tvecs, flags,
+        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12));
+  } catch (const cv::Exception& e) {
+    return finish(MethodStatus::kFailed, std::string("cv::fisheye::calibrate: ") + e.what());
+  }
+  CameraIntrinsics& k = result->intrinsics;
+  k = CameraIntrinsics();
+  k.family = LensFamily::kEquidistant;
+  k.fku_px = camera_matrix(0, 0);
+  k.fkv_px = camera_matrix(1, 1);
+  k.u0_px = camera_matrix(0, 2);
+  k.v0_px = camera_matrix(1, 2);
+  k.k1 = dist[0], k.k2 = dist[1], k.k3 = dist[2], k.k4 = dist[3];
+  double sum_sq = 0.0;
+  long count = 0;
+  for (size_t v = 0; v < rvecs.size(); ++v) {
+    const Rigid3 pose = PoseFromRodrigues(rvecs[v], tvecs[v]);
+    result->cam_from_board.push_back(pose);
+    for (size_t i = 0; i < object_points[v].size(); ++i) {
+      const cv::Point3f& o = object_points[v][i];
+      Eigen::Vector2d pixel;
+      if (!ProjectPoint(k, pose * Eigen::Vector3d(o.x, o.y, o.z), &pixel)) continue;
+      sum_sq += (pixel - Eigen::Vector2d(image_points[v][i].x, image_points[v][i].y)).squaredNorm();
+      ++count;
+    }
+  }
+  if (count == 0) return finish(MethodStatus::kFailed, "cv::fisheye::calibrate: no point projects");
+  result->rms_reproj_px = std::sqrt(sum_sq / count);
+  return finish(MethodStatus::kOk,
+                "cv::fisheye::calibrate (equidistant); OpenCV fixes the skew: phi reported as 90 "
+                "deg");
+}
+
+}  // namespace
+
 ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOptions& options) {
   const SummaryClock clock;
   ZhangResult result;
@@ -55,6 +119,9 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
   if (object_points.size() < 2) {
     return finish(MethodStatus::kFailed, "zhang needs at least 2 views of the board");
   }
+  if (FamilyOf(options.model) == LensFamily::kEquidistant) {
+    return CalibrateFisheye(object_points, image_points, options, &result, clock);
+  }
   int flags = 0;
   switch (options.model) {
     case LensModel::kPinhole:
@@ -67,6 +134,8 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
       flags = cv::CALIB_FIX_K3;
       break;
     case LensModel::kPinholeRadTan5:
+      break;
+    case LensModel::kPinholeEqui:  // Handled above (cv::fisheye).
       break;
   }
   // LM's normal equations by LU, not OpenCV's default SVD: the SVD of the (6 views + intrinsics)^2
@@ -106,12 +175,7 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
   double sum_sq = 0.0;
   long count = 0;
   for (size_t v = 0; v < rvecs.size(); ++v) {
-    cv::Mat r;
-    cv::Rodrigues(rvecs[v], r);
-    Rigid3 pose;
-    cv::cv2eigen(r, pose.rotation);
-    for (int i = 0; i < 3; ++i) pose.translation[i] = tvecs[v].at<double>(i);
-    result.cam_from_board.push_back(pose);
+    result.cam_from_board.push_back(PoseFromRodrigues(rvecs[v], tvecs[v]));
     const double e = per_view_errors.at<double>(static_cast<int>(v));
     sum_sq += e * e * static_cast<double>(object_points[v].size());
     count += static_cast<long>(object_points[v].size());

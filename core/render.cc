@@ -128,8 +128,7 @@ class BoardShader {
         const Eigen::Vector3d p = cam_from_board * point_in_board;
         if (!(p.z() > 1e-9)) return;
         const double r2 = (p.x() * p.x() + p.y() * p.y()) / (p.z() * p.z());
-        // d/dr [r (1 + k1 r^2 + k2 r^4 + k3 r^6)] must stay positive.
-        if (1 + r2 * (3 * k.k1 + r2 * (5 * k.k2 + r2 * 7 * k.k3)) <= 0) return;
+        if (!k.DistortionIsMonotoneAt(r2)) return;
         Eigen::Vector2d pixel;
         if (!ProjectPoint(k, p, &pixel)) return;
         u_min = std::min(u_min, pixel.x()), u_max = std::max(u_max, pixel.x());
@@ -317,26 +316,6 @@ bool RenderOptions::Check(std::string* why) const {
   return false;
 }
 
-bool UndistortNormalized(const CameraIntrinsics& k, const Eigen::Vector2d& distorted,
-                         Eigen::Vector2d* undistorted) {
-  Eigen::Vector2d p = distorted;
-  for (int it = 0; it < 100; ++it) {
-    const double x = p.x(), y = p.y(), r2 = x * x + y * y;
-    const double d = 1.0 + r2 * (k.k1 + r2 * (k.k2 + r2 * k.k3));
-    const double dx = 2 * k.p1 * x * y + k.p2 * (r2 + 2 * x * x);
-    const double dy = k.p1 * (r2 + 2 * y * y) + 2 * k.p2 * x * y;
-    const Eigen::Vector2d next((distorted.x() - dx) / d, (distorted.y() - dy) / d);
-    if (!next.allFinite() || d <= 0) return false;
-    const double change = (next - p).norm();
-    p = next;
-    if (change < 1e-12) {
-      *undistorted = p;
-      return true;
-    }
-  }
-  return false;
-}
-
 std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& intrinsics,
                                                      const RenderOptions& options,
                                                      std::string* why) {
@@ -347,8 +326,7 @@ std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& int
   const int w = options.width, h = options.height;
   r->corner_rays_.resize(static_cast<size_t>(w + 1) * (h + 1));
   const Eigen::Matrix3d a_inv = intrinsics.Matrix().inverse();
-  const bool distorted = intrinsics.k1 != 0 || intrinsics.k2 != 0 || intrinsics.k3 != 0 ||
-                         intrinsics.p1 != 0 || intrinsics.p2 != 0;
+  const bool distorted = intrinsics.IsDistorted();
   for (int j = 0; j <= h; ++j) {
     for (int i = 0; i <= w; ++i) {
       Eigen::Vector2d xy = (a_inv * Eigen::Vector3d(i - 0.5, j - 0.5, 1.0)).head<2>();
@@ -367,10 +345,7 @@ bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, 
   Eigen::Matrix3d ray_map = Eigen::Matrix3d::Identity();
   const CameraIntrinsics& camera = camera_now ? *camera_now : intrinsics_;
   if (camera_now != nullptr && *camera_now != intrinsics_) {
-    const auto distorted = [](const CameraIntrinsics& k) {
-      return k.k1 != 0 || k.k2 != 0 || k.k3 != 0 || k.p1 != 0 || k.p2 != 0;
-    };
-    if (distorted(*camera_now) || distorted(intrinsics_)) {
+    if (camera_now->IsDistorted() || intrinsics_.IsDistorted()) {
       const auto renderer = Create(*camera_now, options_, why);
       return renderer && renderer->Render(views, noise_rng, image, why);
     }

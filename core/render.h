@@ -100,9 +100,6 @@ class FrameRenderer {
 bool RenderFrame(const CameraIntrinsics& intrinsics, const std::vector<BoardView>& boards,
                  const RenderOptions& options, Rng* noise_rng, GrayImage* image, std::string* why);
 
-// Undistorts normalised coordinates (inverse of the distortion in camera.h), by fixed-point
-// iteration to 1e-12; returns false if it does not converge (outside the model's valid region).
-bool UndistortNormalized(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& distorted,
-                         Eigen::Vector2d* undistorted);
+// UndistortNormalized (the inverse of the lens) lives with the lens models in core/camera.h.
 
 }  // namespace calibench

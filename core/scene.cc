@@ -147,14 +147,14 @@ bool SceneTruth::Observe(double t, std::vector<Eigen::Vector3d>* points_in_paren
                          std::vector<Eigen::Vector2d>* pixels, std::string* why) const {
   const Rigid3 parent_from_points = ParentFromPoints(t);
   const Rigid3 cam_from_parent = changes.empty() ? CamFromParent() : CamFromParentAt(t);
-  const std::array<double, 10> params =
-      changes.empty() ? intrinsics.Params() : IntrinsicsAt(t).Params();
+  const CameraIntrinsics& camera_now = changes.empty() ? intrinsics : IntrinsicsAt(t);
+  const std::array<double, 10> params = camera_now.Params();
   points_in_parent->resize(points.size());
   pixels->resize(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
     (*points_in_parent)[i] = parent_from_points * points[i];
     const Eigen::Vector3d point_in_cam = cam_from_parent * (*points_in_parent)[i];
-    if (!PinholeSkewCamera::Project(params.data(), point_in_cam.data(), (*pixels)[i].data())) {
+    if (!ProjectLens(camera_now.family, params.data(), point_in_cam.data(), (*pixels)[i].data())) {
       if (why) {
         std::ostringstream msg;
         msg << "feature point " << i << " is behind the camera at t = " << t << " s (depth "

@@ -50,9 +50,12 @@ bool ProjectState(const T* x, const Eigen::Matrix3d& r_c_nominal, const CameraIn
     point_in_cam[r] =
         T(r_c_nominal(0, r)) * w[0] + T(r_c_nominal(1, r)) * w[1] + T(r_c_nominal(2, r)) * w[2];
   }
-  const T params[PinholeSkewCamera::kNumParams] = {
-      x[0], x[1], x[2], x[3], x[4], T(lens.k1), T(lens.k2), T(lens.p1), T(lens.p2), T(lens.k3)};
-  return PinholeSkewCamera::Project(params, point_in_cam, pixel);
+  const std::array<double, 10> lens_params = lens.Params();  // Distortion slots 5..9.
+  T params[PinholeSkewCamera::kNumParams];
+  for (int i = 0; i < PinholeSkewCamera::kNumParams; ++i) {
+    params[i] = i < 5 ? x[i] : T(lens_params[i]);
+  }
+  return ProjectLens(lens.family, params, point_in_cam, pixel);
 }
 
 class EkfMethod final : public Method {

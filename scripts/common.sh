@@ -7,7 +7,8 @@ CALIBENCH_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD_DIR="${CALIBENCH_BUILD_DIR:-$CALIBENCH_ROOT/build}"
 PACKAGES=(cmake ninja-build g++ pkg-config libeigen3-dev libceres-dev libopencv-dev
           libapriltag-dev libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
-          python3 python3-matplotlib python3-scipy python3-pandas python3-statsmodels python3-yaml)
+          python3 python3-matplotlib python3-scipy python3-pandas python3-statsmodels python3-yaml
+          python3-mrcal)
 
 install_packages() {
   local missing=()

@@ -1,22 +1,69 @@
 #include "bench/app/calibrate.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
+#include "batch/board_pose.h"
+
 namespace calibench {
+
+namespace {
+
+// The given camera as the initialisation: each view's pose through it (views whose pose fails are
+// left out, as zhang leaves out views with too few points), the RMS at those poses.
+ZhangResult InitialiseFromCamera(const std::vector<View>& views, const CameraIntrinsics& camera) {
+  const SummaryClock clock;
+  ZhangResult result;
+  result.intrinsics = camera;
+  result.intrinsics_std.fill(std::nan(""));
+  double sum_sq = 0.0;
+  long count = 0;
+  std::string first_failure;
+  for (size_t v = 0; v < views.size(); ++v) {
+    Rigid3 pose;
+    std::string why;
+    if (!BoardPoseFromIntrinsics(views[v], camera, &pose, &why)) {
+      if (first_failure.empty()) first_failure = "view " + std::to_string(v) + ": " + why;
+      continue;
+    }
+    result.used_views.push_back(static_cast<int>(v));
+    result.cam_from_board.push_back(pose);
+    for (size_t i = 0; i < views[v].points.size(); ++i) {
+      Eigen::Vector2d pixel;
+      if (!ProjectPoint(camera, pose * views[v].points[i], &pixel)) continue;
+      sum_sq += (pixel - views[v].pixels[i]).squaredNorm();
+      ++count;
+    }
+  }
+  if (result.used_views.empty()) {
+    return clock.Finish(&result, MethodStatus::kFailed, "no view's pose: " + first_failure);
+  }
+  result.rms_reproj_px = std::sqrt(sum_sq / std::max(1L, count));
+  return clock.Finish(&result, MethodStatus::kOk,
+                      first_failure.empty() ? "" : "skipped " + first_failure);
+}
+
+}  // namespace
 
 CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOptions& options) {
   CalibrateReport report;
-  ZhangOptions zhang_options;
-  zhang_options.model = options.model;
-  zhang_options.image_width = data.image_width;
-  zhang_options.image_height = data.image_height;
-  report.zhang = CalibrateZhang(data.views, zhang_options);
+  if (options.init) {
+    report.initial_name = "init (" + options.init->ModelName() + ")";
+    report.zhang = InitialiseFromCamera(data.views, options.init->intrinsics);
+  } else {
+    ZhangOptions zhang_options;
+    zhang_options.model = options.model;
+    zhang_options.image_width = data.image_width;
+    zhang_options.image_height = data.image_height;
+    if (FamilyOf(options.model) == LensFamily::kEquidistant) report.initial_name = "cv::fisheye";
+    report.zhang = CalibrateZhang(data.views, zhang_options);
+  }
   if (!report.zhang.IsUsable()) {
     report.ceres.status = MethodStatus::kFailed;
-    report.ceres.message = "zhang initialisation failed: " + report.zhang.message;
+    report.ceres.message = report.initial_name + " initialisation failed: " + report.zhang.message;
     return report;
   }
   std::vector<View> used;
@@ -24,6 +71,8 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
   RefineOptions refine;
   refine.model = options.model;
   refine.estimate_skew = options.estimate_skew;
+  refine.fix_intrinsics = options.init && options.evaluate_only;
+  report.evaluated = refine.fix_intrinsics;
   report.ceres =
       RefineCalibration(used, report.zhang.intrinsics, report.zhang.cam_from_board, refine);
   CameraFile& c = report.camera;
@@ -33,7 +82,8 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
   c.image_height = data.image_height;
   c.rms_reproj_px = report.ceres.rms_reproj_px;
   c.view_rms_px = report.ceres.view_rms_px;
-  c.model = std::string(ToString(options.model)) + (options.estimate_skew ? "+skew" : "");
+  c.lens_model = options.model;
+  c.estimate_skew = options.estimate_skew;
   return report;
 }
 
@@ -49,21 +99,24 @@ std::string FormatCalibrateReport(const CalibrateReport& report, const PointData
   const CameraIntrinsics &k = report.ceres.intrinsics, &z = report.zhang.intrinsics;
   const double* s = report.ceres.intrinsics_std.data();
   const double deg = 180.0 / M_PI;
-  out << "parameter        ceres (+- 1 std)              zhang (OpenCV)\n";
-  const struct {
+  out << (report.evaluated ? "parameter        given camera (fixed)          "
+                           : "parameter        ceres (+- 1 std)              ")
+      << report.initial_name << "\n";
+  const std::array<const char*, 10>& names = ParamNames(k.family);
+  struct Row {
     const char* name;
     double ours, std, opencv;
-  } rows[] = {{"fku_px", k.fku_px, s[0], z.fku_px},
-              {"fkv_px", k.fkv_px, s[1], z.fkv_px},
-              {"phi_deg", k.phi_deg, s[2] * deg, z.phi_deg},
-              {"u0_px", k.u0_px, s[3], z.u0_px},
-              {"v0_px", k.v0_px, s[4], z.v0_px},
-              {"k1", k.k1, s[5], z.k1},
-              {"k2", k.k2, s[6], z.k2},
-              {"p1", k.p1, s[7], z.p1},
-              {"p2", k.p2, s[8], z.p2},
-              {"k3", k.k3, s[9], z.k3}};
-  for (const auto& r : rows) {
+  };
+  const std::array<double, 10> ours = k.Params();
+  const CameraIntrinsics z_same = z.family == k.family ? z : CameraIntrinsics();
+  const std::array<double, 10> theirs = z_same.Params();
+  std::vector<Row> rows;
+  for (int i = 0; i < 10; ++i) {
+    if (std::string(names[i]) == "-") continue;
+    rows.push_back({names[i], i == 2 ? k.phi_deg : ours[i], s[i] * (i == 2 ? deg : 1.0),
+                    i == 2 ? z_same.phi_deg : theirs[i]});
+  }
+  for (const Row& r : rows) {
     if (std::isfinite(r.std)) {
       std::snprintf(line, sizeof(line), "%-10s %14.6f +- %-12.6f %14.6f\n", r.name, r.ours, r.std,
                     r.opencv);
@@ -73,15 +126,17 @@ std::string FormatCalibrateReport(const CalibrateReport& report, const PointData
     }
     out << line;
   }
-  std::snprintf(line, sizeof(line), "rms_reproj_px (per point): ceres %.5f, zhang %.5f\n",
-                report.ceres.rms_reproj_px, report.zhang.rms_reproj_px);
+  std::snprintf(line, sizeof(line), "rms_reproj_px (per point): ceres %.5f, %s %.5f\n",
+                report.ceres.rms_reproj_px, report.initial_name.c_str(),
+                report.zhang.rms_reproj_px);
   out << line << "per-view rms_reproj_px:";
   for (double r : report.ceres.view_rms_px) {
     std::snprintf(line, sizeof(line), " %.4f", r);
     out << line;
   }
-  std::snprintf(line, sizeof(line), "\ntime: zhang %.1f ms, ceres %.1f ms (%ld iterations)\n",
-                report.zhang.wall_ms, report.ceres.wall_ms, report.ceres.iterations);
+  std::snprintf(line, sizeof(line), "\ntime: %s %.1f ms, ceres %.1f ms (%ld iterations)\n",
+                report.initial_name.c_str(), report.zhang.wall_ms, report.ceres.wall_ms,
+                report.ceres.iterations);
   out << line;
   if (!report.zhang.message.empty()) out << "note: " << report.zhang.message << "\n";
   return out.str();

@@ -1,24 +1,40 @@
-// Calibrating a camera from point files: zhang (cv::calibrateCamera) initialises, ceres refines
-// (per-view board poses, the chosen lens model, optional skew) and reports standard deviations
-// from its covariance (sigma estimated from the residuals).
+// Calibrating a camera from point files or detected images: zhang (cv::calibrateCamera; for the
+// equidistant fisheye cv::fisheye::calibrate) initialises, ceres refines (per-view board poses, the
+// chosen lens model, optional skew) and reports standard deviations from its covariance (sigma
+// estimated from the residuals).
+//
+// With a given camera (`calibrate --init FILE`, any format of bench/config/camera_io.h) the
+// initial guess is that camera, each view's pose comes from it (batch/board_pose.h), and ceres
+// either refines it (the file's lens model unless another is asked for) or, with evaluate_only,
+// keeps every intrinsic fixed and moves only the poses: the per-image reprojection RMS of a given
+// calibration on new images.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "batch/refine.h"
 #include "batch/zhang.h"
 #include "bench/app/image_points.h"
 #include "bench/app/points_io.h"
+#include "bench/config/camera_io.h"
 
 namespace calibench {
 
 struct CalibrateOptions {
   LensModel model = LensModel::kPinholeK2;
   bool estimate_skew = false;
+  std::optional<CameraFile> init;  // A given camera: the initial guess instead of zhang.
+  std::string init_path;           // Its file, for the report.
+  bool evaluate_only = false;      // With init: fix the intrinsics, estimate only the poses.
 };
 
 struct CalibrateReport {
+  // The initialisation: zhang's result, or (with init) the given camera with the poses found
+  // through it (intrinsics_std NaN, rms_reproj_px at those poses before refinement).
   ZhangResult zhang;
+  std::string initial_name = "zhang (OpenCV)";
+  bool evaluated = false;  // The given camera was kept fixed (evaluate_only).
   RefineResult ceres;
   CameraFile camera;  // What camera.yaml holds (the ceres result).
   bool IsUsable() const { return ceres.IsUsable(); }

@@ -127,24 +127,43 @@ int Report(const std::vector<std::string>& dirs, const std::string& out_dir) {
 }
 
 struct CalibrateArgs {
-  std::string points_path, images_dir, target_path;
+  std::string points_path, images_dir, target_path, init_path, format;
   std::string out_path = "camera.yaml", model = "pinhole-k2";
-  bool skew = false;
+  bool skew = false, model_given = false, evaluate = false;
 };
 
 int Calibrate(const CalibrateArgs& args) {
   const std::string& out_path = args.out_path;
-  const std::string& model_name = args.model;
-  const bool skew = args.skew;
   calibench::CalibrateOptions options;
-  if (!calibench::ParseLensModel(model_name, &options.model)) {
-    std::cerr << "calibench: --model: unknown lens model '" << model_name << "' ("
+  std::string why;
+  if (!calibench::ParseLensModel(args.model, &options.model)) {
+    std::cerr << "calibench: --model: unknown lens model '" << args.model << "' ("
               << LensModelList() << ")\n";
     return 2;
   }
-  options.estimate_skew = skew;
+  options.estimate_skew = args.skew;
+  calibench::CameraFormat format = calibench::CameraFormatFromPath(out_path);
+  if (!args.format.empty() && !calibench::ParseCameraFormat(args.format, &format, &why)) {
+    std::cerr << "calibench: --format: " << why << "\n";
+    return 2;
+  }
+  if (!args.init_path.empty()) {
+    calibench::CameraFile init;
+    if (!calibench::ReadCameraFile(args.init_path, &init, &why)) {
+      std::cerr << "calibench: --init: " << why << "\n";
+      return 2;
+    }
+    // The given camera's own model, unless --model says otherwise (refining into another one).
+    if (!args.model_given || args.evaluate) options.model = init.lens_model;
+    if (!args.skew || args.evaluate) options.estimate_skew = init.estimate_skew;
+    options.init = init;
+    options.init_path = args.init_path;
+    options.evaluate_only = args.evaluate;
+  } else if (args.evaluate) {
+    std::cerr << "calibench: --evaluate needs --init CAMERA_FILE (the calibration to evaluate)\n";
+    return 2;
+  }
   calibench::PointData data;
-  std::string why;
   calibench::ImageFolderReport images;
   std::vector<int> used_index;
   if (!args.images_dir.empty()) {
@@ -172,11 +191,11 @@ int Calibrate(const CalibrateArgs& args) {
     std::cout << calibench::FormatImageReport(images, used_index, report);
   }
   if (!report.IsUsable()) return 4;
-  if (!calibench::WriteCameraYaml(out_path, report.camera, &why)) {
-    std::cerr << "calibench: " << why << "\n";
+  if (!calibench::WriteCameraFile(out_path, format, report.camera, &why)) {
+    std::cerr << "calibench: --out: " << why << "\n";
     return 3;
   }
-  std::cerr << "calibench: wrote " << out_path << "\n";
+  std::cerr << "calibench: wrote " << out_path << " (" << calibench::ToString(format) << ")\n";
   return 0;
 }
 
@@ -283,9 +302,21 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   points_option->excludes(images_option);
   calibrate->add_option("--target", cal.target_path,
                         "Kalibr target YAML (target_type: aprilgrid or checkerboard)");
-  calibrate->add_option("--out", cal.out_path, "Output camera.yaml (OpenCV FileStorage)");
-  calibrate->add_option("--model", cal.model, "Lens model: " + LensModelList());
+  calibrate->add_option("--out", cal.out_path,
+                        "Output camera file (default camera.yaml; format from --format or the "
+                        "extension: .cameramodel = mrcal, *camchain*.yaml = kalibr, else opencv)");
+  calibrate->add_option("--format", cal.format, "Output format: opencv, kalibr or mrcal");
+  CLI::Option* model_option =
+      calibrate->add_option("--model", cal.model, "Lens model: " + LensModelList());
   calibrate->add_flag("--skew", cal.skew, "Estimate the skew angle phi too");
+  calibrate
+      ->add_option("--init", cal.init_path,
+                   "A camera file (opencv, kalibr or mrcal) as the initial guess instead of "
+                   "zhang; its lens model unless --model is given")
+      ->check(CLI::ExistingFile);
+  calibrate->add_flag("--evaluate", cal.evaluate,
+                      "With --init: keep that camera fixed, fit only each image's pose, report "
+                      "the reprojection RMS per image and flag outliers");
   FramesArgs render_args, detect_args;
   CLI::App* render =
       app.add_subcommand("render", "Write a scenario's rendered frames (PNG) and true corners");
@@ -323,6 +354,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
         std::cerr << "calibench: calibrate: give --points FILE or --images DIR --target T.yaml\n";
         return 2;
       }
+      cal.model_given = model_option->count() > 0;
       return Calibrate(cal);
     }
   } catch (const std::exception& e) {  // A bug, not bad data: say so instead of aborting.

@@ -121,46 +121,4 @@ bool LoadPointData(const std::string& path, PointData* data, std::string* why) {
   if (why) *why = path + ": no such file or folder";
   return false;
 }
-
-bool WriteCameraYaml(const std::string& path, const CameraFile& camera, std::string* why) {
-  const std::string tmp = path + ".tmp.yaml";
-  try {
-    cv::FileStorage fs(tmp, cv::FileStorage::WRITE);
-    if (!fs.isOpened()) {
-      if (why) *why = path + ": cannot open for writing";
-      return false;
-    }
-    const CameraIntrinsics& k = camera.intrinsics;
-    const Eigen::Matrix3d a = k.Matrix();
-    cv::Mat camera_matrix(3, 3, CV_64F);
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) camera_matrix.at<double>(r, c) = a(r, c);
-    }
-    fs << "model" << camera.model;
-    fs << "image_width" << camera.image_width << "image_height" << camera.image_height;
-    fs << "camera_matrix" << camera_matrix;
-    fs << "distortion_coefficients" << (cv::Mat_<double>(1, 5) << k.k1, k.k2, k.p1, k.p2, k.k3);
-    fs << "fku_px" << k.fku_px << "fkv_px" << k.fkv_px << "phi_deg" << k.phi_deg;
-    fs << "rms_reproj_px" << camera.rms_reproj_px;
-    const char* names[10] = {"std_fku_px", "std_fkv_px", "std_phi_deg", "std_u0_px", "std_v0_px",
-                             "std_k1",     "std_k2",     "std_p1",      "std_p2",    "std_k3"};
-    for (int i = 0; i < 10; ++i) {
-      const double s = camera.intrinsics_std[i];
-      if (std::isfinite(s)) fs << names[i] << (i == 2 ? s * 180.0 / M_PI : s);
-    }
-    fs << "view_rms_px" << camera.view_rms_px;
-    fs.release();
-  } catch (const cv::Exception& e) {
-    if (why) *why = path + ": " + e.what();
-    return false;
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    if (why) *why = path + ": rename failed: " + ec.message();
-    return false;
-  }
-  return true;
-}
-
 }  // namespace calibench

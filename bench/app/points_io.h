@@ -6,19 +6,15 @@
 //    size, view count, flags, object points per view, image points per view, then the reference
 //    fx fy / cx cy / k1 k2 p1 p2 that the file carries (kept as `reference`).
 //
-// camera.yaml is written with cv::FileStorage (readable by OpenCV): camera_matrix (A, with the
-// skew term), distortion_coefficients (k1 k2 p1 p2 k3), image_width, image_height, rms_reproj_px,
-// the standard deviations std_* and per-view RMS.
+// The camera files calibrate writes are bench/config/camera_io.h's.
 #pragma once
 
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "batch/refine.h"
 #include "core/camera.h"
 #include "core/view.h"
-#include "core/camera.h"
 
 namespace calibench {
 
@@ -32,16 +28,5 @@ struct PointData {
 
 // `path`: a Zhang folder or an OpenCV .dat file. On failure, *why names the file and the reason.
 bool LoadPointData(const std::string& path, PointData* data, std::string* why);
-
-struct CameraFile {
-  CameraIntrinsics intrinsics;
-  IntrinsicsArray intrinsics_std{};  // phi in radians (written as std_phi_deg, std_skew_px).
-  int image_width = 0, image_height = 0;
-  double rms_reproj_px = 0.0;
-  std::vector<double> view_rms_px;
-  std::string model;
-};
-
-bool WriteCameraYaml(const std::string& path, const CameraFile& camera, std::string* why);
 
 }  // namespace calibench

@@ -27,8 +27,26 @@ using config_internal::Reader;
 
 void ParseIntrinsics(const Reader& r, const YAML::Node& node, const std::string& field,
                      CameraIntrinsics* k) {
+  if (node.IsMap() && node["k5"]) {
+    r.Fail(node["k5"], Reader::Join(field, "k5"),
+           "no lens model has k5: the equidistant (fisheye, Kannala-Brandt) model has k1..k4, as "
+           "OpenCV's cv::fisheye and Kalibr's equidistant; radtan has k1 k2 p1 p2 k3");
+  }
   r.CheckKeys(node, field,
-              {"fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "k1", "k2", "p1", "p2", "k3"});
+              {"lens_family", "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "k1", "k2", "p1",
+               "p2", "k3", "k4"});
+  if (node["lens_family"]) {
+    const std::string family =
+        r.Scalar<std::string>(node["lens_family"], Reader::Join(field, "lens_family"), "a string");
+    if (family == "radtan") {
+      k->family = LensFamily::kRadTan;
+    } else if (family == "equidistant") {
+      k->family = LensFamily::kEquidistant;
+    } else {
+      r.Fail(node["lens_family"], Reader::Join(field, "lens_family"),
+             "unknown lens family '" + family + "' (radtan, equidistant)");
+    }
+  }
   r.Set(node, "fku_px", field, &k->fku_px);
   r.Set(node, "fkv_px", field, &k->fkv_px);
   r.Set(node, "phi_deg", field, &k->phi_deg);
@@ -39,6 +57,7 @@ void ParseIntrinsics(const Reader& r, const YAML::Node& node, const std::string&
   r.Set(node, "p1", field, &k->p1);
   r.Set(node, "p2", field, &k->p2);
   r.Set(node, "k3", field, &k->k3);
+  r.Set(node, "k4", field, &k->k4);
   std::string why;
   if (!k->Check(&why)) r.Fail(node, field, why);
 }

@@ -56,7 +56,12 @@ void config_internal::EmitCamera(YAML::Emitter& out, const CameraSpec& c,
       << YAML::Value << k.u0_px << YAML::Key << "v0_px" << YAML::Value << k.v0_px << YAML::Key
       << "k1" << YAML::Value << k.k1 << YAML::Key << "k2" << YAML::Value << k.k2 << YAML::Key
       << "p1" << YAML::Value << k.p1 << YAML::Key << "p2" << YAML::Value << k.p2 << YAML::Key
-      << "k3" << YAML::Value << k.k3 << YAML::EndMap;
+      << "k3" << YAML::Value << k.k3;
+  if (k.family != LensFamily::kRadTan) {  // Radtan files stay as they were.
+    out << YAML::Key << "k4" << YAML::Value << k.k4 << YAML::Key << "lens_family" << YAML::Value
+        << ToString(k.family);
+  }
+  out << YAML::EndMap;
   out << YAML::Key << "R_C" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (int r = 0; r < 3; ++r) EmitVector(out, c.r_c.row(r).transpose());
   out << YAML::EndSeq << YAML::Key << "x_C" << YAML::Value;

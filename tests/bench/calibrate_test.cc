@@ -75,10 +75,11 @@ TEST(CalibrateFromPoints, CameraYamlIsReadableByOpenCv) {
   camera.image_width = 640;
   camera.image_height = 480;
   camera.rms_reproj_px = 0.25;
-  camera.model = "pinhole-radtan4+skew";
+  camera.lens_model = LensModel::kPinholeRadTan4;
+  camera.estimate_skew = true;
   const std::string path = ::testing::TempDir() + "/camera.yaml";
   std::string why;
-  ASSERT_TRUE(WriteCameraYaml(path, camera, &why)) << why;
+  ASSERT_TRUE(WriteCameraFile(path, CameraFormat::kOpenCv, camera, &why)) << why;
   cv::FileStorage fs(path, cv::FileStorage::READ);
   ASSERT_TRUE(fs.isOpened());
   cv::Mat a, d;

@@ -144,5 +144,122 @@ TEST(PinholeSkewCamera, JetDerivativesMatchNumericDifferentiation) {
   }
 }
 
+// A fisheye as TUM-VI's cameras (Kannala-Brandt coefficients of that size), with some skew.
+CameraIntrinsics EquidistantCamera() {
+  CameraIntrinsics k;
+  k.family = LensFamily::kEquidistant;
+  k.fku_px = 290.0, k.fkv_px = 291.5, k.phi_deg = 89.5, k.u0_px = 322.0, k.v0_px = 238.0;
+  k.k1 = 0.0034, k.k2 = 0.0007, k.k3 = -0.0020, k.k4 = 0.0002;
+  return k;
+}
+
+// An independent form of the equidistant model: theta is the angle between the ray and the
+// optical axis (acos, not atan of the normalised radius), the image point lies theta_d along the
+// ray's azimuth, then A.
+TEST(PinholeEquiCamera, ProjectionEqualsTheAngleFormOfTheModel) {
+  const CameraIntrinsics k = EquidistantCamera();
+  for (double azimuth = 0.0; azimuth < 2 * M_PI; azimuth += 0.7) {
+    for (double theta = 0.0; theta < 1.5; theta += 0.13) {
+      const Eigen::Vector3d ray(std::sin(theta) * std::cos(azimuth),
+                                std::sin(theta) * std::sin(azimuth), std::cos(theta));
+      const double t2 = theta * theta;
+      const double theta_d = theta * (1 + t2 * (k.k1 + t2 * (k.k2 + t2 * (k.k3 + t2 * k.k4))));
+      const Eigen::Vector3d image_point(theta_d * std::cos(azimuth), theta_d * std::sin(azimuth),
+                                        1);
+      const Eigen::Vector2d expected = (k.Matrix() * image_point).head<2>();
+      Eigen::Vector2d pixel;
+      ASSERT_TRUE(ProjectPoint(k, 2.5 * ray, &pixel));
+      EXPECT_LT((pixel - expected).norm(), kRoundTripTolPx) << "theta " << theta;
+    }
+  }
+  Eigen::Vector2d pixel;
+  EXPECT_FALSE(ProjectPoint(k, Eigen::Vector3d(1, 0, 0), &pixel));  // theta = 90 deg.
+  EXPECT_FALSE(ProjectPoint(k, Eigen::Vector3d(0, 0, -1), &pixel));
+}
+
+// Jet derivatives of both families against central differences, including the equidistant
+// model's r -> 0 branch (a point on the optical axis).
+TEST(ProjectLens, JetDerivativesMatchNumericDifferentiationForEveryFamily) {
+  using Jet = ceres::Jet<double, 13>;
+  CameraIntrinsics radtan{812, 805, 84, 318, 236, -0.15, 0.03, 1e-3, -2e-3, 0.01};
+  const struct {
+    CameraIntrinsics k;
+    std::array<double, 3> point;
+  } cases[] = {{radtan, {0.35, -0.2, 2.5}},
+               {EquidistantCamera(), {1.1, -0.7, 0.9}},
+               {EquidistantCamera(), {0.0, 0.0, 1.0}}};
+  for (const auto& c : cases) {
+    const auto params = c.k.Params();
+    Jet jp[10], jx[3], jpix[2];
+    for (int i = 0; i < 10; ++i) jp[i] = Jet(params[i], i);
+    for (int i = 0; i < 3; ++i) jx[i] = Jet(c.point[i], 10 + i);
+    ASSERT_TRUE(ProjectLens(c.k.family, jp, jx, jpix));
+    auto eval = [&](int var, double delta) {
+      std::array<double, 10> p = params;
+      std::array<double, 3> x = c.point;
+      (var < 10 ? p[var] : x[var - 10]) += delta;
+      Eigen::Vector2d out;
+      ProjectLens(c.k.family, p.data(), x.data(), out.data());
+      return out;
+    };
+    for (int var = 0; var < 13; ++var) {
+      const double h =
+          1e-6 * std::max(1.0, var < 10 ? std::abs(params[var]) : std::abs(c.point[var - 10]));
+      const Eigen::Vector2d numeric = (eval(var, h) - eval(var, -h)) / (2 * h);
+      for (int r = 0; r < 2; ++r) {
+        EXPECT_NEAR(jpix[r].v[var], numeric[r],
+                    kNumericJacobianRelTol * std::max(1.0, std::abs(numeric[r])))
+            << ToString(c.k.family) << ": pixel " << r << " wrt variable " << var;
+      }
+    }
+  }
+}
+
+// Undistort inverts the projection to 1e-10 (normalised) out to 80 degrees off axis.
+TEST(UndistortNormalized, InvertsTheEquidistantLensToEightyDegrees) {
+  const CameraIntrinsics k = EquidistantCamera();
+  for (double x = -5.0; x <= 5.0; x += 0.5) {
+    for (double y = -4.0; y <= 4.0; y += 0.5) {
+      if (std::atan(std::hypot(x, y)) > 80 * M_PI / 180) continue;
+      Eigen::Vector2d pixel;
+      ASSERT_TRUE(ProjectPoint(k, Eigen::Vector3d(x, y, 1.0), &pixel));
+      const Eigen::Vector2d distorted = (k.Matrix().inverse() * pixel.homogeneous()).head<2>();
+      Eigen::Vector2d undistorted;
+      ASSERT_TRUE(UndistortNormalized(k, distorted, &undistorted));
+      EXPECT_LT((undistorted - Eigen::Vector2d(x, y)).norm(),
+                1e-10 * std::max(1.0, std::hypot(x, y)));
+    }
+  }
+}
+
+// Every lens model of the table: parses back from its name, its family's slot names cover its free
+// parameters, Params() and FromParams() round-trip in its layout, and Check() refuses the
+// coefficients the family lacks.
+TEST(LensModels, TableRoundTripsAndFamiliesKeepTheirCoefficients) {
+  for (const LensModelInfo& info : LensModels()) {
+    LensModel parsed;
+    ASSERT_TRUE(ParseLensModel(info.name, &parsed));
+    EXPECT_EQ(parsed, info.model);
+    EXPECT_EQ(FamilyOf(info.model), info.family);
+    for (int i : info.free_distortion) {
+      EXPECT_STRNE(ParamNames(info.family)[i], "-") << info.name << " frees slot " << i;
+    }
+  }
+  const CameraIntrinsics equi = EquidistantCamera();
+  const auto params = equi.Params();
+  EXPECT_EQ(params[7], equi.k3);
+  EXPECT_EQ(params[8], equi.k4);
+  EXPECT_EQ(CameraIntrinsics::FromParams(params.data(), LensFamily::kEquidistant), equi);
+  CameraIntrinsics bad = equi;
+  bad.p1 = 1e-3;
+  std::string why;
+  EXPECT_FALSE(bad.Check(&why));
+  EXPECT_NE(why.find("no tangential"), std::string::npos) << why;
+  CameraIntrinsics radtan;
+  radtan.k4 = 0.01;
+  EXPECT_FALSE(radtan.Check(&why));
+  EXPECT_NE(why.find("k4 belongs to the equidistant"), std::string::npos) << why;
+}
+
 }  // namespace
 }  // namespace calibench

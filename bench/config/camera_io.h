@@ -1,0 +1,60 @@
+// Camera files: what `calibench calibrate` writes (--out, --format) and reads back (--init), in
+// the formats of the tools calibration results are handed to. One home for all three.
+//
+//   opencv  cv::FileStorage YAML/XML/JSON (by extension), readable by any OpenCV program:
+//           camera_matrix (A of core/camera.h, with its skew term a2 = -fku cot(phi)),
+//           distortion_coefficients (radtan: k1 k2 p1 p2 k3, cv::calibrateCamera's order;
+//           equidistant: k1 k2 k3 k4, cv::fisheye's), distortion_model (radtan | equidistant),
+//           image_width, image_height; then calibench's own fields: model, fku_px, fkv_px,
+//           phi_deg (exact, preferred on reading), rms_reproj_px, std_* (1 sigma), view_rms_px.
+//   kalibr  a camchain YAML (as kalibr_calibrate_cameras writes it) with one camera, cam0:
+//           camera_model: pinhole, intrinsics [fu, fv, pu, pv], distortion_model radtan
+//           ([k1, k2, r1, r2]) or equidistant ([k1, k2, k3, k4]), distortion_coeffs, resolution
+//           [w, h]. Kalibr's pinhole has no skew and its radtan no k3: such cameras are refused.
+//   mrcal   a .cameramodel (the Python-literal dict mrcal.cameramodel() reads): lensmodel,
+//           intrinsics [fx, fy, cx, cy, distortion...], imagersize [w, h], extrinsics
+//           (rt_cam_ref, identity). Radtan maps exactly to LENSMODEL_PINHOLE (no distortion),
+//           LENSMODEL_OPENCV4 (k3 = 0) or LENSMODEL_OPENCV5; reading also takes LENSMODEL_OPENCV8
+//           with k4 = k5 = k6 = 0. mrcal (2.2, Debian 12) has no skew and no Kannala-Brandt model:
+//           such cameras are refused, naming the reason.
+// Pixel convention: all three put the centre of pixel (i, j) at (i, j), as calibench does; the
+// intrinsics are written unchanged. Numbers are written with 17 significant digits (an exact
+// double round trip). Files are written atomically (a temporary beside them, then rename).
+// Errors name the file, the field and the reason.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+
+namespace calibench {
+
+struct CameraFile {
+  CameraIntrinsics intrinsics;
+  IntrinsicsArray intrinsics_std{};  // Raw order, phi in radians (written as std_phi_deg); NaN:
+                                     // fixed or unknown. Only the opencv format keeps them.
+  int image_width = 0, image_height = 0;
+  double rms_reproj_px = 0.0;
+  std::vector<double> view_rms_px;
+  LensModel lens_model = LensModel::kPinholeK2;  // The model it was estimated with.
+  bool estimate_skew = false;
+  std::string ModelName() const;  // e.g. "pinhole-k2" or "pinhole-k2+skew".
+};
+
+enum class CameraFormat { kOpenCv, kKalibr, kMrcal };
+const char* ToString(CameraFormat format);
+// "opencv", "kalibr", "mrcal"; false (and *why) for another name.
+bool ParseCameraFormat(const std::string& name, CameraFormat* format, std::string* why);
+// From the file name: *.cameramodel -> mrcal; *camchain*.yaml / *.kalibr.yaml -> kalibr; else
+// opencv.
+CameraFormat CameraFormatFromPath(const std::string& path);
+
+bool WriteCameraFile(const std::string& path, CameraFormat format, const CameraFile& camera,
+                     std::string* why);
+// Reads any of the three, recognised from the content (mrcal: a dict with 'lensmodel'; kalibr:
+// a cam0 map; opencv: camera_matrix). The lens model is the file's (opencv: its `model` field when
+// present; otherwise the smallest of LensModels() holding every non-zero coefficient).
+bool ReadCameraFile(const std::string& path, CameraFile* camera, std::string* why);
+
+}  // namespace calibench
