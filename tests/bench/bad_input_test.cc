@@ -108,6 +108,19 @@ INSTANTIATE_TEST_SUITE_P(
         ConfigCase{"phi_180",
                    "scenario:\n  name: t\n  truth:\n    intrinsics: {phi_deg: 180}\n",
                    {"FILE:4:", "scenario.truth.intrinsics", "phi_deg must lie in (0, 180)"}},
+        ConfigCase{"fisheye_k5",
+                   "scenario:\n  name: t\n  truth:\n    intrinsics: {lens_family: equidistant, "
+                   "k1: 0.01, k5: 0.001}\n",
+                   {"FILE:4:", "scenario.truth.intrinsics.k5", "no lens model has k5",
+                    "equidistant (fisheye, Kannala-Brandt) model has k1..k4"}},
+        ConfigCase{"fisheye_tangential",
+                   "scenario:\n  name: t\n  truth:\n    intrinsics: {lens_family: equidistant, "
+                   "p1: 0.001}\n",
+                   {"FILE:4:", "scenario.truth.intrinsics", "no tangential terms"}},
+        ConfigCase{
+            "unknown_lens_family",
+            "scenario:\n  name: t\n  truth:\n    intrinsics: {lens_family: omni}\n",
+            {"FILE:4:", "scenario.truth.intrinsics.lens_family", "unknown lens family 'omni'"}},
         ConfigCase{"focal_zero",
                    "scenario:\n  name: t\n  truth:\n    intrinsics: {fku_px: 0}\n",
                    {"FILE:4:", "scenario.truth.intrinsics", "fku_px"}},

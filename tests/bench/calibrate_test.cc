@@ -94,6 +94,56 @@ TEST(CalibrateFromPoints, CameraYamlIsReadableByOpenCv) {
   EXPECT_TRUE(fs["std_fkv_px"].empty());  // Not estimated: not written.
 }
 
+// calibrate --init: a calibration written in each format and read back evaluates to the same
+// per-view RMS on the same data (the poses re-found through the camera reach the same optimum),
+// and refining from it lands on the same intrinsics.
+// The RMS at an optimum is flat in the parameters: 1e-6 px. The parameters themselves settle to a
+// small fraction of their standard deviation (ceres' relative cost tolerance 1e-10, refine.cc):
+// 1e-3 sigma.
+constexpr double kSameOptimumRmsPx = 1e-6;
+constexpr double kSameOptimumSigmas = 1e-3;
+
+TEST(CalibrateFromPoints, AGivenCameraInEveryFormatEvaluatesAndRefinesToTheSameOptimum) {
+  REQUIRE_DATA("zhang");
+  PointData data;
+  std::string why;
+  ASSERT_TRUE(LoadPointData(kDataDir + "/zhang", &data, &why)) << why;
+  CalibrateOptions options;
+  options.model = LensModel::kPinholeRadTan4;  // Every format holds it.
+  const CalibrateReport first = CalibrateFromPoints(data, options);
+  ASSERT_TRUE(first.IsUsable()) << first.ceres.message;
+  for (const char* file : {"init.yaml", "init-camchain.yaml", "init.cameramodel"}) {
+    const std::string path = ::testing::TempDir() + "/" + file;
+    ASSERT_TRUE(WriteCameraFile(path, CameraFormatFromPath(path), first.camera, &why)) << why;
+    CameraFile given;
+    ASSERT_TRUE(ReadCameraFile(path, &given, &why)) << why;
+    EXPECT_EQ(given.lens_model, LensModel::kPinholeRadTan4) << file;
+    CalibrateOptions evaluate;
+    evaluate.model = given.lens_model;
+    evaluate.init = given;
+    evaluate.evaluate_only = true;
+    const CalibrateReport evaluated = CalibrateFromPoints(data, evaluate);
+    ASSERT_TRUE(evaluated.IsUsable()) << evaluated.ceres.message;
+    EXPECT_TRUE(evaluated.evaluated);
+    EXPECT_EQ(evaluated.ceres.intrinsics, given.intrinsics) << "kept fixed";
+    ASSERT_EQ(evaluated.ceres.view_rms_px.size(), first.ceres.view_rms_px.size());
+    for (size_t v = 0; v < first.ceres.view_rms_px.size(); ++v) {
+      EXPECT_NEAR(evaluated.ceres.view_rms_px[v], first.ceres.view_rms_px[v], kSameOptimumRmsPx)
+          << file << " view " << v;
+    }
+    CalibrateOptions refine = evaluate;
+    refine.evaluate_only = false;
+    const CalibrateReport refined = CalibrateFromPoints(data, refine);
+    ASSERT_TRUE(refined.IsUsable()) << refined.ceres.message;
+    const auto a = refined.ceres.intrinsics.Params(), b = first.ceres.intrinsics.Params();
+    for (int i = 0; i < 10; ++i) {
+      const double sigma = first.ceres.intrinsics_std[i];
+      EXPECT_NEAR(a[i], b[i], std::isfinite(sigma) ? kSameOptimumSigmas * sigma : 0.0)
+          << file << " " << ParamNames(LensFamily::kRadTan)[i];
+    }
+  }
+}
+
 TEST(LoadPointData, BadPathsAreNamed) {
   PointData data;
   std::string why;

@@ -18,6 +18,7 @@ struct RenderedFolderOptions {
   int views = 12;
   double noise_sigma_gray = 1.0;
   uint64_t seed = 2024;
+  double lateral_m = 0.05;  // Board centres spread over +-lateral_m in x, +-0.8 lateral_m in y.
 };
 
 // Writes DIR/view<k>.png (k < options.views) of `grid` seen by `truth` from random facing
@@ -42,7 +43,9 @@ inline int WriteRenderedAprilGridFolder(const std::string& dir, const CameraIntr
     const Eigen::Vector3d tilt(rng.Uniform(-0.6, 0.6), rng.Uniform(-0.6, 0.6),
                                rng.Uniform(-0.4, 0.4));
     const double distance = rng.Uniform(0.45, 0.6);
-    const Eigen::Vector3d at(rng.Uniform(-0.05, 0.05), rng.Uniform(-0.04, 0.04), distance);
+    const double lateral = options.lateral_m;
+    const Eigen::Vector3d at(rng.Uniform(-lateral, lateral),
+                             rng.Uniform(-0.8 * lateral, 0.8 * lateral), distance);
     // ExpSO3(tilt) D = D ExpSO3(D tilt) for D = diag(1, -1, -1).
     view.cam_from_board = FacingBoardPose({tilt.x(), -tilt.y(), -tilt.z()}, centre, at);
     bool inside = true;
