@@ -29,8 +29,11 @@ class BoardShader {
   bool Init(const BoardView& view, const Eigen::Matrix3d& ray_map, std::string* why) {
     const AprilGrid& g = view.grid;
     const TagFamily& f = *view.family;
-    if (f.name() != g.family) {
-      if (why) *why = "board family '" + g.family + "' has no matching TagFamily";
+    if (f.name() != g.family || f.border_bits() != g.black_tag_border) {
+      if (why)
+        *why = "board family '" + g.family + "' with a " + std::to_string(g.black_tag_border) +
+               "-bit border has no matching TagFamily (given: " + f.name() + ", " +
+               std::to_string(f.border_bits()) + "-bit border)";
       return false;
     }
     if (g.first_id + g.NumTags() > f.num_codes()) {

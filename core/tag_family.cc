@@ -39,6 +39,63 @@ bool FindAprilTagFamily(const std::string& name, AprilTagFamilyFunctions* functi
   return true;
 }
 
+bool CheckBorderBits(const std::string& name, int border_bits, std::string* why) {
+  std::string msg;
+  AprilTagFamilyFunctions f;
+  if (!FindAprilTagFamily(name, &f)) {
+    msg = "unknown AprilTag family '" + name + "'";
+  } else if (border_bits < kMinBorderBits || border_bits > kMaxBorderBits) {
+    msg = "black border of " + std::to_string(border_bits) + " bits: must be 1 (AprilTag 3) or " +
+          "2 (Kalibr's AprilGrid)";
+  } else if (border_bits != 1) {
+    const std::unique_ptr<apriltag_family_t, void (*)(apriltag_family_t*)> fam(f.create(),
+                                                                               f.destroy);
+    if (fam && fam->reversed_border) {
+      msg = name + " has a white (reversed) border: only a 1-bit border is defined for it";
+    }
+  }
+  if (msg.empty()) return true;
+  if (why) *why = msg;
+  return false;
+}
+
+std::unique_ptr<AprilTagFamilyHandle> AprilTagFamilyHandle::Create(const std::string& name,
+                                                                   int border_bits,
+                                                                   std::string* why) {
+  if (!CheckBorderBits(name, border_bits, why)) return nullptr;
+  AprilTagFamilyFunctions f;
+  FindAprilTagFamily(name, &f);
+  std::unique_ptr<AprilTagFamilyHandle> h(new AprilTagFamilyHandle());
+  h->base_ = f.create();
+  h->destroy_ = f.destroy;
+  if (h->base_ == nullptr) {
+    if (why) *why = "apriltag: cannot create family " + name;
+    return nullptr;
+  }
+  if (border_bits == 1) return h;
+  const apriltag_family_t& base = *h->base_;
+  const int grow = border_bits - 1;  // Extra black rings.
+  h->bit_x_.assign(base.bit_x, base.bit_x + base.nbits);
+  h->bit_y_.assign(base.bit_y, base.bit_y + base.nbits);
+  for (uint32_t& x : h->bit_x_) x += grow;
+  for (uint32_t& y : h->bit_y_) y += grow;
+  h->name_ = name + "_border" + std::to_string(border_bits);
+  h->derived_ = std::make_unique<apriltag_family_t>(base);  // Codes shared with base.
+  apriltag_family_t& d = *h->derived_;
+  d.width_at_border = base.width_at_border + 2 * grow;
+  d.total_width = base.total_width + 2 * grow;
+  d.bit_x = h->bit_x_.data();
+  d.bit_y = h->bit_y_.data();
+  d.name = h->name_.data();
+  d.impl = nullptr;  // The detector's own decoding table, built when the family is added.
+  return h;
+}
+
+AprilTagFamilyHandle::~AprilTagFamilyHandle() {
+  derived_.reset();
+  if (base_ != nullptr) destroy_(base_);
+}
+
 std::vector<std::string> TagFamily::Names() {
   std::vector<std::string> names;
   for (const auto& [name, f] : Families()) names.push_back(name);
@@ -46,6 +103,11 @@ std::vector<std::string> TagFamily::Names() {
 }
 
 std::shared_ptr<const TagFamily> TagFamily::Create(const std::string& name, std::string* why) {
+  return Create(name, 1, why);
+}
+
+std::shared_ptr<const TagFamily> TagFamily::Create(const std::string& name, int border_bits,
+                                                   std::string* why) {
   const auto it = Families().find(name);
   if (it == Families().end()) {
     if (why) {
@@ -55,17 +117,21 @@ std::shared_ptr<const TagFamily> TagFamily::Create(const std::string& name, std:
     }
     return nullptr;
   }
-  const std::unique_ptr<apriltag_family_t, void (*)(apriltag_family_t*)> fam(it->second.create(),
-                                                                             it->second.destroy);
+  const std::unique_ptr<AprilTagFamilyHandle> handle =
+      AprilTagFamilyHandle::Create(name, border_bits, why);
+  if (!handle) return nullptr;
+  const apriltag_family_t* fam = handle->get();
   auto family = std::make_shared<TagFamily>();
   family->name_ = name;
+  family->border_bits_ = border_bits;
   family->num_codes_ = static_cast<int>(fam->ncodes);
   family->total_width_ = fam->total_width;
   family->width_at_border_ = fam->width_at_border;
   family->bitmaps_.resize(fam->ncodes);
   for (uint32_t id = 0; id < fam->ncodes; ++id) {
     const std::unique_ptr<image_u8_t, void (*)(image_u8_t*)> image(
-        apriltag_to_image(fam.get(), static_cast<int>(id)), image_u8_destroy);
+        apriltag_to_image(const_cast<apriltag_family_t*>(fam), static_cast<int>(id)),
+        image_u8_destroy);
     std::vector<uint8_t>& cells = family->bitmaps_[id];
     cells.resize(static_cast<size_t>(fam->total_width) * fam->total_width);
     for (int row = 0; row < fam->total_width; ++row) {

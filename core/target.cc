@@ -62,6 +62,10 @@ bool AprilGrid::Check(std::string* why) const {
   if (!(tag_size_m > 0 && std::isfinite(tag_size_m))) msg = "tag_size_m must be positive";
   if (!(tag_spacing > 0 && std::isfinite(tag_spacing))) msg = "tag_spacing must be positive";
   if (first_id < 0) msg = "first_id must be >= 0";
+  if (black_tag_border != 1 && black_tag_border != 2) {
+    msg = "black_tag_border must be 1 (AprilTag 3) or 2 (Kalibr), not " +
+          std::to_string(black_tag_border);
+  }
   if (!CheckRotation(points_from_board.rotation, 1e-9, false, nullptr)) msg = "invalid rotation";
   if (msg.empty()) return true;
   if (why) *why = msg;
@@ -85,7 +89,8 @@ bool operator==(const PlanarBoard& a, const PlanarBoard& b) {
 bool operator==(const AprilGrid& a, const AprilGrid& b) {
   return a.family == b.family && a.tag_rows == b.tag_rows && a.tag_cols == b.tag_cols &&
          a.tag_size_m == b.tag_size_m && a.tag_spacing == b.tag_spacing &&
-         a.first_id == b.first_id && a.points_from_board == b.points_from_board;
+         a.first_id == b.first_id && a.black_tag_border == b.black_tag_border &&
+         a.points_from_board == b.points_from_board;
 }
 
 }  // namespace calibench

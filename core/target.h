@@ -25,20 +25,31 @@ struct PlanarBoard {
   bool Check(std::string* why) const;
 };
 
-// An AprilTag grid as Kalibr defines its aprilgrid: tag_rows x tag_cols tags; tag_size_m is the
-// edge of a tag's reference square (the black border square whose corners the detector reports);
-// tag_spacing is the gap between squares as a fraction of tag_size_m.
-// Board frame: x right, y up, z out of the board (Kalibr's). Tag (r, c) has id
-// first_id + r * tag_cols + c; its reference square spans [c p, c p + s] x [r p, r p + s] with
-// p = s (1 + tag_spacing). Corner order per tag = the detector's: bottom-left, bottom-right,
-// top-right, top-left of the tag's bitmap, placed bitmap-up = board +y; corner k of the tag with
-// index i (= id - first_id) is point 4 i + k.
+// An AprilTag grid as Kalibr defines its aprilgrid (GridCalibrationTargetAprilgrid.cpp and
+// kalibr_create_target_pdf, read for this): tag_rows x tag_cols tags.
+//   tag_size_m (Kalibr's tagSize): the edge of a tag's black square, border bits included — the
+//     square whose corners the detector reports (for a 2-bit border: the outer edge of the two
+//     black rings; the data bits are the middle 6 of 10 cells for tag36h11).
+//   tag_spacing (Kalibr's tagSpacing): the white gap between two tags' black squares as a fraction
+//     of tag_size_m; the corner pitch from one tag to the next is p = s (1 + tag_spacing).
+//   black_tag_border (Kalibr's blackTagBorder): border width in bits, 1 (AprilTag 3's own layout,
+//     and the default here for scenarios) or 2 (Kalibr's printed grids; tag_family.h).
+// Board frame: x right, y up, z out of the board (Kalibr's). Tag (r, c) — r counted upwards from
+// the bottom row, c rightwards — has id first_id + r * tag_cols + c (id 0 bottom-left, as
+// Kalibr's generator draws it and its detector numbers it); its black square spans
+// [c p, c p + s] x [r p, r p + s]. Corner order per tag = Kalibr's and the detector's:
+// bottom-left, bottom-right, top-right, top-left in the board frame (= of the tag's bitmap, placed
+// bitmap-up = board +y); corner k of the tag with index i (= id - first_id) is point 4 i + k.
+// (Kalibr numbers the same corners row-major on a 2 tag_rows x 2 tag_cols grid; the positions
+// are identical.) Kalibr's printed grids also have black squares of edge tag_spacing * s in the
+// gaps at the tags' corners; they carry no points and the renderer does not draw them.
 struct AprilGrid {
   std::string family = "tag36h11";
   int tag_rows = 6, tag_cols = 6;
   double tag_size_m = 0.088;
   double tag_spacing = 0.3;
   int first_id = 0;
+  int black_tag_border = 1;  // Border bits: 1 (AprilTag 3) or 2 (Kalibr's printed grids).
   Rigid3 points_from_board;
 
   int NumTags() const { return tag_rows * tag_cols; }

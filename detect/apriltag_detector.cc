@@ -16,8 +16,13 @@ constexpr double kAprilTagToCalibenchPx = -0.5;
 
 bool AprilTagOptions::Check(std::string* why) const {
   std::string msg;
+  std::string border_why;
   AprilTagFamilyFunctions f;
-  if (!FindAprilTagFamily(family, &f)) msg = "unknown AprilTag family '" + family + "'";
+  if (!FindAprilTagFamily(family, &f)) {
+    msg = "unknown AprilTag family '" + family + "'";
+  } else if (!CheckBorderBits(family, black_border_bits, &border_why)) {
+    msg = "black_border_bits: " + border_why;
+  }
   if (!(quad_decimate >= 1)) msg = "quad_decimate must be >= 1";
   if (!(quad_sigma >= 0)) msg = "quad_sigma must be >= 0";
   if (threads < 1) msg = "threads must be >= 1";
@@ -39,17 +44,15 @@ AprilTagDetector::~AprilTagDetector() {
 std::unique_ptr<AprilTagDetector> AprilTagDetector::Create(const AprilTagOptions& options,
                                                            std::string* why) {
   if (!options.Check(why)) return nullptr;
-  AprilTagFamilyFunctions f;
-  FindAprilTagFamily(options.family, &f);
   std::unique_ptr<AprilTagDetector> d(new AprilTagDetector());
-  d->family_ =
-      std::unique_ptr<apriltag_family, FamilyDeleter>(f.create(), FamilyDeleter{f.destroy});
+  d->family_ = AprilTagFamilyHandle::Create(options.family, options.black_border_bits, why);
+  if (!d->family_) return nullptr;
   d->detector_.reset(apriltag_detector_create());
   if (!d->family_ || !d->detector_) {
     if (why) *why = "apriltag: cannot create the detector";
     return nullptr;
   }
-  apriltag_detector_add_family_bits(d->detector_.get(), d->family_.get(), options.max_hamming);
+  apriltag_detector_add_family_bits(d->detector_.get(), d->family_->get(), options.max_hamming);
   d->detector_->quad_decimate = static_cast<float>(options.quad_decimate);
   d->detector_->quad_sigma = static_cast<float>(options.quad_sigma);
   d->detector_->refine_edges = options.refine_edges;

@@ -9,6 +9,9 @@
 // (measured here: the raw offset is +0.47..+0.50 px; tests/detect checks the round trip).
 // Corner order: the detector's, i.e. the tag's bitmap bottom-left, bottom-right, top-right,
 // top-left — AprilGrid's order (core/target.h).
+// Border: black_border_bits = 2 decodes Kalibr's AprilGrid tags (a 2-cell black border) through a
+// derived family (core/tag_family.h AprilTagFamilyHandle); the reported corners are then those of
+// the outer edge of the 2-cell border (Kalibr's tagSize square).
 // One detector is not thread-safe; use one per thread.
 #pragma once
 
@@ -19,14 +22,15 @@
 #include <vector>
 
 #include "core/render.h"
+#include "core/tag_family.h"
 
 struct apriltag_detector;
-struct apriltag_family;
 
 namespace calibench {
 
 struct AprilTagOptions {
   std::string family = "tag36h11";
+  int black_border_bits = 1;   // 1: AprilTag 3's layout; 2: Kalibr's (tag_family.h).
   double quad_decimate = 1.0;  // 1: full resolution (decimation leaves up to 0.03 px of bias).
   double quad_sigma = 0.0;     // Gaussian blur before quad detection.
   bool refine_edges = true;
@@ -57,14 +61,10 @@ class AprilTagDetector {
 
  private:
   AprilTagDetector() = default;
-  struct FamilyDeleter {
-    void (*destroy)(apriltag_family*);
-    void operator()(apriltag_family* f) const { destroy(f); }
-  };
   struct DetectorDeleter {
     void operator()(apriltag_detector* d) const;
   };
-  std::unique_ptr<apriltag_family, FamilyDeleter> family_{nullptr, FamilyDeleter{nullptr}};
+  std::unique_ptr<AprilTagFamilyHandle> family_;
   std::unique_ptr<apriltag_detector, DetectorDeleter> detector_;
 };
 

@@ -142,7 +142,7 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
   AprilGrid grid;
   grid.tag_rows = grid.tag_cols = 1;
   grid.tag_size_m = 0.1;
-  auto family = TagFamily::Create(grid.family, &result.message);
+  auto family = TagFamily::Create(grid.family, grid.black_tag_border, &result.message);
   if (!family) return result;
   const CameraIntrinsics& k = options.camera;
   TagView view0;

@@ -1,11 +1,94 @@
 #include "detect/frame_detector.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <map>
+#include <opencv2/imgproc.hpp>
 
 #include "core/tag_family.h"
 
 namespace calibench {
+namespace {
+
+// 3 x 3 maximum (gray dilation of white = erosion of black by one pixel), edges clamped.
+std::vector<uint8_t> MaxFilter3x3(const GrayImageView& image) {
+  const int w = image.width, h = image.height;
+  std::vector<uint8_t> rows(static_cast<size_t>(w) * h), out(rows.size());
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      rows[static_cast<size_t>(y) * w + x] = std::max(
+          {image.at(std::max(x - 1, 0), y), image.at(x, y), image.at(std::min(x + 1, w - 1), y)});
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    const uint8_t* up = rows.data() + static_cast<size_t>(std::max(y - 1, 0)) * w;
+    const uint8_t* mid = rows.data() + static_cast<size_t>(y) * w;
+    const uint8_t* down = rows.data() + static_cast<size_t>(std::min(y + 1, h - 1)) * w;
+    for (int x = 0; x < w; ++x)
+      out[static_cast<size_t>(y) * w + x] = std::max({up[x], mid[x], down[x]});
+  }
+  return out;
+}
+
+// Moves each edge line of a tag found in the eroded image out by the erosion's shift |n_x| + |n_y|
+// and re-intersects adjacent lines. False (tag unchanged) for a degenerate quad.
+bool UndoErosion(TagDetection* tag) {
+  const std::array<Eigen::Vector2d, 4>& p = tag->corners;
+  const Eigen::Vector2d centre = 0.25 * (p[0] + p[1] + p[2] + p[3]);
+  Eigen::Vector2d point[4], dir[4];
+  for (int e = 0; e < 4; ++e) {
+    const Eigen::Vector2d a = p[e], b = p[(e + 1) % 4];
+    if ((b - a).norm() < 1e-9) return false;
+    dir[e] = (b - a).normalized();
+    Eigen::Vector2d n(dir[e].y(), -dir[e].x());
+    if (n.dot(a - centre) < 0) n = -n;  // Outward.
+    point[e] = a + (std::abs(n.x()) + std::abs(n.y())) * n;
+  }
+  std::array<Eigen::Vector2d, 4> moved;
+  for (int k = 0; k < 4; ++k) {
+    const int e0 = (k + 3) % 4, e1 = k;  // Corner k joins edges k - 1 and k.
+    Eigen::Matrix2d m;
+    m << dir[e0], -dir[e1];
+    if (std::abs(m.determinant()) < 1e-9) return false;
+    const Eigen::Vector2d t = m.inverse() * (point[e1] - point[e0]);
+    moved[k] = point[e0] + t.x() * dir[e0];
+  }
+  tag->corners = moved;
+  return true;
+}
+
+// The saddle point of each corner's X-junction (cv::cornerSubPix) in a window scaled to the
+// corner squares (frame_detector.h); a corner that moves 1 px or more keeps its edge-fit value.
+void RefineXJunctions(const GrayImageView& image, double square_fraction, TagDetection* tag) {
+  constexpr int kMaxHalfWindowPx = 3;
+  constexpr double kWindowOfSquare = 0.4, kMaxMovePx = 1.0;
+  double edge_px = 0;
+  for (int k = 0; k < 4; ++k)
+    edge_px += 0.25 * (tag->corners[(k + 1) % 4] - tag->corners[k]).norm();
+  const int half =
+      std::min(kMaxHalfWindowPx, static_cast<int>(kWindowOfSquare * square_fraction * edge_px));
+  if (half < 2) return;  // Squares of < 5 px: the window would reach other edges.
+  const cv::Mat mat(image.height, image.width, CV_8UC1, const_cast<uint8_t*>(image.data),
+                    static_cast<size_t>(image.stride));
+  std::vector<cv::Point2f> points;
+  for (const Eigen::Vector2d& c : tag->corners) {
+    if (c.x() < half + 1 || c.y() < half + 1 || c.x() > image.width - half - 2 ||
+        c.y() > image.height - half - 2) {
+      return;  // The window would leave the image.
+    }
+    points.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()));
+  }
+  cv::cornerSubPix(mat, points, cv::Size(half, half), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::MAX_ITER, 30, 0.01));
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector2d refined(points[k].x, points[k].y);
+    if ((refined - tag->corners[k]).norm() < kMaxMovePx) tag->corners[k] = refined;
+  }
+}
+
+}  // namespace
 
 bool FrameDetectorOptions::Check(std::string* why) const {
   if (!(min_border_distance_px >= 0)) {
@@ -24,14 +107,24 @@ std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid
     return nullptr;
   };
   if (grids.empty()) return fail("the target has no AprilGrid");
+  if (!(options.corner_square_fraction > 0 && options.corner_square_fraction <= 1)) {
+    return fail("corner_square_fraction must lie in (0, 1]");
+  }
   std::unique_ptr<FrameDetector> d(new FrameDetector());
   d->options_ = options;
   d->options_.detector.family = grids[0].family;
+  d->options_.detector.black_border_bits = grids[0].black_tag_border;
   for (size_t g = 0; g < grids.size(); ++g) {
     if (!grids[g].Check(why)) return nullptr;
     if (grids[g].family != grids[0].family) {
       return fail("grid " + std::to_string(g) + " uses " + grids[g].family + ", grid 0 uses " +
                   grids[0].family + ": one detector decodes one family");
+    }
+    if (grids[g].black_tag_border != grids[0].black_tag_border) {
+      return fail("grid " + std::to_string(g) + " has a " +
+                  std::to_string(grids[g].black_tag_border) + "-bit black border, grid 0 a " +
+                  std::to_string(grids[0].black_tag_border) +
+                  "-bit one: one detector decodes one border width");
     }
     const GridIds ids{grids[g].first_id, grids[g].NumTags(), d->num_points_};
     for (const GridIds& other : d->grids_) {
@@ -43,7 +136,7 @@ std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid
     d->grids_.push_back(ids);
     d->num_points_ += 4 * ids.num_tags;
   }
-  const auto family = TagFamily::Create(grids[0].family, why);
+  const auto family = TagFamily::Create(grids[0].family, grids[0].black_tag_border, why);
   if (!family) return nullptr;
   d->options_.refine.width_at_border = family->width_at_border();
   d->detector_ = AprilTagDetector::Create(d->options_.detector, why);
@@ -71,6 +164,14 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
   std::vector<Observation> observations;
   const GrayImageView view(pixels, width, height, stride);
   std::vector<TagDetection> tags = detector_->Detect(pixels, width, height, stride);
+  if (options_.corner_squares) {
+    std::map<int, int> found;
+    for (const TagDetection& tag : tags) ++found[tag.id];
+    const std::vector<uint8_t> eroded = MaxFilter3x3(view);
+    for (TagDetection& tag : detector_->Detect(eroded.data(), width, height, width)) {
+      if (found.count(tag.id) == 0 && UndoErosion(&tag)) tags.push_back(tag);
+    }
+  }
   std::map<int, int> times_seen;
   for (const TagDetection& tag : tags) ++times_seen[tag.id];
   for (TagDetection& tag : tags) {
@@ -96,6 +197,9 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
     ++local.tags;
     if (options_.refine_corners && !RefineTagCorners(view, options_.refine, &tag)) {
       ++local.unrefined_tags;
+    }
+    if (options_.refine_corners && options_.corner_squares) {
+      RefineXJunctions(view, options_.corner_square_fraction, &tag);
     }
     for (int k = 0; k < 4; ++k) observations.push_back({PointId(tag.id, k), tag.corners[k]});
   }

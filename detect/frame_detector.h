@@ -3,8 +3,9 @@
 //
 // Point numbering (core/target.h): the grids' corners are concatenated grid after grid; corner k
 // (detector order: bottom-left, bottom-right, top-right, top-left) of the tag with id `id` on grid
-// g is point offset(g) + 4 (id - g.first_id) + k. All grids must use the detector's family and no
-// id may appear on two grids (a detection could not be attributed).
+// g is point offset(g) + 4 (id - g.first_id) + k. All grids must use one family and one border
+// width (black_tag_border) and no id may appear on two grids (a detection could not be
+// attributed).
 // Pixels follow calibench's convention (camera.h: pixel centres at integers).
 #pragma once
 
@@ -21,12 +22,31 @@
 namespace calibench {
 
 struct FrameDetectorOptions {
-  AprilTagOptions detector;    // family is taken from the grids.
+  AprilTagOptions detector;    // family and black_border_bits are taken from the grids.
   bool refine_corners = true;  // Edge-fit refinement (corner_refinement.h); raw corners if false.
   CornerRefineOptions refine;  // width_at_border is taken from the family.
   // Tags with a corner closer than this to the image border are dropped: a tag cut by the border
   // still decodes, but its corners are extrapolated (measured: up to 2 px off).
   double min_border_distance_px = 2.0;
+  // Kalibr's printed grids (kalibr_create_target_pdf) have black squares of edge
+  // tag_spacing * tag_size at every tag corner, touching it: each tag corner is an X-junction.
+  // With `corner_squares` set, two things change:
+  //   1. Finding tags. In a sharp image AprilTag 3's segmentation joins each tag to its corner
+  //      squares and traces no tag outline (measured: 0 of 36 tags on the TUM VI frames, 32 of 36
+  //      on EuRoC's). The tags the image does not give are looked for in a copy whose black is
+  //      eroded by one pixel (3 x 3 max filter: touching corners part by ~2 px). An edge with unit
+  //      normal n moves inward by |n_x| + |n_y| px under that filter (its support function), so
+  //      each of the tag's four edge lines is moved back out by that much and the corners
+  //      re-intersected.
+  //   2. Refining corners. After the edge fit, each corner is refined as the saddle point of the
+  //      X-junction (cv::cornerSubPix, window (2 w + 1)^2 px, w = min(3, 0.4 x the corner square's
+  //      edge in px), kept only if it moves < 1 px): symmetric about the corner, it is not biased
+  //      by saturated white, which pulls the edge fit's mean-level crossings towards the black
+  //      (measured on EuRoC: 0.27 px inward; docs/aprilgrid_frames.md).
+  // Off by default (rendered scenarios have no corner squares: unchanged); image folders with a
+  // Kalibr target (calibrate --images, detect --images) turn it on for blackTagBorder 2.
+  bool corner_squares = false;
+  double corner_square_fraction = 0.3;  // The squares' edge / tag edge (the grid's tag_spacing).
   bool Check(std::string* why) const;
 };
 

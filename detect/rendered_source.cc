@@ -109,7 +109,7 @@ std::unique_ptr<SceneRenderer> SceneRenderer::Create(const SceneTruth& scene,
                                                      std::string* why) {
   std::unique_ptr<SceneRenderer> r(new SceneRenderer(scene, grids));
   for (const AprilGrid& g : grids) {
-    r->families_.push_back(TagFamily::Create(g.family, why));
+    r->families_.push_back(TagFamily::Create(g.family, g.black_tag_border, why));
     if (!r->families_.back()) return nullptr;
   }
   r->renderer_ = FrameRenderer::Create(scene.intrinsics, options, why);

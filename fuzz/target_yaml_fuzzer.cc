@@ -2,7 +2,8 @@
 //
 // Contract checked on every input: no crash, hang or leak; a refusal has a message naming the
 // file; an accepted target is usable: an aprilgrid passes AprilGrid::Check and yields
-// 4 x rows x cols finite corners, a checkerboard has >= 2 x 2 corners and positive spacings.
+// 4 x rows x cols finite corners, a checkerboard has >= 2 x 2 corners and positive spacings; and
+// it writes back (TargetYamlText) to YAML that loads to the same target.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -41,5 +42,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
               std::isfinite(target.row_spacing_m) && std::isfinite(target.col_spacing_m),
           "checkerboard spacing not positive and finite", yaml);
   }
+  calibench::CalibrationTarget again;
+  const std::string written = calibench::TargetYamlText(target);
+  Check(calibench::LoadTargetYamlFromString(written, kVirtualPath, &again, &why),
+        "the written target YAML does not load", written + "\n" + why);
+  const bool same = again.type == target.type && again.corner_squares == target.corner_squares &&
+                    (target.type == calibench::CalibrationTarget::Type::kAprilGrid
+                         ? again.grid == target.grid
+                         : again.cols == target.cols && again.rows == target.rows &&
+                               again.row_spacing_m == target.row_spacing_m &&
+                               again.col_spacing_m == target.col_spacing_m);
+  Check(same, "the written target YAML loads to another target", yaml + "\n->\n" + written);
   return 0;
 }

@@ -7,7 +7,6 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "detect/chessboard.h"
-#include "detect/frame_detector.h"
 
 namespace calibench {
 namespace {
@@ -48,26 +47,109 @@ bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, View* vie
 
 }  // namespace
 
-bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, PointData* data,
-                     ImageFolderReport* report, std::vector<int>* used_index, std::string* why) {
-  std::vector<fs::path> files;
+FrameDetectorOptions ImageDetectorOptions(const CalibrationTarget& target) {
+  FrameDetectorOptions options;
+  options.corner_squares = target.corner_squares;
+  options.corner_square_fraction = std::min(1.0, target.grid.tag_spacing);
+  return options;
+}
+
+bool ListImageFiles(const std::string& dir, std::vector<std::string>* files, std::string* why) {
+  files->clear();
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    if (it->is_regular_file() && IsImageFile(it->path())) files.push_back(it->path());
+    if (it->is_regular_file() && IsImageFile(it->path())) files->push_back(it->path().string());
   }
   if (ec) {
     if (why) *why = dir + ": cannot list the folder: " + ec.message();
     return false;
   }
-  if (files.empty()) {
+  if (files->empty()) {
     if (why) *why = dir + ": no images (png, jpg, jpeg, tif, tiff, bmp) in the folder";
     return false;
   }
-  std::sort(files.begin(), files.end());
+  std::sort(files->begin(), files->end());
+  return true;
+}
+
+namespace {
+
+// ReadGray8 into an OpenCV image.
+bool ReadGray8Mat(const std::string& path, cv::Mat* gray, std::string* why, std::string* note) {
+  note->clear();
+  cv::Mat raw;
+  try {
+    raw = cv::imread(path, cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
+  } catch (const cv::Exception& e) {
+    raw.release();
+  }
+  gray->release();
+  if (raw.empty()) {
+    std::error_code size_ec;
+    const auto bytes = fs::file_size(path, size_ec);
+    *why = size_ec      ? "unreadable: " + size_ec.message()
+           : bytes == 0 ? "unreadable: empty file (0 bytes)"
+                        : "unreadable: cannot be decoded (not an image, or truncated)";
+    return false;
+  }
+  if (raw.depth() == CV_8U) {
+    *gray = raw;
+    return true;
+  }
+  if (raw.depth() != CV_16U) {
+    *why = "unsupported pixel depth (8- or 16-bit gray or colour images only)";
+    return false;
+  }
+  // Percentiles from the histogram of the 65536 levels.
+  std::vector<long> histogram(65536, 0);
+  for (int r = 0; r < raw.rows; ++r) {
+    const uint16_t* row = raw.ptr<uint16_t>(r);
+    for (int c = 0; c < raw.cols; ++c) ++histogram[row[c]];
+  }
+  const double total = static_cast<double>(raw.total());
+  auto percentile = [&](double p) {
+    long seen = 0;
+    for (int v = 0; v < 65536; ++v) {
+      seen += histogram[v];
+      if (seen >= p / 100.0 * total) return v;
+    }
+    return 65535;
+  };
+  const int lo = percentile(kLowPercentile);
+  const int hi = std::max(lo + 1, percentile(kHighPercentile));
+  raw.convertTo(*gray, CV_8U, 255.0 / (hi - lo), -255.0 * lo / (hi - lo));  // Saturating.
+  char text[160];
+  std::snprintf(text, sizeof(text), "16-bit, levels %d..%d (%.1f / %.1f %%iles) -> 0..255", lo, hi,
+                kLowPercentile, kHighPercentile);
+  *note = text;
+  return true;
+}
+
+}  // namespace
+
+bool ReadGray8(const std::string& path, GrayImage* image, std::string* why, std::string* note) {
+  cv::Mat gray;
+  *image = GrayImage();
+  if (!ReadGray8Mat(path, &gray, why, note)) return false;
+  image->width = gray.cols;
+  image->height = gray.rows;
+  image->pixels.resize(static_cast<size_t>(gray.cols) * gray.rows);
+  for (int r = 0; r < gray.rows; ++r) {
+    std::copy(gray.ptr<uint8_t>(r), gray.ptr<uint8_t>(r) + gray.cols,
+              image->pixels.begin() + static_cast<size_t>(r) * gray.cols);
+  }
+  return true;
+}
+
+bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, PointData* data,
+                     ImageFolderReport* report, std::vector<int>* used_index, std::string* why) {
+  std::vector<std::string> names;
+  if (!ListImageFiles(dir, &names, why)) return false;
+  const std::vector<fs::path> files(names.begin(), names.end());
   std::unique_ptr<FrameDetector> detector;
   std::vector<Eigen::Vector3d> grid_corners;
   if (target.type == CalibrationTarget::Type::kAprilGrid) {
-    detector = FrameDetector::Create({target.grid}, FrameDetectorOptions(), why);
+    detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(target), why);
     if (!detector) return false;
     grid_corners = target.grid.CornersInBoard();
   }
@@ -81,18 +163,11 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
     ImageResult r;
     r.file = file.filename().string();
     cv::Mat gray;
-    try {
-      gray = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
-    } catch (const cv::Exception& e) {
-      gray.release();
-    }
+    std::string note;
+    ReadGray8Mat(file.string(), &gray, &r.reason, &note);
     View view;
     if (gray.empty()) {
-      std::error_code size_ec;
-      const auto bytes = fs::file_size(file, size_ec);
-      r.reason = size_ec      ? "unreadable: " + size_ec.message()
-                 : bytes == 0 ? "unreadable: empty file (0 bytes)"
-                              : "unreadable: cannot be decoded (not an image, or truncated)";
+      // r.reason says why.
     } else if (!size.empty() && gray.size() != size) {
       r.reason = "size " + std::to_string(gray.cols) + "x" + std::to_string(gray.rows) +
                  " differs from the first image's " + std::to_string(size.width) + "x" +
@@ -112,7 +187,7 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
       report->tags_detected += counts.tags;
       report->tags_possible += target.grid.NumTags();
       report->unknown_tags += counts.unknown_tags;
-      r.reason = std::to_string(counts.tags) + " tags";
+      r.reason = std::to_string(counts.tags) + " tags" + (note.empty() ? "" : " (" + note + ")");
       if (counts.unknown_tags > 0) {
         r.reason += ", " + std::to_string(counts.unknown_tags) + " ids not on the grid";
       }

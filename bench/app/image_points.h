@@ -1,10 +1,12 @@
 // Calibration points from a folder of images: `calibench calibrate --images DIR --target T.yaml`.
 //
-// Every PNG / JPG / JPEG / TIF / TIFF / BMP file of DIR (sorted by name) is read as 8-bit gray. The
-// target (target_io.h) is found per image:
+// Every PNG / JPG / JPEG / TIF / TIFF / BMP file of DIR (sorted by name) is read as 8-bit gray
+// (ReadGray8: 16-bit images are scaled by their own percentiles). The target (target_io.h) is
+// found per image:
 //   checkerboard: detect/chessboard.h. Corner (r, c) of the targetCols x targetRows inner corners
 //       is at (c * colSpacing, r * rowSpacing, 0);
-//   aprilgrid: AprilTag 3 + edge-fit refinement + matching (detect/frame_detector.h).
+//   aprilgrid: AprilTag 3 with the target's black border + edge-fit refinement (+ the corner
+//       squares' handling) + matching (detect/frame_detector.h, ImageDetectorOptions).
 // Pixels use calibench's convention (camera.h), which is OpenCV's. An image that cannot be read,
 // has another size than the first, or shows too little of the target is listed with the reason
 // and skipped, never fatal; no usable image at all is an error.
@@ -15,8 +17,31 @@
 
 #include "bench/app/points_io.h"
 #include "bench/config/target_io.h"
+#include "core/render.h"
+#include "detect/frame_detector.h"
 
 namespace calibench {
+
+// The detector options for an image of the aprilgrid `target`: the defaults, with the corner
+// squares of Kalibr's printed grids handled when the target has them (target.corner_squares:
+// frame_detector.h, corner_squares; their edge is tag_spacing of a tag's).
+FrameDetectorOptions ImageDetectorOptions(const CalibrationTarget& target);
+
+// The image files of `dir` (extensions above, any case), sorted by name. False with *why naming
+// the folder when it cannot be listed or holds no image.
+bool ListImageFiles(const std::string& dir, std::vector<std::string>* files, std::string* why);
+
+// Percentiles of a 16-bit image mapped to gray 0 and 255 by ReadGray8.
+constexpr double kLowPercentile = 0.1, kHighPercentile = 99.9;
+
+// Reads `path` as 8-bit gray (colour is converted by OpenCV's luma weights). A 16-bit image (the
+// TUM VI frames: 16-bit PNGs whose values fill only part of the range) is mapped linearly,
+//   g8 = clamp(255 (g16 - lo) / (hi - lo)), lo, hi = its kLowPercentile / kHighPercentile,
+// rounded: a linear map moves no edge (the detector's edge and corner positions are those of
+// the 16-bit image up to quantisation), and the percentiles, unlike min / max, ignore a few hot
+// or dead pixels. False (image emptied) when the file cannot be read or decoded, with the reason
+// in *why; *note says how a 16-bit image was scaled (else empty).
+bool ReadGray8(const std::string& path, GrayImage* image, std::string* why, std::string* note);
 
 struct ImageResult {
   std::string file;

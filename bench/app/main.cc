@@ -14,7 +14,9 @@
 
 #include "bench/app/calibrate.h"
 #include "bench/app/corner_bias_cmd.h"
+#include "bench/app/detect_images.h"
 #include "bench/app/frames_io.h"
+#include "bench/app/target_cmd.h"
 #include "bench/config/config_io.h"
 #include "bench/run/csv.h"
 #include "bench/run/run_dir.h"
@@ -245,10 +247,42 @@ int RenderOrDetect(const FramesArgs& args, bool render) {
   return 0;
 }
 
-void AddFramesOptions(CLI::App* command, FramesArgs* args) {
-  command->add_option("config", args->config_path, "Scenario file (YAML) with aprilgrids")
-      ->required()
-      ->check(CLI::ExistingFile);
+struct DetectImagesArgs {
+  std::string images_dir, target_path, out_path;
+};
+
+// detect --images DIR --target T.yaml [--out corners.csv] (detect_images.h).
+int DetectImages(const DetectImagesArgs& args) {
+  calibench::CalibrationTarget target;
+  std::string why;
+  if (args.target_path.empty()) {
+    std::cerr << "calibench: detect: --images needs --target TARGET.yaml (Kalibr aprilgrid)\n";
+    return 2;
+  }
+  if (!calibench::LoadTargetYaml(args.target_path, &target, &why)) {
+    std::cerr << "calibench: --target: " << why << "\n";
+    return 2;
+  }
+  std::vector<calibench::ImageCorners> images;
+  if (!calibench::DetectImageCorners(args.images_dir, target, &images, &why)) {
+    std::cerr << "calibench: detect --images: " << why << "\n";
+    return 2;
+  }
+  std::cout << calibench::FormatImageCorners(images, target.grid.NumTags());
+  if (args.out_path.empty()) return 0;
+  if (!calibench::WriteFileAtomically(args.out_path, calibench::ImageCornersCsv(images), &why)) {
+    std::cerr << "calibench: " << why << "\n";
+    return 3;
+  }
+  std::cerr << "calibench: wrote " << args.out_path << "\n";
+  return 0;
+}
+
+void AddFramesOptions(CLI::App* command, FramesArgs* args, bool config_required = true) {
+  CLI::Option* config =
+      command->add_option("config", args->config_path, "Scenario file (YAML) with aprilgrids")
+          ->check(CLI::ExistingFile);
+  if (config_required) config->required();
   command->add_option("--scenario", args->scenario, "Scenario name (default: the first)");
   command->add_option("--trial", args->options.trial, "Trial index (noise seed)")
       ->check(CLI::NonNegativeNumber);
@@ -323,8 +357,18 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   AddFramesOptions(render, &render_args);
   render->add_option("--frames", render_args.frames_dir, "Output directory")->required();
   CLI::App* detect = app.add_subcommand(
-      "detect", "Detection rate and corner error vs truth (RMS, bias, p95) of a scenario");
-  AddFramesOptions(detect, &detect_args);
+      "detect",
+      "Detection rate and corner error vs truth (RMS, bias, p95) of a scenario; or, with "
+      "--images, the AprilGrid corners found in a folder of images");
+  AddFramesOptions(detect, &detect_args, false);
+  DetectImagesArgs detect_images;
+  CLI::Option* detect_images_option = detect->add_option(
+      "--images", detect_images.images_dir,
+      "Folder of PNG/JPG/TIF images (8- or 16-bit) of a Kalibr AprilGrid (needs --target)");
+  detect->add_option("--target", detect_images.target_path,
+                     "With --images: Kalibr target YAML (target_type: aprilgrid)");
+  detect->add_option("--out", detect_images.out_path,
+                     "With --images: write image,tag_id,corner,u_px,v_px per corner (CSV)");
   detect->add_option("--frames", detect_args.frames_dir,
                      "Read frames + corners.csv from here (default: render in memory)");
   detect->add_option("--errors", detect_args.options.errors_path,
@@ -339,6 +383,24 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
                           "Sub-pixel shifted views per case (default 8)");
   corner_bias->add_option("--draws", bias_args.draws, "Noise draws per view (default 8)");
   corner_bias->add_option("--threads", bias_args.threads, "Worker threads (default 2)");
+  calibench::TargetArgs target_args;
+  CLI::App* target = app.add_subcommand(
+      "target", "A printable target: vector PDF at exact size, PNG at --dpi, Kalibr target YAML");
+  target->add_option("--type", target_args.type, "aprilgrid (default) or checkerboard");
+  target->add_option("--rows", target_args.rows, "Tags (aprilgrid) or inner corners (default 6)");
+  target->add_option("--cols", target_args.cols, "Tags (aprilgrid) or inner corners (default 6)");
+  target->add_option("--size", target_args.size_m,
+                     "Tag edge incl. border, or square edge, in m (default 0.088)");
+  target->add_option("--spacing", target_args.spacing,
+                     "aprilgrid: gap between tags / tag size (default 0.3)");
+  target->add_option("--border", target_args.border_bits,
+                     "aprilgrid: black border bits, 1 or 2 (default 2, Kalibr)");
+  target->add_option("--family", target_args.family, "aprilgrid: tag family (default tag36h11)");
+  target->add_option("--first-id", target_args.first_id, "aprilgrid: id of the bottom-left tag");
+  target->add_option("--margin", target_args.margin_m, "White margin in m (default 0.02)");
+  target->add_option("--dpi", target_args.dpi, "Resolution of the PNG (default 300)");
+  target->add_option("--out", target_args.out_path,
+                     "Output PDF; the PNG and YAML are written beside it (default board.pdf)");
   CLI11_PARSE(app, argc, argv);
   try {
     if (run->parsed()) return Run(run_args);
@@ -347,8 +409,23 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
       return Report(report_dirs, report_out.empty() ? report_dirs[0] + "/report" : report_out);
     }
     if (render->parsed()) return RenderOrDetect(render_args, true);
-    if (detect->parsed()) return RenderOrDetect(detect_args, false);
+    if (detect->parsed()) {
+      if (*detect_images_option) {
+        if (!detect_args.config_path.empty()) {
+          std::cerr << "calibench: detect: give a scenario CONFIG or --images DIR, not both\n";
+          return 2;
+        }
+        return DetectImages(detect_images);
+      }
+      if (detect_args.config_path.empty()) {
+        std::cerr << "calibench: detect: give a scenario CONFIG, or --images DIR --target "
+                     "T.yaml\n";
+        return 2;
+      }
+      return RenderOrDetect(detect_args, false);
+    }
     if (corner_bias->parsed()) return calibench::CornerBias(bias_args);
+    if (target->parsed()) return calibench::WriteTarget(target_args);
     if (calibrate->parsed()) {
       if (cal.points_path.empty() && cal.images_dir.empty()) {
         std::cerr << "calibench: calibrate: give --points FILE or --images DIR --target T.yaml\n";

@@ -30,7 +30,8 @@ void EmitMethods(YAML::Emitter& out, const ScenarioConfig& s);
 void CheckSweptMethod(const Reader& r, const YAML::Node& at, const std::string& field,
                       const std::string& name, const ScenarioConfig& swept);
 
-// {family, tag_rows, tag_cols, tag_size_m, tag_spacing, first_id, origin: [3], rpy_deg: [3]};
+// {family, tag_rows, tag_cols, tag_size_m, tag_spacing, first_id, black_tag_border (default 1),
+//  origin: [3], rpy_deg: [3]};
 // *rpy_deg gets the angles as written (0 when absent).
 void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& field,
                     AprilGrid* grid, Eigen::Vector3d* rpy_deg);

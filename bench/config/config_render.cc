@@ -1,6 +1,10 @@
 // Config I/O for AprilTag targets and rendering (scenario sections and Kalibr target files).
+#include <cmath>
+#include <cstdlib>
+
 #include "bench/config/config_parsers.h"
 #include "bench/config/target_io.h"
+#include "core/format.h"
 #include "core/tag_family.h"
 
 namespace calibench {
@@ -9,8 +13,8 @@ namespace config_internal {
 void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& field, AprilGrid* g,
                     Eigen::Vector3d* rpy_deg) {
   r.CheckKeys(node, field,
-              {"family", "tag_rows", "tag_cols", "tag_size_m", "tag_spacing", "first_id", "origin",
-               "rpy_deg"});
+              {"family", "tag_rows", "tag_cols", "tag_size_m", "tag_spacing", "first_id",
+               "black_tag_border", "origin", "rpy_deg"});
   r.If(node, "family", field,
        [&](auto n, auto f) { g->family = r.Choice(n, f, TagFamily::Names()); });
   r.Set(node, "tag_rows", field, &g->tag_rows);
@@ -18,6 +22,7 @@ void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& 
   r.Set(node, "tag_size_m", field, &g->tag_size_m);
   r.Set(node, "tag_spacing", field, &g->tag_spacing);
   r.Set(node, "first_id", field, &g->first_id);
+  r.Set(node, "black_tag_border", field, &g->black_tag_border);
   r.Set(node, "origin", field, &g->points_from_board.translation);
   *rpy_deg = Eigen::Vector3d::Zero();
   r.If(node, "rpy_deg", field, [&](auto n, auto f) {
@@ -71,6 +76,39 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
 
 }  // namespace config_internal
 
+namespace {
+
+// The shortest of 15 and 17 significant digits that reads back to v: 0.088, not
+// 0.087999999999999995, yet every double round-trips.
+std::string RoundTripNumber(double v) {
+  const std::string short_text = FormatNumber(v, 15);
+  return std::strtod(short_text.c_str(), nullptr) == v ? short_text : FormatNumber(v, 17);
+}
+
+}  // namespace
+
+std::string TargetYamlText(const CalibrationTarget& t) {
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  if (t.type == CalibrationTarget::Type::kAprilGrid) {
+    out << YAML::Key << "target_type" << YAML::Value << "aprilgrid" << YAML::Key << "tagCols"
+        << YAML::Value << t.grid.tag_cols << YAML::Key << "tagRows" << YAML::Value
+        << t.grid.tag_rows << YAML::Key << "tagSize" << YAML::Value
+        << RoundTripNumber(t.grid.tag_size_m) << YAML::Key << "tagSpacing" << YAML::Value
+        << RoundTripNumber(t.grid.tag_spacing) << YAML::Key << "blackTagBorder" << YAML::Value
+        << t.grid.black_tag_border << YAML::Key << "tagFamily" << YAML::Value << t.grid.family
+        << YAML::Key << "codeOffset" << YAML::Value << t.grid.first_id << YAML::Key
+        << "cornerSquares" << YAML::Value << t.corner_squares;
+  } else {
+    out << YAML::Key << "target_type" << YAML::Value << "checkerboard" << YAML::Key << "targetCols"
+        << YAML::Value << t.cols << YAML::Key << "targetRows" << YAML::Value << t.rows << YAML::Key
+        << "rowSpacingMeters" << YAML::Value << RoundTripNumber(t.row_spacing_m) << YAML::Key
+        << "colSpacingMeters" << YAML::Value << RoundTripNumber(t.col_spacing_m);
+  }
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
 bool LoadTargetYaml(const std::string& path, CalibrationTarget* target, std::string* why) {
   std::string text;
   const bool read = config_internal::CatchConfigErrors(
@@ -96,7 +134,7 @@ bool LoadTargetYamlFromString(const std::string& yaml, const std::string& path,
     if (type == "aprilgrid") {
       r.CheckKeys(root, "",
                   {"target_type", "tagCols", "tagRows", "tagSize", "tagSpacing", "tagFamily",
-                   "codeOffset"});
+                   "codeOffset", "blackTagBorder", "cornerSquares"});
       t.type = CalibrationTarget::Type::kAprilGrid;
       t.grid.tag_cols = r.Int(required("tagCols"), "tagCols");
       t.grid.tag_rows = r.Int(required("tagRows"), "tagRows");
@@ -105,7 +143,32 @@ bool LoadTargetYamlFromString(const std::string& yaml, const std::string& path,
       r.If(root, "tagFamily", "",
            [&](auto n, auto f) { t.grid.family = r.Choice(n, f, TagFamily::Names()); });
       r.If(root, "codeOffset", "", [&](auto n, auto f) { t.grid.first_id = r.Int(n, f); });
+      // Kalibr's default (its detector option blackTagBorder) where the family's border is black;
+      // the reversed-border families have only AprilTag 3's own 1-bit layout.
+      t.grid.black_tag_border = CheckBorderBits(t.grid.family, 2, nullptr) ? 2 : 1;
+      r.If(root, "blackTagBorder", "",
+           [&](auto n, auto f) { t.grid.black_tag_border = r.Int(n, f); });
+      r.If(root, "cornerSquares", "", [&](auto n, auto f) { t.corner_squares = r.Bool(n, f); });
+      // Each field's own reason, named (AprilGrid::Check would say it in its own words).
+      if (t.grid.tag_cols < 1) r.Fail(root["tagCols"], "tagCols", "must be >= 1");
+      if (t.grid.tag_rows < 1) r.Fail(root["tagRows"], "tagRows", "must be >= 1");
+      if (!(t.grid.tag_size_m > 0 && std::isfinite(t.grid.tag_size_m))) {
+        r.Fail(root["tagSize"], "tagSize",
+               "must be > 0 (the edge of a tag's black square, border included, in metres)");
+      }
+      if (!(t.grid.tag_spacing > 0 && std::isfinite(t.grid.tag_spacing))) {
+        r.Fail(root["tagSpacing"], "tagSpacing",
+               "must be > 0 (the gap between tags as a fraction of tagSize, e.g. 0.3)");
+      }
+      if (t.grid.black_tag_border != 1 && t.grid.black_tag_border != 2) {
+        r.Fail(root["blackTagBorder"], "blackTagBorder",
+               "must be 1 (AprilTag 3's layout) or 2 (Kalibr's printed grids, the default); "
+               "Kalibr's detector and target generator use no other width");
+      }
       std::string reason;
+      if (!CheckBorderBits(t.grid.family, t.grid.black_tag_border, &reason)) {
+        r.Fail(root["blackTagBorder"], "blackTagBorder", reason);
+      }
       if (!t.grid.Check(&reason)) r.Fail(root, "(target)", reason);
     } else {
       r.CheckKeys(

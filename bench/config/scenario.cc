@@ -241,9 +241,9 @@ bool SameRendering(const RenderedSourceOptions& a, const RenderedSourceOptions& 
          t.quad_decimate == u.quad_decimate && t.quad_sigma == u.quad_sigma &&
          t.refine_edges == u.refine_edges && t.decode_sharpening == u.decode_sharpening &&
          t.threads == u.threads && t.max_hamming == u.max_hamming &&
-         c.samples_per_edge == f.samples_per_edge && c.corner_margin == f.corner_margin &&
-         c.max_search_px == f.max_search_px && c.max_correction_px == f.max_correction_px &&
-         c.width_at_border == f.width_at_border;
+         t.black_border_bits == u.black_border_bits && c.samples_per_edge == f.samples_per_edge &&
+         c.corner_margin == f.corner_margin && c.max_search_px == f.max_search_px &&
+         c.max_correction_px == f.max_correction_px && c.width_at_border == f.width_at_border;
 }
 
 // NaN == NaN here: an unset reference figure equals an unset one.

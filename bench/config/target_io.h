@@ -6,6 +6,12 @@
 //   tagSize: 0.088        # m               rowSpacingMeters: 0.025
 //   tagSpacing: 0.3       # fraction        colSpacingMeters: 0.025
 //   tagFamily: tag36h11   # calibench extension, optional (Kalibr: always tag36h11)
+//   blackTagBorder: 2     # optional: border bits, 1 or 2 (default 2 as Kalibr's detector
+//                         # option; 1 for the families with a white border, which have no other)
+//   cornerSquares: true   # calibench extension, optional: the black squares Kalibr's generator
+//                         # draws at the tags' corners (default true, as every Kalibr grid has
+//                         # them; false for a grid without them, e.g. calibench's own renders)
+// tagSize, tagSpacing, corner order and ids mean exactly what they mean to Kalibr (core/target.h).
 // Errors name the file, line, column, field and reason.
 #pragma once
 
@@ -17,7 +23,8 @@ namespace calibench {
 
 struct CalibrationTarget {
   enum class Type { kAprilGrid, kCheckerboard } type = Type::kAprilGrid;
-  AprilGrid grid;  // aprilgrid.
+  AprilGrid grid;              // aprilgrid.
+  bool corner_squares = true;  // aprilgrid: FrameDetectorOptions::corner_squares.
   // checkerboard: inner corners, corner (r, c) at (c * col_spacing_m, r * row_spacing_m, 0).
   int cols = 0, rows = 0;
   double row_spacing_m = 0, col_spacing_m = 0;
@@ -25,6 +32,9 @@ struct CalibrationTarget {
 
 bool LoadTargetYaml(const std::string& path, CalibrationTarget* target, std::string* why);
 // Same, from YAML text (`path` names it in messages).
+// The Kalibr target YAML of `target` (every field explicit; LoadTargetYamlFromString reads it
+// back to an equal target).
+std::string TargetYamlText(const CalibrationTarget& target);
 bool LoadTargetYamlFromString(const std::string& yaml, const std::string& path,
                               CalibrationTarget* target, std::string* why);
 

@@ -158,6 +158,7 @@ const std::string& GoodFolder() {
     std::string d = TempPath("good_views");
     AprilGrid grid;
     grid.tag_size_m = 0.03;
+    grid.black_tag_border = 2;  // Kalibr's layout, the target YAML's default.
     RenderedFolderOptions options;
     options.views = 6;
     EXPECT_EQ(WriteRenderedAprilGridFolder(d, kImageCamera, grid, options), 6);
@@ -174,8 +175,9 @@ CalibrationTarget Target(const std::string& yaml) {
   EXPECT_TRUE(LoadTargetYaml(path, &target, &why)) << why;
   return target;
 }
-const std::string kGridYaml =
-    "target_type: aprilgrid\ntagCols: 6\ntagRows: 6\ntagSize: 0.03\ntagSpacing: 0.3\n";
+const std::string kGridYaml =  // Rendered by calibench: no corner squares.
+    "target_type: aprilgrid\ntagCols: 6\ntagRows: 6\ntagSize: 0.03\ntagSpacing: 0.3\n"
+    "cornerSquares: false\n";
 
 struct FolderResult {
   bool ok = false;

@@ -96,7 +96,8 @@ TEST(CalibrateImages, BouguetExampleMatchesPublishedAndOpenCvResults) {
   EXPECT_NEAR(k.fku_px, r.zhang.intrinsics.fku_px, kSameOptimumPx);
 }
 
-// The whole chain on images with a known answer: an AprilGrid rendered from 12 viewpoints by a
+// The whole chain on images with a known answer: a Kalibr AprilGrid (2-bit border) rendered from
+// 12 viewpoints by a
 // distorted camera (k1 = -0.1, k2 = 0.02), 1 gray level of noise, written as PNG, then
 // calibrate --images. Corner errors of ~0.03 px over 12 x 144 corners put the focal lengths'
 // standard deviation near 0.05 px; we allow 0.5 px (10 sigma, room for any residual bias of the
@@ -105,12 +106,15 @@ TEST(CalibrateImages, RenderedAprilGridRecoversTheCamera) {
   const CameraIntrinsics truth{600, 605, 90, 322, 238, -0.1, 0.02};
   AprilGrid grid;
   grid.tag_size_m = 0.03;
+  grid.black_tag_border = 2;  // Kalibr's printed layout: the target YAML's default.
   const std::string dir = testing::TempDir() + "/rendered_grid";
   const int written = WriteRenderedAprilGridFolder(dir, truth, grid, RenderedFolderOptions());
   ASSERT_EQ(written, 12);
   ImageFolderReport images;
   const CalibrateReport r = CalibrateFolder(
-      dir, "target_type: 'aprilgrid'\ntagCols: 6\ntagRows: 6\ntagSize: 0.03\ntagSpacing: 0.3\n",
+      dir,
+      "target_type: 'aprilgrid'\ntagCols: 6\ntagRows: 6\ntagSize: 0.03\ntagSpacing: 0.3\n"
+      "cornerSquares: false\n",  // calibench's renderer draws none.
       LensModel::kPinholeK2, &images);
   ASSERT_TRUE(r.IsUsable()) << r.ceres.message;
   EXPECT_EQ(images.used, 12);

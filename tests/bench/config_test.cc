@@ -218,6 +218,29 @@ TEST(Config, RenderedScenariosLoadRoundTripAndRefuseMisuse) {
             std::string::npos);
   EXPECT_NE(LoadError(Scenario("  points: {aprilgrids: [{family: tag99h9}]}\n")).find("tag99h9"),
             std::string::npos);
+  EXPECT_NE(LoadError(Scenario("  points: {aprilgrids: [{black_tag_border: 3}]}\n"))
+                .find("black_tag_border must be 1 (AprilTag 3) or 2 (Kalibr), not 3"),
+            std::string::npos);
+}
+
+// Scenario aprilgrids keep AprilTag 3's 1-bit border unless they ask for Kalibr's 2-bit one, and
+// the resolved YAML says which.
+TEST(Config, AprilGridBorderDefaultsToOneBitAndRoundTrips) {
+  RunConfig config;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfigFromString(
+      Scenario("  points: {aprilgrids: [{tag_rows: 2, tag_cols: 2}, {first_id: 4, "
+               "black_tag_border: 2}]}\n"),
+      "grids.yaml", &config, &why))
+      << why;
+  const auto& grids = config.scenarios[0].aprilgrids;
+  ASSERT_EQ(grids.size(), 2u);
+  EXPECT_EQ(grids[0].black_tag_border, 1);
+  EXPECT_EQ(grids[1].black_tag_border, 2);
+  EXPECT_NE(ResolvedYaml(config).find("black_tag_border: 2"), std::string::npos);
+  RunConfig again;
+  ASSERT_TRUE(LoadRunConfigFromString(ResolvedYaml(config), "resolved.yaml", &again, &why)) << why;
+  EXPECT_EQ(again.scenarios[0].aprilgrids[1].black_tag_border, 2);
 }
 
 TEST(Config, DuplicateScenarioNamesAreRefused) {

@@ -29,7 +29,7 @@ inline int WriteRenderedAprilGridFolder(const std::string& dir, const CameraIntr
                                         const RenderedFolderOptions& options) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  const auto family = TagFamily::Create(grid.family, nullptr);
+  const auto family = TagFamily::Create(grid.family, grid.black_tag_border, nullptr);
   RenderOptions render_options;
   render_options.noise_sigma_gray = options.noise_sigma_gray;
   const auto renderer = FrameRenderer::Create(truth, render_options, nullptr);

@@ -36,6 +36,47 @@ TEST(TagFamily, BitmapsComeFromTheLibrary) {
   EXPECT_NE(why.find("tag99h1"), std::string::npos);
 }
 
+// Kalibr's layout (kalibr_create_target_pdf: bit = tagSize / (6 + 2 * 2)): the 1-bit family grown
+// by one black ring. Every cell of the 12 x 12 bitmap: ring 0 white, rings 1-2 black, and the
+// 6 x 6 data block equal to the 1-bit bitmap's, moved by one cell.
+TEST(TagFamily, TwoBitBorderIsTheLibrarysTagGrownByABlackRing) {
+  std::string why;
+  const auto one = TagFamily::Create("tag36h11", 1, &why);
+  const auto two = TagFamily::Create("tag36h11", 2, &why);
+  ASSERT_NE(two, nullptr) << why;
+  EXPECT_EQ(two->border_bits(), 2);
+  EXPECT_EQ(two->total_width(), 12);
+  EXPECT_EQ(two->width_at_border(), 10);
+  EXPECT_EQ(two->border_start(), 1);
+  EXPECT_EQ(two->num_codes(), one->num_codes());
+  for (int id : {0, 1, 17, 586}) {
+    for (int row = 0; row < 12; ++row) {
+      for (int col = 0; col < 12; ++col) {
+        const int ring = std::min({row, col, 11 - row, 11 - col});
+        const bool expected = ring == 0   ? true
+                              : ring <= 2 ? false
+                                          : one->IsWhite(id, col - 1, row - 1);
+        EXPECT_EQ(two->IsWhite(id, col, row), expected) << id << " " << col << " " << row;
+      }
+    }
+  }
+  EXPECT_EQ(TagFamily::Create("tag36h11", 3, &why), nullptr);
+  EXPECT_NE(why.find("must be 1 (AprilTag 3) or 2"), std::string::npos) << why;
+  EXPECT_EQ(TagFamily::Create("tagCircle21h7", 2, &why), nullptr);
+  EXPECT_NE(why.find("reversed"), std::string::npos) << why;
+}
+
+// A board whose family has another border width than the grid's is refused, not drawn wrong.
+TEST(Render, FamilyMustMatchTheGridsBorder) {
+  BoardView b = FrontoParallel(-0.2, -0.2);
+  b.grid.black_tag_border = 2;  // The family is the 1-bit one.
+  GrayImage img;
+  std::string why;
+  EXPECT_FALSE(
+      RenderFrame({500, 500, 90, 319.5, 239.5}, {b}, RenderOptions(), nullptr, &img, &why));
+  EXPECT_NE(why.find("2-bit border has no matching TagFamily"), std::string::npos) << why;
+}
+
 // The pixel-centre convention: an edge placed exactly between two sub-samples of pixel 100
 // (u = 99.5 + 45/64) is read back from the pixel's area fraction to 0.01 px (quantisation to
 // 8 bits with black 0 / white 255 leaves 0.002 px).

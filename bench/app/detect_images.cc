@@ -1,0 +1,87 @@
+#include "bench/app/detect_images.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "bench/app/image_points.h"
+#include "bench/run/csv.h"
+
+namespace calibench {
+
+bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
+                        std::vector<ImageCorners>* images, std::string* why) {
+  images->clear();
+  if (target.type != CalibrationTarget::Type::kAprilGrid) {
+    if (why) *why = "detect --images reads aprilgrid targets only (target_type: aprilgrid)";
+    return false;
+  }
+  std::vector<std::string> files;
+  if (!ListImageFiles(dir, &files, why)) return false;
+  const auto detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(target), why);
+  if (!detector) return false;
+  for (const std::string& path : files) {
+    ImageCorners image;
+    image.file = std::filesystem::path(path).filename().string();
+    GrayImage gray;
+    std::string note;
+    image.readable = ReadGray8(path, &gray, &image.note, &note);
+    if (image.readable) {
+      image.note = note;
+      DetectionCounts counts;
+      for (const Observation& o : detector->Detect(gray, &counts)) {
+        // Point 4 i + k is corner k of the tag with index i = id - first_id (target.h).
+        image.corners.push_back(
+            {target.grid.first_id + o.point_id / 4, o.point_id % 4, o.pixel.x(), o.pixel.y()});
+      }
+      image.tags = counts.tags;
+      image.unknown_tags = counts.unknown_tags;
+      image.border_tags = counts.border_tags;
+      image.duplicate_tags = counts.duplicate_tags;
+    }
+    images->push_back(std::move(image));
+  }
+  return true;
+}
+
+std::string ImageCornersCsv(const std::vector<ImageCorners>& images) {
+  std::string csv = CsvLine({"image", "tag_id", "corner", "u_px", "v_px"});
+  for (const ImageCorners& image : images) {
+    for (const ImageCorners::Corner& c : image.corners) {
+      csv += CsvLine({image.file, std::to_string(c.tag_id), std::to_string(c.corner),
+                      FormatNumber(c.u_px), FormatNumber(c.v_px)});
+    }
+  }
+  return csv;
+}
+
+std::string FormatImageCorners(const std::vector<ImageCorners>& images, int grid_tags) {
+  std::ostringstream out;
+  char line[512];
+  long tags = 0, corners = 0;
+  for (const ImageCorners& image : images) {
+    if (!image.readable) {
+      std::snprintf(line, sizeof(line), "%-30s skipped: %s\n", image.file.c_str(),
+                    image.note.c_str());
+      out << line;
+      continue;
+    }
+    std::string extra;
+    if (image.unknown_tags > 0)
+      extra += ", " + std::to_string(image.unknown_tags) + " ids not on the grid";
+    if (image.border_tags > 0)
+      extra += ", " + std::to_string(image.border_tags) + " at the image border (dropped)";
+    if (image.duplicate_tags > 0)
+      extra += ", " + std::to_string(image.duplicate_tags) + " duplicate ids (dropped)";
+    if (!image.note.empty()) extra += "; " + image.note;
+    std::snprintf(line, sizeof(line), "%-30s %3d of %d tags%s\n", image.file.c_str(), image.tags,
+                  grid_tags, extra.c_str());
+    out << line;
+    tags += image.tags;
+    corners += static_cast<long>(image.corners.size());
+  }
+  out << images.size() << " images, " << tags << " tags, " << corners << " corners\n";
+  return out.str();
+}
+
+}  // namespace calibench

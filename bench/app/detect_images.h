@@ -1,0 +1,48 @@
+// `calibench detect --images DIR --target T.yaml --out corners.csv`: the AprilGrid corners found
+// in a folder of images, for inspection or for another calibration tool.
+//
+// Every image of DIR (image_points.h: ListImageFiles, ReadGray8 — 16-bit images are scaled by
+// their own percentiles) goes through the detector `calibrate --images` uses (AprilTag 3 with the
+// target's black border width, edge-fit refinement, Kalibr's corner squares handled, tags within
+// 2 px of the image border dropped: detect/frame_detector.h, image_points.h). corners.csv has one
+// row per detected corner,
+//   image,tag_id,corner,u_px,v_px
+// image = the file name; corner = 0..3 in Kalibr's order (bottom-left, bottom-right, top-right,
+// top-left of the tag on the board, core/target.h); u_px, v_px in calibench's pixel convention,
+// which is OpenCV's (the centre of pixel (i, j) is at (i, j)). Rows are sorted by image, then tag
+// id, then corner. The file is written atomically (bench/run/csv.h): complete or not at all.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "bench/config/target_io.h"
+
+namespace calibench {
+
+struct ImageCorners {
+  std::string file;  // File name within the folder.
+  bool readable = false;
+  std::string note;  // Why unreadable, or how a 16-bit image was scaled.
+  int tags = 0, unknown_tags = 0, border_tags = 0, duplicate_tags = 0;
+  struct Corner {
+    int tag_id = -1, corner = -1;
+    double u_px = 0, v_px = 0;
+  };
+  std::vector<Corner> corners;  // Sorted by tag id, then corner.
+};
+
+// Detects the aprilgrid `target` in every image of `dir`. False with *why (folder or target) when
+// the folder holds no image, or the target is not an aprilgrid; unreadable images are listed,
+// not fatal.
+bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
+                        std::vector<ImageCorners>* images, std::string* why);
+
+// The CSV text described above (header first).
+std::string ImageCornersCsv(const std::vector<ImageCorners>& images);
+
+// One line per image: file, tags found of the grid's, and the ids or notes worth knowing; then a
+// total.
+std::string FormatImageCorners(const std::vector<ImageCorners>& images, int grid_tags);
+
+}  // namespace calibench

@@ -1,0 +1,154 @@
+// Kalibr AprilGrids in real frames (CTest label "data"): /work/shared/data/aprilgrid-frames
+// (aprilgrid-rs's test set: EuRoC and TUM VI calibration frames, SOURCE.md), read through
+// detect --images with configs/targets/aprilgrid_6x6.yaml. docs/aprilgrid_frames.md has the study
+// these figures come from (scripts/aprilgrid_frames.py).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <opencv2/calib3d.hpp>
+
+#include "bench/app/detect_images.h"
+#include "bench/app/image_points.h"
+#include "tests/common/test_data.h"
+
+namespace calibench {
+namespace {
+
+const std::string kTarget =
+    std::string(CALIBENCH_SOURCE_DIR) + "/configs/targets/aprilgrid_6x6.yaml";
+
+// Tags found per frame, measured (Debian's AprilTag 3.3 and OpenCV 4.6). Required: all but
+// kTagsSlack of them, room for a corner-case quad that another library build fits differently;
+// EuRoC's bound is issue #15's (>= 34 of 36).
+constexpr int kTagsSlack = 2;
+const std::map<std::string, int> kMeasuredTags = {{"EuRoC.png", 36}, {"TUM_VI.png", 35},
+                                                  {"r45.png", 23},   {"right.png", 18},
+                                                  {"top.png", 24},   {"top_right.png", 27}};
+
+// Pitch / size from the cross ratio of four collinear corners (x = 0, 1, rho, rho + 1 along the
+// edges of two neighbouring tags: CR = rho^2 / (rho^2 - 1)), a projective invariant needing no
+// calibration. Measured medians 1.300-1.302 on every frame; Kalibr's nominal 1 + tagSpacing =
+// 1.30. 0.005 is 5x the spread of the frames' medians and 25x smaller than the 1.42 that a
+// homography fit once suggested (SOURCE.md).
+constexpr double kNominalPitch = 1.30, kPitchTol = 0.005;
+// EuRoC undistorted by its published cam0 calibration, one plane homography for the 6x6 grid
+// at pitch/size 1.30: RMS measured 0.275 px (0.26 px for OpenCV aruco's corners of the same
+// tags). 0.35 px leaves room for the library build, not for a wrong spacing (1.32: 0.46 px).
+constexpr double kEurocHomographyRmsPx = 0.35;
+
+using Corners = std::map<int, std::map<int, Eigen::Vector2d>>;  // tag -> corner -> pixel.
+
+Corners ByTag(const ImageCorners& image) {
+  Corners c;
+  for (const ImageCorners::Corner& k : image.corners) {
+    c[k.tag_id][k.corner] = Eigen::Vector2d(k.u_px, k.v_px);
+  }
+  return c;
+}
+
+double MedianCrossRatioPitch(const Corners& tags) {
+  std::vector<double> rhos;
+  for (const auto& [tag, corners] : tags) {
+    const int c = tag % 6;
+    // Right neighbour: bottom (0, 1) and top (3, 2) edges; upper neighbour: left (0, 3), right
+    // (1, 2) edges.
+    const std::pair<int, std::array<std::pair<int, int>, 2>> pairs[2] = {
+        {c < 5 ? tag + 1 : -1, {{{0, 1}, {3, 2}}}}, {tag + 6, {{{0, 3}, {1, 2}}}}};
+    for (const auto& [other, edges] : pairs) {
+      if (other < 0 || tags.count(other) == 0) continue;
+      for (const auto& [a, b] : edges) {
+        const Eigen::Vector2d x[4] = {corners.at(a), corners.at(b), tags.at(other).at(a),
+                                      tags.at(other).at(b)};
+        const auto d = [&](int i, int j) { return (x[i] - x[j]).norm(); };
+        const double cr = d(2, 0) * d(3, 1) / (d(2, 1) * d(3, 0));
+        if (cr > 1) rhos.push_back(std::sqrt(cr / (cr - 1)));
+      }
+    }
+  }
+  if (rhos.empty()) return 0;
+  std::nth_element(rhos.begin(), rhos.begin() + rhos.size() / 2, rhos.end());
+  return rhos[rhos.size() / 2];
+}
+
+TEST(AprilGridFrames, KalibrGridsAreFoundWithTheNominalSpacing) {
+  REQUIRE_DATA("aprilgrid-frames");
+  CalibrationTarget target;
+  std::string why;
+  ASSERT_TRUE(LoadTargetYaml(kTarget, &target, &why)) << why;
+  std::vector<ImageCorners> images;
+  ASSERT_TRUE(DetectImageCorners(kDataDir + "/aprilgrid-frames", target, &images, &why)) << why;
+  int checked = 0;
+  for (const ImageCorners& image : images) {
+    const auto measured = kMeasuredTags.find(image.file);
+    if (measured == kMeasuredTags.end()) continue;  // iphone, two_boards: other grids.
+    ++checked;
+    ASSERT_TRUE(image.readable) << image.file << ": " << image.note;
+    std::printf("%s: %d tags%s\n", image.file.c_str(), image.tags,
+                image.note.empty() ? "" : (" (" + image.note + ")").c_str());
+    EXPECT_GE(image.tags, measured->second - kTagsSlack) << image.file;
+    EXPECT_EQ(image.unknown_tags, 0) << image.file;
+    EXPECT_EQ(image.corners.size(), 4u * image.tags) << image.file;
+    const double pitch = MedianCrossRatioPitch(ByTag(image));
+    std::printf("  cross-ratio pitch/size %.4f\n", pitch);
+    EXPECT_NEAR(pitch, kNominalPitch, kPitchTol) << image.file;
+    if (image.file == "EuRoC.png") {
+      EXPECT_GE(image.tags, 34);
+      std::vector<cv::Point2f> pixels, board;
+      for (const ImageCorners::Corner& c : image.corners) {
+        pixels.emplace_back(static_cast<float>(c.u_px), static_cast<float>(c.v_px));
+        const int r = c.tag_id / 6, col = c.tag_id % 6;
+        const double dx = c.corner == 1 || c.corner == 2, dy = c.corner >= 2;
+        board.emplace_back(static_cast<float>(col * kNominalPitch + dx),
+                           static_cast<float>(r * kNominalPitch + dy));
+      }
+      const cv::Matx33d k(458.654, 0, 367.215, 0, 457.296, 248.375, 0, 0, 1);
+      const std::vector<double> dist = {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05};
+      std::vector<cv::Point2f> undistorted;
+      cv::undistortPoints(pixels, undistorted, k, dist, cv::noArray(), k);
+      const cv::Mat h = cv::findHomography(board, undistorted, 0);
+      ASSERT_FALSE(h.empty());
+      std::vector<cv::Point2f> projected;
+      cv::perspectiveTransform(board, projected, h);
+      double sum_sq = 0;
+      for (size_t i = 0; i < projected.size(); ++i) {
+        const cv::Point2f e = projected[i] - undistorted[i];
+        sum_sq += e.dot(e);
+      }
+      const double rms = std::sqrt(sum_sq / projected.size());
+      std::printf("  EuRoC homography RMS at pitch/size %.2f: %.3f px\n", kNominalPitch, rms);
+      EXPECT_LT(rms, kEurocHomographyRmsPx);
+    }
+  }
+  EXPECT_EQ(checked, 6);
+}
+
+// calibrate --images reads the same frames the same way, 16-bit ones included (a folder of the
+// five 1024 x 1024 TUM VI frames: calibrate needs one image size).
+TEST(AprilGridFrames, CalibrateReadsTheSixteenBitFrames) {
+  REQUIRE_DATA("aprilgrid-frames");
+  CalibrationTarget target;
+  std::string why;
+  ASSERT_TRUE(LoadTargetYaml(kTarget, &target, &why)) << why;
+  const std::string dir = testing::TempDir() + "/tum_vi_frames";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  for (const char* name : {"TUM_VI.png", "r45.png", "right.png", "top.png", "top_right.png"}) {
+    std::filesystem::create_symlink(kDataDir + "/aprilgrid-frames/" + name, dir + "/" + name);
+  }
+  PointData data;
+  ImageFolderReport report;
+  std::vector<int> used;
+  ASSERT_TRUE(LoadImagePoints(dir, target, &data, &report, &used, &why)) << why;
+  ASSERT_EQ(report.images.size(), 5u);
+  EXPECT_EQ(report.used, 5);
+  EXPECT_EQ(data.image_width, 1024);
+  for (const ImageResult& r : report.images) {
+    EXPECT_GE(r.points, 4 * (kMeasuredTags.at(r.file) - kTagsSlack)) << r.file << ": " << r.reason;
+    EXPECT_NE(r.reason.find("16-bit"), std::string::npos) << r.reason;
+  }
+}
+
+}  // namespace
+}  // namespace calibench
