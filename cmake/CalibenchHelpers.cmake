@@ -27,7 +27,8 @@ function(calibench_add_test module name)
   add_executable(${target} ${ARG_SOURCES})
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
   target_compile_definitions(${target} PRIVATE
-      CALIBENCH_SOURCE_DIR="${PROJECT_SOURCE_DIR}" CALIBENCH_DATA_DIR="${CALIBENCH_DATA_DIR}")
+      CALIBENCH_SOURCE_DIR="${PROJECT_SOURCE_DIR}" CALIBENCH_DATA_DIR="${CALIBENCH_DATA_DIR}"
+      CALIBENCH_BUNDLED_DATA_DIR="${CALIBENCH_BUNDLED_DATA_DIR}")
   calibench_set_warnings(${target})
   gtest_discover_tests(${target} PROPERTIES LABELS "${module};${ARG_LABELS}" DISCOVERY_TIMEOUT 60)
 endfunction()
