@@ -4,7 +4,8 @@
 # As root on Debian 12: installs slurm-wlm and munge if missing, starts a private munged,
 # slurmctld and slurmd on this host (configuration, state, spool, logs and pid files all under one
 # temporary directory; nothing in /etc is changed except a munge key created if missing), waits for
-# the node to be idle, submits the sweep as a real job array (sbatch --array=1-N --wait), merges the
+# the node to be idle, submits the sweep as a real job array (sbatch --array=1-N --wait), requeues
+# one running task (it must resume), merges the
 # shards with `calibench merge` and compares runs.csv and summary.csv byte for byte with one
 # unsharded `calibench run` of the same config. The daemons are stopped by their own pids on exit,
 # failure or interrupt. Every wait is bounded: a daemon that does not come up fails the script with
@@ -20,6 +21,7 @@
 #   CALIBENCH_SLURM_START_S      bound on each daemon's start-up [30]
 #   CALIBENCH_SLURM_JOB_S        bound on the job array [900]
 #   CALIBENCH_SLURM_EXTRA_CONF   extra slurm.conf lines, appended (e.g. to test the failure path)
+#   CALIBENCH_SLURM_REQUEUE      1: requeue array task 1 mid-run, it must resume [1]; 0: do not
 #   CALIBENCH_BUILD_DIR, CALIBENCH_JOBS, CALIBENCH_DATA_DIR: as for scripts/test (common.sh).
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
@@ -246,6 +248,31 @@ timeout "$job_s" sbatch --parsable --wait --array="1-$tasks" --cpus-per-task="$c
   --output="$work/job/calibench-%A_%a.log" scripts/slurm_sweep.sbatch "$config" "$work/array" \
   >"$work/job/sbatch.out" 2>"$work/job/sbatch.err" &
 bg_pid=$!
+# Resume on requeue, for real: once task 1 has some tasks on disk, requeue it (as a preemption or a
+# node failure would). It must restart with --resume and still give the same merged files.
+requeued=""
+if [ "${CALIBENCH_SLURM_REQUEUE:-1}" = 1 ]; then
+  shard1="$work/array/shard-1-of-$tasks"
+  for ((i = 0; i < 600; i++)); do  # at most 300 s; stops early if sbatch has ended (job failed)
+    [ "$(wc -l 2>/dev/null <"$shard1/run.partial/tasks.idx" || echo 0)" -ge 5 ] && break
+    kill -0 "$bg_pid" 2>/dev/null || break
+    sleep 0.5
+  done
+  array_id="$(timeout 10 squeue -h -o %F | head -n 1)"
+  if [ -n "$array_id" ] && [ -f "$shard1/run.partial/tasks.idx" ]; then
+    on_disk="$(wc -l <"$shard1/run.partial/tasks.idx")"
+    timeout 10 scontrol requeue "${array_id}_1" || die "scontrol requeue ${array_id}_1 failed"
+    # A requeued job is held back ~2 min (its begin time) once it is pending again; CI need not
+    # wait: when it is pending, make it eligible now.
+    for ((i = 0; i < 40; i++)); do
+      [ "$(timeout 10 squeue -h -j "${array_id}_1" -o %T)" = PENDING ] && break
+      sleep 0.5
+    done
+    timeout 10 scontrol update JobId="${array_id}_1" StartTime=now || true
+    requeued="${array_id}_1"
+    say "requeued task $requeued with $on_disk of its tasks on disk"
+  fi
+fi
 if ! wait_bg; then
   log_tail "$work/job/sbatch.err"
   timeout 10 squeue >&2 || true
@@ -262,6 +289,11 @@ states="$(timeout 10 scontrol -o show job "$jobid" |
 say "job array $jobid: $tasks tasks, --cpus-per-task=$cpus_per_task, $((SECONDS - s)) s ($states)"
 [ "$(find "$work/array" -maxdepth 1 -name "shard-*-of-$tasks" | wc -l)" -eq "$tasks" ] ||
   die "expected $tasks shard directories in $work/array"
+if [ -n "$requeued" ]; then
+  log1="$(cat "$work/job/calibench-${jobid}_1.log")"
+  [[ "$log1" == *resumed* ]] || die "requeued task $requeued did not resume: $log1"
+  say "requeued task $requeued resumed: ${log1#calibench: }"
+fi
 
 # --- Merge and compare. ---
 "$calibench" merge "$work"/array/shard-*-of-"$tasks" --out "$work/merged"
