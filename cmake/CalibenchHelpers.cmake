@@ -27,7 +27,15 @@ function(calibench_add_test module name)
   add_executable(${target} ${ARG_SOURCES})
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
   target_compile_definitions(${target} PRIVATE
-      CALIBENCH_SOURCE_DIR="${PROJECT_SOURCE_DIR}" CALIBENCH_DATA_DIR="${CALIBENCH_DATA_DIR}")
+      CALIBENCH_SOURCE_DIR="${PROJECT_SOURCE_DIR}" CALIBENCH_DATA_DIR="${CALIBENCH_DATA_DIR}"
+      CALIBENCH_BUNDLED_DATA_DIR="${CALIBENCH_BUNDLED_DATA_DIR}")
   calibench_set_warnings(${target})
-  gtest_discover_tests(${target} PROPERTIES LABELS "${module};${ARG_LABELS}" DISCOVERY_TIMEOUT 60)
+  gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60)
+  # The labels go on the discovered tests (list ${target}_TESTS) from a second include file:
+  # gtest_discover_tests(PROPERTIES LABELS "a;b") expands the list on the way and keeps only "a"
+  # (which is why the "data" label had no tests before).
+  set(labels_file "${CMAKE_CURRENT_BINARY_DIR}/${target}_labels.cmake")
+  file(WRITE "${labels_file}" "if(${target}_TESTS)\n  set_tests_properties(\${${target}_TESTS} "
+                              "PROPERTIES LABELS \"${module};${ARG_LABELS}\")\nendif()\n")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${labels_file}")
 endfunction()

@@ -1,5 +1,7 @@
-// calibrate --images on the shared real images (CTest label "data"): OpenCV's sample chessboards
-// and Bouguet's toolbox example, against the published figures and OpenCV's own optimum.
+// calibrate --images on real images (CTest label "data"): OpenCV's sample chessboards (bundled,
+// data/opencv-left) against the published figures and OpenCV's own optimum; rendered folders with a
+// known answer; bad folders and targets. Bouguet's example (../shared/data) is in
+// shared_data_test.cc.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -12,34 +14,12 @@
 #include "core/random.h"
 #include "core/render.h"
 #include "core/synthetic.h"
+#include "tests/common/calibrate_folder.h"
 #include "tests/common/rendered_folder.h"
 #include "tests/common/test_data.h"
 
 namespace calibench {
 namespace {
-
-std::string WriteTarget(const std::string& name, const std::string& yaml) {
-  const std::string path = testing::TempDir() + "/" + name;
-  std::ofstream(path) << yaml;
-  return path;
-}
-
-CalibrateReport CalibrateFolder(const std::string& dir, const std::string& target_yaml,
-                                LensModel model, ImageFolderReport* images) {
-  CalibrationTarget target;
-  std::string why;
-  EXPECT_TRUE(LoadTargetYaml(WriteTarget("target.yaml", target_yaml), &target, &why)) << why;
-  PointData data;
-  std::vector<int> used;
-  EXPECT_TRUE(LoadImagePoints(dir, target, &data, images, &used, &why)) << why;
-  CalibrateOptions options;
-  options.model = model;
-  return CalibrateFromPoints(data, options);
-}
-
-// Ceres refines zhang's optimum; both minimise the same reprojection error on the same corners,
-// so they must agree far below the statistical uncertainty (0.4 px here).
-constexpr double kSameOptimumPx = 1e-3;
 
 // OpenCV's samples/data left01..14 (9 x 6 inner corners). Reference: OpenCV's own procedure
 // (findChessboardCorners, cornerSubPix 5x5, calibrateCamera flags 0 = 5 distortion terms) in
@@ -47,9 +27,8 @@ constexpr double kSameOptimumPx = 1e-3;
 // rms 0.19624. Debian's OpenCV 4.6 finds the corners slightly differently: we allow 0.05 px on
 // the focal lengths and 0.1 px on the centre (a tenth of a standard deviation), 0.002 on k1.
 TEST(CalibrateImages, OpenCvLeftMatchesOpenCvsPublishedResult) {
-  REQUIRE_DATA("opencv-left");
   ImageFolderReport images;
-  const CalibrateReport r = CalibrateFolder(kDataDir + "/opencv-left",
+  const CalibrateReport r = CalibrateFolder(BundledData("opencv-left"),
                                             "target_type: 'checkerboard'\ntargetCols: 9\n"
                                             "targetRows: 6\nrowSpacingMeters: 0.025\n"
                                             "colSpacingMeters: 0.025\n",
@@ -65,35 +44,6 @@ TEST(CalibrateImages, OpenCvLeftMatchesOpenCvsPublishedResult) {
   EXPECT_NEAR(r.ceres.rms_reproj_px, 0.19624, 0.002);
   EXPECT_NEAR(k.fku_px, r.zhang.intrinsics.fku_px, kSameOptimumPx);
   EXPECT_NEAR(k.u0_px, r.zhang.intrinsics.u0_px, kSameOptimumPx);
-}
-
-// Bouguet's "first calibration example" (13 x 12 inner corners, 30 mm). Published (toolbox web
-// page, his clicked corners): fc = [657.463, 657.947], cc = [303.137, 242.569],
-// kc = [-0.25403, 0.12143, -0.00021, 0.00002]. Our corners come from OpenCV's detectors, so the
-// data differ: SOURCE.md expects ~1 px in f. Tolerances: 2 px on f (0.3%), 2.5 px on the centre
-// (about 4 of the published standard deviations), and OpenCV 4.10's result on the same
-// detector (fx 656.10, fy 657.01, cx 302.81, cy 244.43) within 0.3 px.
-TEST(CalibrateImages, BouguetExampleMatchesPublishedAndOpenCvResults) {
-  REQUIRE_DATA("bouguet-calib-example");
-  ImageFolderReport images;
-  const CalibrateReport r = CalibrateFolder(kDataDir + "/bouguet-calib-example",
-                                            "target_type: 'checkerboard'\ntargetCols: 13\n"
-                                            "targetRows: 12\nrowSpacingMeters: 0.03\n"
-                                            "colSpacingMeters: 0.03\n",
-                                            LensModel::kPinholeRadTan4, &images);
-  ASSERT_TRUE(r.IsUsable()) << r.ceres.message;
-  EXPECT_GE(images.used, 19);  // Image18 shows a partial board (SOURCE.md).
-  const CameraIntrinsics& k = r.ceres.intrinsics;
-  EXPECT_NEAR(k.fku_px, 657.463, 2.0);
-  EXPECT_NEAR(k.fkv_px, 657.947, 2.0);
-  EXPECT_NEAR(k.u0_px, 303.137, 2.5);
-  EXPECT_NEAR(k.v0_px, 242.569, 2.5);
-  EXPECT_NEAR(k.fku_px, 656.10, 0.3);
-  EXPECT_NEAR(k.fkv_px, 657.01, 0.3);
-  EXPECT_NEAR(k.u0_px, 302.81, 0.3);
-  EXPECT_NEAR(k.v0_px, 244.43, 0.3);
-  EXPECT_NEAR(k.k1, -0.2351, 0.01);
-  EXPECT_NEAR(k.fku_px, r.zhang.intrinsics.fku_px, kSameOptimumPx);
 }
 
 // The whole chain on images with a known answer: a Kalibr AprilGrid (2-bit border) rendered from

@@ -1,21 +1,21 @@
-// The detector wrapper on real photographs (CTest label "data"): the AprilTag project's own golden
-// corners for test/data/34139872896_defdb2f8d9_c.jpg (AprilRobotics/apriltag, commit a626cce,
-// test/data/34139872896_defdb2f8d9_c.txt; detector settings of its test_detection.c:
-// quad_decimate 1, refine_edges off; image decoded by the library's pjpeg baseline decoder).
+// The detector wrapper on real photographs (CTest label "data"; bundled in data/apriltag-nasa): the
+// AprilTag project's own golden corners for test/data/34139872896_defdb2f8d9_c.jpg
+// (AprilRobotics/apriltag, commit a626cce, test/data/34139872896_defdb2f8d9_c.txt; detector
+// settings of its test_detection.c: quad_decimate 1, refine_edges off; image decoded by the
+// library's pjpeg baseline decoder).
 #include <apriltag/common/image_u8.h>
 #include <apriltag/common/pjpeg.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <filesystem>
 
 #include "detect/apriltag_detector.h"
+#include "tests/common/test_data.h"
 
 namespace calibench {
 namespace {
 
-const std::string kImage =
-    std::string(CALIBENCH_DATA_DIR) + "/apriltag-nasa/34139872896_defdb2f8d9_c.jpg";
+const char kImage[] = "apriltag-nasa/34139872896_defdb2f8d9_c.jpg";
 
 // id, then corners 0..3 as (x, y) in the library's convention (pixel centres at i + 0.5).
 constexpr double kGolden[10][8] = {
@@ -37,11 +37,9 @@ constexpr double kGolden[10][8] = {
 constexpr double kBulkTolPx = 0.002, kWorstTolPx = 0.2, kLibraryTestTolPx = 0.1;
 
 TEST(AprilTagDetectorRealImages, NasaPhotoMatchesTheLibrarysGoldenCorners) {
-  if (!std::filesystem::exists(kImage)) {
-    GTEST_SKIP() << kImage << " is absent (set CALIBENCH_DATA_DIR); CI always has it";
-  }
+  const std::string image = BundledData(kImage);
   int error = 0;
-  pjpeg_t* jpeg = pjpeg_create_from_file(kImage.c_str(), 0, &error);
+  pjpeg_t* jpeg = pjpeg_create_from_file(image.c_str(), 0, &error);
   ASSERT_NE(jpeg, nullptr) << "pjpeg error " << error;
   image_u8_t* im = pjpeg_to_u8_baseline(jpeg);
   AprilTagOptions options;
