@@ -73,12 +73,13 @@ double MedianCrossRatioPitch(const Corners& tags) {
 }
 
 TEST(AprilGridFrames, KalibrGridsAreFoundWithTheNominalSpacing) {
-  REQUIRE_DATA("aprilgrid-frames");
+  REQUIRE_SHARED_DATA("aprilgrid-frames");
   CalibrationTarget target;
   std::string why;
   ASSERT_TRUE(LoadTargetYaml(kTarget, &target, &why)) << why;
   std::vector<ImageCorners> images;
-  ASSERT_TRUE(DetectImageCorners(kDataDir + "/aprilgrid-frames", target, &images, &why)) << why;
+  ASSERT_TRUE(DetectImageCorners(kSharedDataDir + "/aprilgrid-frames", target, &images, &why))
+      << why;
   int checked = 0;
   for (const ImageCorners& image : images) {
     const auto measured = kMeasuredTags.find(image.file);
@@ -127,7 +128,7 @@ TEST(AprilGridFrames, KalibrGridsAreFoundWithTheNominalSpacing) {
 // calibrate --images reads the same frames the same way, 16-bit ones included (a folder of the
 // five 1024 x 1024 TUM VI frames: calibrate needs one image size).
 TEST(AprilGridFrames, CalibrateReadsTheSixteenBitFrames) {
-  REQUIRE_DATA("aprilgrid-frames");
+  REQUIRE_SHARED_DATA("aprilgrid-frames");
   CalibrationTarget target;
   std::string why;
   ASSERT_TRUE(LoadTargetYaml(kTarget, &target, &why)) << why;
@@ -135,7 +136,7 @@ TEST(AprilGridFrames, CalibrateReadsTheSixteenBitFrames) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   for (const char* name : {"TUM_VI.png", "r45.png", "right.png", "top.png", "top_right.png"}) {
-    std::filesystem::create_symlink(kDataDir + "/aprilgrid-frames/" + name, dir + "/" + name);
+    std::filesystem::create_symlink(kSharedDataDir + "/aprilgrid-frames/" + name, dir + "/" + name);
   }
   PointData data;
   ImageFolderReport report;

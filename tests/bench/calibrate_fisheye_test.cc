@@ -57,7 +57,8 @@ constexpr double kSigmas = 3.0;
 TEST(Fisheye, CalibrateImagesRecoversARenderedFisheyeAndAgreesWithCvFisheye) {
   const CameraIntrinsics truth = FisheyeTruth();
   AprilGrid grid;
-  grid.tag_size_m = 0.05;
+  grid.tag_size_m = 0.07;
+  grid.black_tag_border = 2;  // As Kalibr prints it (the target YAML's default).
   RenderedFolderOptions options;
   options.views = 20;
   options.lateral_m = 0.2;  // Boards across the image: the distortion needs large angles.
@@ -65,7 +66,7 @@ TEST(Fisheye, CalibrateImagesRecoversARenderedFisheyeAndAgreesWithCvFisheye) {
   ASSERT_EQ(WriteRenderedAprilGridFolder(dir, truth, grid, options), options.views);
   const std::string target_path = ::testing::TempDir() + "/fisheye_target.yaml";
   std::ofstream(target_path) << "target_type: 'aprilgrid'\ntagCols: 6\ntagRows: 6\n"
-                                "tagSize: 0.05\ntagSpacing: 0.3\n";
+                                "tagSize: 0.07\ntagSpacing: 0.3\n";
   CalibrationTarget target;
   std::string why;
   ASSERT_TRUE(LoadTargetYaml(target_path, &target, &why)) << why;

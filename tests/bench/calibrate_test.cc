@@ -1,5 +1,5 @@
-// Regression on published calibration data (CTest label "data"): OpenCV's calib1.dat, bundled in
-// data/opencv-calib1. Zhang's points (../shared/data, not bundled) are in shared_data_test.cc.
+// Regression on published calibration data (CTest label "data"), bundled in data/: Zhang's points
+// (data/zhang) and OpenCV's calib1.dat (data/opencv-calib1).
 #include "bench/app/calibrate.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +11,35 @@
 
 namespace calibench {
 namespace {
+
+// Zhang (MSR-TR-98-71), complete calibration with skew and k1, k2, as published:
+// alpha 832.5010, beta 832.5309, gamma 0.2046, u0 303.9584, v0 206.5879, k1 -0.228601,
+// k2 0.190353. The issue asks for 0.1% on intrinsics and 1% on k1, k2.
+TEST(CalibrateFromPoints, ZhangDataMatchesPublishedResults) {
+  PointData data;
+  std::string why;
+  ASSERT_TRUE(LoadPointData(BundledData("zhang"), &data, &why)) << why;
+  ASSERT_EQ(data.views.size(), 5u);
+  ASSERT_EQ(data.views[0].points.size(), 256u);
+  CalibrateOptions options;
+  options.model = LensModel::kPinholeK2;
+  options.estimate_skew = true;
+  const CalibrateReport report = CalibrateFromPoints(data, options);
+  ASSERT_TRUE(report.IsUsable()) << report.ceres.message;
+  const CameraIntrinsics& k = report.ceres.intrinsics;
+  constexpr double kIntrinsicsRelTol = 1e-3, kDistortionRelTol = 1e-2;
+  EXPECT_NEAR(k.fku_px, 832.5010, kIntrinsicsRelTol * 832.5010);
+  EXPECT_NEAR(k.fkv_px, 832.5309, kIntrinsicsRelTol * 832.5309);
+  EXPECT_NEAR(k.u0_px, 303.9584, kIntrinsicsRelTol * 303.9584);
+  EXPECT_NEAR(k.v0_px, 206.5879, kIntrinsicsRelTol * 206.5879);
+  const double gamma = k.Matrix()(0, 1);  // Zhang's skew term.
+  EXPECT_NEAR(gamma, 0.2046, 0.01);
+  EXPECT_NEAR(k.k1, -0.228601, kDistortionRelTol * 0.228601);
+  EXPECT_NEAR(k.k2, 0.190353, kDistortionRelTol * 0.190353);
+  // SOURCE.md: the published calibration reprojects with 0.3364 px RMS per point.
+  EXPECT_NEAR(report.ceres.rms_reproj_px, 0.3364, 0.001);
+  EXPECT_TRUE(std::isfinite(report.ceres.intrinsics_std[0]));
+}
 
 // OpenCV's regression file carries Bouguet's toolbox results (k1 k2 p1 p2 model).
 TEST(CalibrateFromPoints, OpenCvCalib1MatchesItsReference) {
@@ -74,10 +103,9 @@ constexpr double kSameOptimumRmsPx = 1e-6;
 constexpr double kSameOptimumSigmas = 1e-3;
 
 TEST(CalibrateFromPoints, AGivenCameraInEveryFormatEvaluatesAndRefinesToTheSameOptimum) {
-  REQUIRE_DATA("zhang");
   PointData data;
   std::string why;
-  ASSERT_TRUE(LoadPointData(kDataDir + "/zhang", &data, &why)) << why;
+  ASSERT_TRUE(LoadPointData(BundledData("zhang"), &data, &why)) << why;
   CalibrateOptions options;
   options.model = LensModel::kPinholeRadTan4;  // Every format holds it.
   const CalibrateReport first = CalibrateFromPoints(data, options);
