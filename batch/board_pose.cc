@@ -1,6 +1,7 @@
 #include "batch/board_pose.h"
 
 #include <cmath>
+#include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
@@ -45,6 +46,64 @@ bool BoardPoseFromIntrinsics(const View& view, const CameraIntrinsics& intrinsic
   cv::Rodrigues(rvec, r);
   cv::cv2eigen(r, cam_from_board->rotation);
   for (int i = 0; i < 3; ++i) cam_from_board->translation[i] = tvec.at<double>(i);
+  return true;
+}
+
+bool FocalScanOptions::Check(std::string* why) const {
+  std::string msg;
+  if (image_width <= 0 || image_height <= 0) msg = "image size must be positive";
+  if (!(min_focal_per_width > 0 && max_focal_per_width > min_focal_per_width)) {
+    msg = "focal range must satisfy 0 < min < max";
+  }
+  if (steps < 2) msg = "steps must be >= 2";
+  if (msg.empty()) return true;
+  if (why) *why = msg;
+  return false;
+}
+
+bool EquidistantFocalScan(const std::vector<View>& views, const FocalScanOptions& options,
+                          FocalScanResult* result, std::string* why) {
+  if (!options.Check(why)) return false;
+  *result = FocalScanResult();
+  double best = std::numeric_limits<double>::infinity();
+  const double w = options.image_width;
+  for (int s = 0; s < options.steps; ++s) {
+    const double f = w * options.min_focal_per_width *
+                     std::pow(options.max_focal_per_width / options.min_focal_per_width,
+                              static_cast<double>(s) / (options.steps - 1));
+    CameraIntrinsics k;
+    k.family = LensFamily::kEquidistant;
+    k.fku_px = k.fkv_px = f;
+    k.u0_px = 0.5 * (options.image_width - 1);
+    k.v0_px = 0.5 * (options.image_height - 1);
+    std::vector<Rigid3> poses(views.size());
+    double sum_sq = 0.0;
+    long count = 0;
+    int posed = 0;
+    for (size_t v = 0; v < views.size(); ++v) {
+      if (!BoardPoseFromIntrinsics(views[v], k, &poses[v], nullptr)) continue;
+      ++posed;
+      for (size_t i = 0; i < views[v].points.size(); ++i) {
+        Eigen::Vector2d pixel;
+        const bool ok = ProjectPoint(k, poses[v] * views[v].points[i], &pixel);
+        sum_sq += ok ? (pixel - views[v].pixels[i]).squaredNorm() : 1e6;
+        ++count;
+      }
+    }
+    // Every view must be posed; among those, the least RMS.
+    const double rms = count > 0 ? std::sqrt(sum_sq / count) : best;
+    if (posed == static_cast<int>(views.size()) && rms < best) {
+      best = rms;
+      result->intrinsics = k;
+      result->cam_from_board = poses;
+      result->rms_reproj_px = rms;
+      result->views_posed = posed;
+    }
+  }
+  if (!std::isfinite(best)) {
+    if (why) *why = "no focal length of the scan poses every view";
+    return false;
+  }
   return true;
 }
 

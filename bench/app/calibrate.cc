@@ -58,8 +58,35 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
     zhang_options.model = options.model;
     zhang_options.image_width = data.image_width;
     zhang_options.image_height = data.image_height;
-    if (FamilyOf(options.model) == LensFamily::kEquidistant) report.initial_name = "cv::fisheye";
     report.zhang = CalibrateZhang(data.views, zhang_options);
+    if (FamilyOf(options.model) == LensFamily::kEquidistant) {
+      report.initial_name = "cv::fisheye";
+      // cv::fisheye::calibrate fails on partial boards far off axis (it then returns its start);
+      // the equidistant focal scan is the fallback, taken when it fits better.
+      FocalScanOptions scan_options;
+      scan_options.image_width = data.image_width;
+      scan_options.image_height = data.image_height;
+      FocalScanResult scan;
+      const bool zhang_ok = report.zhang.IsUsable() &&
+                            report.zhang.used_views.size() == data.views.size() &&
+                            report.zhang.rms_reproj_px < kHighReprojectionPx;
+      if (!zhang_ok && EquidistantFocalScan(data.views, scan_options, &scan, nullptr) &&
+          (!report.zhang.IsUsable() || scan.rms_reproj_px < report.zhang.rms_reproj_px)) {
+        const std::string opencv = report.zhang.IsUsable()
+                                       ? "rms " + std::to_string(report.zhang.rms_reproj_px) + " px"
+                                       : report.zhang.message;
+        report.zhang = ZhangResult();
+        report.zhang.intrinsics = scan.intrinsics;
+        report.zhang.intrinsics_std.fill(std::nan(""));
+        report.zhang.cam_from_board = scan.cam_from_board;
+        for (size_t v = 0; v < data.views.size(); ++v) report.zhang.used_views.push_back(v);
+        report.zhang.rms_reproj_px = scan.rms_reproj_px;
+        report.zhang.status = MethodStatus::kOk;
+        report.zhang.message = "cv::fisheye::calibrate did not fit (" + opencv +
+                               "): started from the equidistant focal scan";
+        report.initial_name = "equidistant scan";
+      }
+    }
   }
   if (!report.zhang.IsUsable()) {
     report.ceres.status = MethodStatus::kFailed;
@@ -94,6 +121,14 @@ std::string FormatCalibrateReport(const CalibrateReport& report, const PointData
       << (data.views.empty() ? 0 : data.views[0].points.size()) << " points per view\n";
   if (!report.ceres.IsUsable()) {
     out << "calibration failed: " << report.ceres.message << "\n";
+    if (report.zhang.IsUsable()) {
+      const CameraIntrinsics& z = report.zhang.intrinsics;
+      std::snprintf(line, sizeof(line),
+                    "from %s: f (%.3f, %.3f), c (%.3f, %.3f), k1 %.6f, rms_reproj_px %.4f\n",
+                    report.initial_name.c_str(), z.fku_px, z.fkv_px, z.u0_px, z.v0_px, z.k1,
+                    report.zhang.rms_reproj_px);
+      out << line;
+    }
     return out.str();
   }
   const CameraIntrinsics &k = report.ceres.intrinsics, &z = report.zhang.intrinsics;
