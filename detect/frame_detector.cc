@@ -95,6 +95,10 @@ bool FrameDetectorOptions::Check(std::string* why) const {
     if (why) *why = "min_border_distance_px must be >= 0";
     return false;
   }
+  if (!(corner_square_fraction > 0 && corner_square_fraction <= 1)) {
+    if (why) *why = "corner_square_fraction must lie in (0, 1]";
+    return false;
+  }
   return detector.Check(why) && refine.Check(why);
 }
 
@@ -107,9 +111,6 @@ std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid
     return nullptr;
   };
   if (grids.empty()) return fail("the target has no AprilGrid");
-  if (!(options.corner_square_fraction > 0 && options.corner_square_fraction <= 1)) {
-    return fail("corner_square_fraction must lie in (0, 1]");
-  }
   std::unique_ptr<FrameDetector> d(new FrameDetector());
   d->options_ = options;
   d->options_.detector.family = grids[0].family;

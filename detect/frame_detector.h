@@ -44,9 +44,10 @@ struct FrameDetectorOptions {
   //      by saturated white, which pulls the edge fit's mean-level crossings towards the black
   //      (measured on EuRoC: 0.27 px inward; docs/aprilgrid_frames.md).
   // Off by default (rendered scenarios have no corner squares: unchanged); image folders with a
-  // Kalibr target (calibrate --images, detect --images) turn it on for blackTagBorder 2.
+  // Kalibr target (calibrate --images, detect --images) turn it on unless the target YAML says
+  // cornerSquares: false (bench/app/image_points.h ImageDetectorOptions).
   bool corner_squares = false;
-  double corner_square_fraction = 0.3;  // The squares' edge / tag edge (the grid's tag_spacing).
+  double corner_square_fraction = 0.3;  // (0, 1]: the squares' edge / tag edge (tag_spacing).
   bool Check(std::string* why) const;
 };
 

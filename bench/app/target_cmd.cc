@@ -44,7 +44,9 @@ bool TargetArgs::Check(std::string* why) const {
   if (first_id < 0) msg = "--first-id must be >= 0";
   if (!(margin_m >= 0 && margin_m < 10)) msg = "--margin must lie in [0, 10) m";
   if (!(dpi >= 10 && dpi <= 2400)) msg = "--dpi must lie in [10, 2400]";
-  if (out_path.empty()) msg = "--out must name a file";
+  if (std::filesystem::path(out_path).extension() != ".pdf") {
+    msg = "--out must name a .pdf file (the .png and .yaml are written beside it)";
+  }
   if (msg.empty()) return true;
   if (why) *why = msg;
   return false;
