@@ -1,13 +1,13 @@
 #include "batch/zhang.h"
 
-#include "batch/board_pose.h"
-
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <mutex>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
+
+#include "batch/board_pose.h"
 
 namespace calibench {
 

@@ -67,6 +67,7 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
       scan_options.image_width = data.image_width;
       scan_options.image_height = data.image_height;
       FocalScanResult scan;
+      const SummaryClock scan_clock;
       const bool zhang_ok = report.zhang.IsUsable() &&
                             report.zhang.used_views.size() == data.views.size() &&
                             report.zhang.rms_reproj_px < kHighReprojectionPx;
@@ -81,9 +82,9 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
         report.zhang.cam_from_board = scan.cam_from_board;
         for (size_t v = 0; v < data.views.size(); ++v) report.zhang.used_views.push_back(v);
         report.zhang.rms_reproj_px = scan.rms_reproj_px;
-        report.zhang.status = MethodStatus::kOk;
-        report.zhang.message = "cv::fisheye::calibrate did not fit (" + opencv +
-                               "): started from the equidistant focal scan";
+        scan_clock.Finish(&report.zhang, MethodStatus::kOk,
+                          "cv::fisheye::calibrate did not fit (" + opencv +
+                              "): started from the equidistant focal scan");
         report.initial_name = "equidistant scan";
       }
     }

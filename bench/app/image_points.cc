@@ -47,8 +47,9 @@ bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, View* vie
 
 }  // namespace
 
-FrameDetectorOptions ImageDetectorOptions(const CalibrationTarget& target) {
+FrameDetectorOptions ImageDetectorOptions(const CalibrationTarget& target, LensFamily lens) {
   FrameDetectorOptions options;
+  options.refine.curved_edges = lens == LensFamily::kEquidistant;
   options.corner_squares = target.corner_squares;
   options.corner_square_fraction = std::min(1.0, target.grid.tag_spacing);
   return options;
@@ -142,14 +143,15 @@ bool ReadGray8(const std::string& path, GrayImage* image, std::string* why, std:
 }
 
 bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, PointData* data,
-                     ImageFolderReport* report, std::vector<int>* used_index, std::string* why) {
+                     ImageFolderReport* report, std::vector<int>* used_index, std::string* why,
+                     LensFamily lens) {
   std::vector<std::string> names;
   if (!ListImageFiles(dir, &names, why)) return false;
   const std::vector<fs::path> files(names.begin(), names.end());
   std::unique_ptr<FrameDetector> detector;
   std::vector<Eigen::Vector3d> grid_corners;
   if (target.type == CalibrationTarget::Type::kAprilGrid) {
-    detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(target), why);
+    detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(target, lens), why);
     if (!detector) return false;
     grid_corners = target.grid.CornersInBoard();
   }

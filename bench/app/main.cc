@@ -179,7 +179,8 @@ int Calibrate(const CalibrateArgs& args) {
       std::cerr << "calibench: --target: " << why << "\n";
       return 2;
     }
-    if (!calibench::LoadImagePoints(args.images_dir, target, &data, &images, &used_index, &why)) {
+    if (!calibench::LoadImagePoints(args.images_dir, target, &data, &images, &used_index, &why,
+                                    calibench::FamilyOf(options.model))) {
       std::cerr << "calibench: --images: " << why << "\n";
       return 2;
     }
