@@ -104,6 +104,17 @@ struct CameraIntrinsics {
 // Names of the raw slots 0..9 for `family` ("-" for an unused slot), e.g. for reports.
 const std::array<const char*, 10>& ParamNames(LensFamily family);
 
+// pixel = A (xd, yd, 1): the pinhole slots 0..4 (fku, fkv, phi_rad, u0, v0) of every family.
+template <typename T>
+void ApplyIntrinsicMatrix(const T* params, const T& xd, const T& yd, T* pixel) {
+  using std::cos;
+  using std::sin;
+  const T sin_phi = sin(params[2]);
+  const T cos_phi = cos(params[2]);
+  pixel[0] = params[0] * (xd - yd * cos_phi / sin_phi) + params[3];
+  pixel[1] = params[1] * yd / sin_phi + params[4];
+}
+
 struct PinholeSkewCamera {
   static constexpr int kNumParams = 10;
   static constexpr const char* kName = "pinhole-skew-radtan5";
@@ -112,8 +123,6 @@ struct PinholeSkewCamera {
   // when the point is not strictly in front of the camera (Z <= 0). Never throws.
   template <typename T>
   static bool Project(const T* params, const T* point_in_cam, T* pixel) {
-    using std::cos;
-    using std::sin;
     if (!(point_in_cam[2] > T(0))) return false;
     const T x = point_in_cam[0] / point_in_cam[2];
     const T y = point_in_cam[1] / point_in_cam[2];
@@ -122,10 +131,7 @@ struct PinholeSkewCamera {
     const T xy = x * y;
     const T xd = d * x + T(2) * params[7] * xy + params[8] * (r2 + T(2) * x * x);
     const T yd = d * y + params[7] * (r2 + T(2) * y * y) + T(2) * params[8] * xy;
-    const T sin_phi = sin(params[2]);
-    const T cos_phi = cos(params[2]);
-    pixel[0] = params[0] * (xd - yd * cos_phi / sin_phi) + params[3];
-    pixel[1] = params[1] * yd / sin_phi + params[4];
+    ApplyIntrinsicMatrix(params, xd, yd, pixel);
     return true;
   }
 };
@@ -138,8 +144,6 @@ struct PinholeEquiCamera {
   template <typename T>
   static bool Project(const T* params, const T* point_in_cam, T* pixel) {
     using std::atan;
-    using std::cos;
-    using std::sin;
     using std::sqrt;
     if (!(point_in_cam[2] > T(0))) return false;
     const T x = point_in_cam[0] / point_in_cam[2];
@@ -156,11 +160,7 @@ struct PinholeEquiCamera {
           theta * (T(1) + t2 * (params[5] + t2 * (params[6] + t2 * (params[7] + t2 * params[8]))));
       scale = theta_d / r;
     }
-    const T xd = scale * x, yd = scale * y;
-    const T sin_phi = sin(params[2]);
-    const T cos_phi = cos(params[2]);
-    pixel[0] = params[0] * (xd - yd * cos_phi / sin_phi) + params[3];
-    pixel[1] = params[1] * yd / sin_phi + params[4];
+    ApplyIntrinsicMatrix(params, scale * x, scale * y, pixel);
     return true;
   }
 };

@@ -39,6 +39,19 @@ constexpr double kNominalPitch = 1.30, kPitchTol = 0.005;
 // tags). 0.35 px leaves room for the library build, not for a wrong spacing (1.32: 0.46 px).
 constexpr double kEurocHomographyRmsPx = 0.35;
 
+// A folder (under the test's temp dir) of links to the five 1024 x 1024 TUM VI frames:
+// calibrate needs one image size.
+std::string TumViFolder(const std::string& name) {
+  const std::string dir = testing::TempDir() + "/" + name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  for (const char* frame : {"TUM_VI.png", "r45.png", "right.png", "top.png", "top_right.png"}) {
+    std::filesystem::create_symlink(kSharedDataDir + "/aprilgrid-frames/" + frame,
+                                    dir + "/" + frame);
+  }
+  return dir;
+}
+
 using Corners = std::map<int, std::map<int, Eigen::Vector2d>>;  // tag -> corner -> pixel.
 
 Corners ByTag(const ImageCorners& image) {
@@ -133,12 +146,7 @@ TEST(AprilGridFrames, CalibrateReadsTheSixteenBitFrames) {
   CalibrationTarget target;
   std::string why;
   ASSERT_TRUE(LoadTargetYaml(kTarget, &target, &why)) << why;
-  const std::string dir = testing::TempDir() + "/tum_vi_frames";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  for (const char* name : {"TUM_VI.png", "r45.png", "right.png", "top.png", "top_right.png"}) {
-    std::filesystem::create_symlink(kSharedDataDir + "/aprilgrid-frames/" + name, dir + "/" + name);
-  }
+  const std::string dir = TumViFolder("tum_vi_frames");
   PointData data;
   ImageFolderReport report;
   std::vector<int> used;
@@ -170,12 +178,7 @@ TEST(AprilGridFrames, TumViFramesCalibrateAsTheirPublishedFisheye) {
   CalibrationTarget target;
   std::string why;
   ASSERT_TRUE(LoadTargetYaml(kTarget, &target, &why)) << why;
-  const std::string dir = testing::TempDir() + "/tum_vi_fisheye";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  for (const char* name : {"TUM_VI.png", "r45.png", "right.png", "top.png", "top_right.png"}) {
-    std::filesystem::create_symlink(kSharedDataDir + "/aprilgrid-frames/" + name, dir + "/" + name);
-  }
+  const std::string dir = TumViFolder("tum_vi_fisheye");
   PointData data;
   ImageFolderReport report;
   std::vector<int> used;
