@@ -154,8 +154,7 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
       flags = cv::CALIB_FIX_K3;
       break;
     case LensModel::kPinholeRadTan5:
-      break;
-    case LensModel::kPinholeEqui:  // Handled above (cv::fisheye).
+    case LensModel::kPinholeEqui:  // Equidistant: handled above (cv::fisheye).
       break;
   }
   // LM's normal equations by LU, not OpenCV's default SVD: the SVD of the (6 views + intrinsics)^2

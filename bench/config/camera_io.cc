@@ -485,7 +485,7 @@ bool ReadCameraFile(const std::string& path, CameraFile* camera, std::string* wh
   bool ok = false;
   if (raw.find("lensmodel") != std::string::npos) {
     ok = ReadMrcal(path, raw, camera, why);
-  } else if (raw.rfind("%YAML", 0) == 0 || raw.rfind("<?xml", 0) == 0 || raw.rfind("{", 0) == 0) {
+  } else if (raw.rfind("%YAML", 0) == 0 || raw.rfind("<?xml", 0) == 0 || raw.rfind('{', 0) == 0) {
     ok = ReadOpenCv(path, camera, why);
   } else {
     YAML::Node root;
