@@ -64,7 +64,10 @@ std::unique_ptr<AprilTagFamilyHandle> AprilTagFamilyHandle::Create(const std::st
                                                                    std::string* why) {
   if (!CheckBorderBits(name, border_bits, why)) return nullptr;
   AprilTagFamilyFunctions f;
-  FindAprilTagFamily(name, &f);
+  if (!FindAprilTagFamily(name, &f) || f.create == nullptr) {
+    if (why) *why = "unknown AprilTag family '" + name + "'";
+    return nullptr;
+  }
   std::unique_ptr<AprilTagFamilyHandle> h(new AprilTagFamilyHandle());
   h->base_ = f.create();
   h->destroy_ = f.destroy;
