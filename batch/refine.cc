@@ -361,6 +361,13 @@ bool IntrinsicsCovarianceAt(const std::vector<View>& views, const CameraIntrinsi
                             const std::vector<Rigid3>& poses, const RefineOptions& options,
                             double pixel_sigma_px, IntrinsicsCovariance* covariance,
                             std::string* why) {
+  if (intrinsics.family != FamilyOf(options.model)) {
+    if (why) {
+      *why = std::string("no bound: the truth's lens family (") + ToString(intrinsics.family) +
+             ") is not the model's (" + ToString(options.model) + ")";
+    }
+    return false;
+  }
   Parameters params(intrinsics, poses);
   ceres::Problem::Options problem_options;
   ceres::Problem problem(problem_options);

@@ -94,6 +94,11 @@ ZhangResult CalibrateFisheye(const std::vector<std::vector<cv::Point3f>>& object
       pose = pnp;
       sq = view_sq(pnp);
     }
+    if (!(sq < 1e299)) {
+      return finish(MethodStatus::kFailed, "cv::fisheye::calibrate: view " +
+                                               std::to_string(result->used_views[v]) +
+                                               " has points behind the camera at its pose");
+    }
     result->cam_from_board.push_back(pose);
     sum_sq += sq;
     count += static_cast<long>(view.points.size());

@@ -43,14 +43,15 @@
 //      free distortion parameters). Config files, the resolved YAML, `calibrate --model` and
 //      camera.yaml take the name from the table: nothing else to edit there.
 //   2. If the model is not a subset of an existing family (a new projection, as equidistant was),
-//      add a LensFamily, its slot layout in Params()/FromParams() and DistortionNames(), a camera
+//      add a LensFamily, its slot layout in Params()/FromParams() and ParamNames(), a camera
 //      type with its Project<T> and a case in ProjectLens<T>, its inverse in UndistortNormalized()
 //      and its fold-over test in DistortionIsMonotoneAt() (camera.cc; the renderer casts rays
 //      through them). The ceres refinement then uses the Jet residual for it (refine.cc picks
 //      autodiff for any family without analytic Jacobians in batch/reprojection_error.cc).
 //   3. batch/zhang.cc: map it to OpenCV (calibrateCamera flags, or cv::fisheye for equidistant;
 //      the switch fails to compile with -Wswitch until it does), or refuse it with a message.
-//   4. The camera file formats (bench/app/camera_io.cc): how opencv / kalibr / mrcal spell it, or
+//   4. The camera file formats (bench/config/camera_io.cc): how opencv / kalibr / mrcal spell it,
+//   or
 //      a refusal with the reason.
 //   5. tests/core/camera_test.cc: add it to the lens-model table test; the Jet and round-trip
 //      tests there take every family.
@@ -85,8 +86,11 @@ struct CameraIntrinsics {
   // Positive finite focal lengths, phi in (0, 180) degrees, finite principal point and
   // distortion; no coefficient the family lacks (p1, p2 for equidistant; k4 for radtan).
   bool Check(std::string* why) const;
+  // Not a plain pinhole: any distortion term, or any fisheye (equidistant with k = 0 is still
+  // r = f theta).
   bool IsDistorted() const {
-    return k1 != 0 || k2 != 0 || k3 != 0 || k4 != 0 || p1 != 0 || p2 != 0;
+    return family != LensFamily::kRadTan || k1 != 0 || k2 != 0 || k3 != 0 || k4 != 0 || p1 != 0 ||
+           p2 != 0;
   }
   // The distortion maps radius (radtan: r = |(x, y)|; equidistant: theta) one-to-one at r2 = r^2:
   // d r_d / d r > 0. Beyond the first r where it fails, the image folds over.

@@ -155,14 +155,16 @@ bool RefinePass(const GrayImageView& image, const CornerRefineOptions& o,
     Eigen::Vector2d x = m.inverse() * Eigen::Vector2d(l1.c, l2.c);
     // Curves: Newton on (g1, g2) = 0 from the lines' intersection (a few hundredths of a pixel
     // away; converges in 2-3 steps).
-    for (int it = 0; o.curved_edges && it < 10; ++it) {
+    bool converged = !o.curved_edges;
+    for (int it = 0; o.curved_edges && it < 10 && !converged; ++it) {
       Eigen::Matrix2d j;
       j << l1.Gradient(x).transpose(), l2.Gradient(x).transpose();
       if (std::abs(j.determinant()) < 1e-6) return false;
       const Eigen::Vector2d step = j.inverse() * Eigen::Vector2d(l1.Residual(x), l2.Residual(x));
       x -= step;
-      if (step.norm() < 1e-9) break;
+      converged = step.norm() < 1e-9;
     }
+    if (!converged) return false;  // The curves do not meet near the lines' corner.
     (*out)[k] = x;
   }
   return true;

@@ -271,6 +271,12 @@ if [ "${CALIBENCH_SLURM_REQUEUE:-1}" = 1 ]; then
     timeout 10 scontrol update JobId="${array_id}_1" StartTime=now || true
     requeued="${array_id}_1"
     say "requeued task $requeued with $on_disk of its tasks on disk"
+  else
+    # Asked for and not done: say why instead of passing without the check.
+    timeout 10 squeue >&2 || true
+    die "could not requeue array task 1 (array id '${array_id}', $shard1/run.partial/tasks.idx" \
+      "$( [ -f "$shard1/run.partial/tasks.idx" ] && echo present || echo absent)); set" \
+      "CALIBENCH_SLURM_REQUEUE=0 to skip the resume check"
   fi
 fi
 if ! wait_bg; then

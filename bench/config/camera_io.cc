@@ -113,6 +113,8 @@ bool WriteOpenCv(const std::string& path, const CameraFile& camera, std::string*
     out << "view_rms_px" << camera.view_rms_px;
     out.release();
   } catch (const cv::Exception& e) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
     return Fail(why, path + ": " + e.what());
   }
   return RenameInto(tmp, path, why);

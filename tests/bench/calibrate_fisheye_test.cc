@@ -3,6 +3,7 @@
 // against cv::fisheye::calibrate on the same corners.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/calib3d.hpp>
@@ -25,8 +26,9 @@ CameraIntrinsics FisheyeTruth() {
   return k;
 }
 
-// cv::fisheye::projectPoints evaluates the same model independently; float-free double paths
-// agree to rounding.
+// cv::fisheye::projectPoints evaluates the same model independently (its own theta polynomial
+// and distortion scaling, in double): the two agree to rounding of values ~1e3 px, ~1e-13 px
+// (measured 1.7e-13); 1e-9 px leaves room for another libm, not for another model.
 constexpr double kSameModelPx = 1e-9;
 
 TEST(Fisheye, ProjectionEqualsCvFisheyeProjectPoints) {
@@ -40,12 +42,16 @@ TEST(Fisheye, ProjectionEqualsCvFisheyeProjectPoints) {
   std::vector<cv::Point2d> theirs;
   cv::fisheye::projectPoints(points, theirs, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera_matrix,
                              dist);
+  double max_diff = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     Eigen::Vector2d ours;
     ASSERT_TRUE(ProjectPoint(k, Eigen::Vector3d(points[i].x, points[i].y, points[i].z), &ours));
-    EXPECT_NEAR(ours.x(), theirs[i].x, kSameModelPx * 1e3);
-    EXPECT_NEAR(ours.y(), theirs[i].y, kSameModelPx * 1e3);
+    max_diff =
+        std::max({max_diff, std::abs(ours.x() - theirs[i].x), std::abs(ours.y() - theirs[i].y)});
+    EXPECT_NEAR(ours.x(), theirs[i].x, kSameModelPx);
+    EXPECT_NEAR(ours.y(), theirs[i].y, kSameModelPx);
   }
+  std::cout << "max |ours - cv::fisheye| = " << max_diff << " px\n";
 }
 
 // The bars: f within 0.1 %, the principal point within 0.5 px, each k within 3 reported

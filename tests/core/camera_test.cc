@@ -255,6 +255,12 @@ TEST(LensModels, TableRoundTripsAndFamiliesKeepTheirCoefficients) {
   std::string why;
   EXPECT_FALSE(bad.Check(&why));
   EXPECT_NE(why.find("no tangential"), std::string::npos) << why;
+  // An equidistant lens without k terms is still a fisheye (r = f theta): the renderer must cast
+  // its rays through UndistortNormalized, not take the pinhole shortcut.
+  CameraIntrinsics ideal_fisheye;
+  ideal_fisheye.family = LensFamily::kEquidistant;
+  EXPECT_TRUE(ideal_fisheye.IsDistorted());
+  EXPECT_FALSE(CameraIntrinsics().IsDistorted());
   CameraIntrinsics radtan;
   radtan.k4 = 0.01;
   EXPECT_FALSE(radtan.Check(&why));
