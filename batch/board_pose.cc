@@ -7,6 +7,21 @@
 
 namespace calibench {
 
+bool ViewSquaredErrorPx2(const View& view, const CameraIntrinsics& intrinsics,
+                         const Rigid3& cam_from_board, double* sum_sq_px2) {
+  double sum = 0.0;
+  for (size_t i = 0; i < view.points.size(); ++i) {
+    Eigen::Vector2d pixel;
+    if (!ProjectPoint(intrinsics, cam_from_board * view.points[i], &pixel)) {
+      *sum_sq_px2 = std::numeric_limits<double>::infinity();
+      return false;
+    }
+    sum += (pixel - view.pixels[i]).squaredNorm();
+  }
+  *sum_sq_px2 = sum;
+  return true;
+}
+
 bool BoardPoseFromIntrinsics(const View& view, const CameraIntrinsics& intrinsics,
                              Rigid3* cam_from_board, std::string* why) {
   const size_t n = view.points.size();
@@ -76,21 +91,21 @@ bool EquidistantFocalScan(const std::vector<View>& views, const FocalScanOptions
     k.fku_px = k.fkv_px = f;
     k.u0_px = 0.5 * (options.image_width - 1);
     k.v0_px = 0.5 * (options.image_height - 1);
+    // Every view must be posed, all its points in front; among those f, the least RMS.
     std::vector<Rigid3> poses(views.size());
     double sum_sq = 0.0;
     long count = 0;
     int posed = 0;
     for (size_t v = 0; v < views.size(); ++v) {
-      if (!BoardPoseFromIntrinsics(views[v], k, &poses[v], nullptr)) continue;
-      ++posed;
-      for (size_t i = 0; i < views[v].points.size(); ++i) {
-        Eigen::Vector2d pixel;
-        const bool ok = ProjectPoint(k, poses[v] * views[v].points[i], &pixel);
-        sum_sq += ok ? (pixel - views[v].pixels[i]).squaredNorm() : 1e6;
-        ++count;
+      double view_sq = 0.0;
+      if (!BoardPoseFromIntrinsics(views[v], k, &poses[v], nullptr) ||
+          !ViewSquaredErrorPx2(views[v], k, poses[v], &view_sq)) {
+        break;
       }
+      ++posed;
+      sum_sq += view_sq;
+      count += static_cast<long>(views[v].points.size());
     }
-    // Every view must be posed; among those, the least RMS.
     const double rms = count > 0 ? std::sqrt(sum_sq / count) : best;
     if (posed == static_cast<int>(views.size()) && rms < best) {
       best = rms;

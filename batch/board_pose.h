@@ -23,6 +23,12 @@
 
 namespace calibench {
 
+// Sum over the view's points of |Project(intrinsics, cam_from_board * point) - pixel|^2 [px^2],
+// the one reprojection sum of the batch code. False (and *sum_sq_px2 = +inf) when a point is not
+// in front of the camera.
+bool ViewSquaredErrorPx2(const View& view, const CameraIntrinsics& intrinsics,
+                         const Rigid3& cam_from_board, double* sum_sq_px2);
+
 // cam_from_board of `view` (points in the board frame) seen through `intrinsics`. False with *why
 // for fewer than 4 points (6 off-plane), a pixel outside the lens' valid region or an OpenCV
 // failure.

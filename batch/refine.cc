@@ -10,6 +10,7 @@
 #include <memory>
 #include <sstream>
 
+#include "batch/board_pose.h"
 #include "batch/reprojection_error.h"
 
 namespace calibench {
@@ -311,12 +312,9 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
   double sum_sq = 0.0;
   for (size_t v = 0; v < views.size(); ++v) {
     const Rigid3& pose = result.cam_from_object[options.shared_pose ? 0 : v];
+    // At a usable optimum every point is in front (ceres rejects steps that leave it).
     double view_sq = 0.0;
-    for (size_t i = 0; i < views[v].points.size(); ++i) {
-      Eigen::Vector2d pixel;
-      ProjectPoint(result.intrinsics, pose * views[v].points[i], &pixel);
-      view_sq += (pixel - views[v].pixels[i]).squaredNorm();
-    }
+    ViewSquaredErrorPx2(views[v], result.intrinsics, pose, &view_sq);
     sum_sq += view_sq;
     result.view_rms_px.push_back(std::sqrt(view_sq / std::max<size_t>(1, views[v].points.size())));
   }

@@ -38,8 +38,10 @@ Rigid3 PoseFromRodrigues(const cv::Mat& rvec, const cv::Mat& tvec) {
 
 // The equidistant lens through cv::fisheye::calibrate (OpenCV's Kannala-Brandt k1..k4; its own
 // initialisation: f from the image size, c at the centre, extrinsics from homographies). It
-// reports no standard deviations; the per-point RMS is recomputed with our projection.
-ZhangResult CalibrateFisheye(const std::vector<std::vector<cv::Point3f>>& object_points,
+// reports no standard deviations; the per-point RMS is recomputed with our projection on the used
+// views (result->used_views indexes planar_views).
+ZhangResult CalibrateFisheye(const std::vector<View>& planar_views,
+                             const std::vector<std::vector<cv::Point3f>>& object_points,
                              const std::vector<std::vector<cv::Point2f>>& image_points,
                              const ZhangOptions& options, ZhangResult* result,
                              const SummaryClock& clock) {
@@ -73,28 +75,16 @@ ZhangResult CalibrateFisheye(const std::vector<std::vector<cv::Point3f>>& object
   double sum_sq = 0.0;
   long count = 0;
   for (size_t v = 0; v < rvecs.size(); ++v) {
-    View view;
-    for (size_t i = 0; i < object_points[v].size(); ++i) {
-      const cv::Point3f& o = object_points[v][i];
-      view.points.emplace_back(o.x, o.y, o.z);
-      view.pixels.emplace_back(image_points[v][i].x, image_points[v][i].y);
-    }
-    auto view_sq = [&](const Rigid3& pose) {
-      double sq = 0.0;
-      for (size_t i = 0; i < view.points.size(); ++i) {
-        Eigen::Vector2d pixel;
-        if (!ProjectPoint(k, pose * view.points[i], &pixel)) return 1e300;
-        sq += (pixel - view.pixels[i]).squaredNorm();
-      }
-      return sq;
-    };
+    const View& view = planar_views[result->used_views[v]];
     Rigid3 pose = PoseFromRodrigues(rvecs[v], tvecs[v]), pnp;
-    double sq = view_sq(pose);
-    if (BoardPoseFromIntrinsics(view, k, &pnp, nullptr) && view_sq(pnp) < sq) {
+    double sq = 0.0, pnp_sq = 0.0;
+    ViewSquaredErrorPx2(view, k, pose, &sq);  // +inf when a point is behind the camera.
+    if (BoardPoseFromIntrinsics(view, k, &pnp, nullptr) &&
+        ViewSquaredErrorPx2(view, k, pnp, &pnp_sq) && pnp_sq < sq) {
       pose = pnp;
-      sq = view_sq(pnp);
+      sq = pnp_sq;
     }
-    if (!(sq < 1e299)) {
+    if (!std::isfinite(sq)) {
       return finish(MethodStatus::kFailed, "cv::fisheye::calibrate: view " +
                                                std::to_string(result->used_views[v]) +
                                                " has points behind the camera at its pose");
@@ -145,7 +135,7 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
     return finish(MethodStatus::kFailed, "zhang needs at least 2 views of the board");
   }
   if (FamilyOf(options.model) == LensFamily::kEquidistant) {
-    return CalibrateFisheye(object_points, image_points, options, &result, clock);
+    return CalibrateFisheye(planar_views, object_points, image_points, options, &result, clock);
   }
   int flags = 0;
   switch (options.model) {

@@ -215,20 +215,21 @@ EOF
 say "slurm.conf: node $host, $ncpus CPUs, ${mem_mb} MB, ports $port/$((port + 1))"
 
 # --- slurmctld, then slurmd, as daemons (they fork and write their pid files). ---
-slurmctld -f "$SLURM_CONF" >"$work/log/slurmctld.stderr" 2>&1 || {
-  log_tail "$work/log/slurmctld.stderr"
-  log_tail "$work/log/slurmctld.log"
-  die "slurmctld failed"
+# start_slurm_daemon NAME READY_CMD...: starts NAME with our slurm.conf, waits (bounded) until
+# READY_CMD succeeds, prints its pid; a failure shows its logs and dies.
+start_slurm_daemon() {
+  local name="$1"
+  shift
+  "$name" -f "$SLURM_CONF" >"$work/log/$name.stderr" 2>&1 || {
+    log_tail "$work/log/$name.stderr"
+    log_tail "$work/log/$name.log"
+    die "$name failed"
+  }
+  wait_daemon "$name" "$work/run/$name.pid" "$work/log/$name.log" "$@"
 }
-slurmctld_pid="$(wait_daemon slurmctld "$work/run/slurmctld.pid" "$work/log/slurmctld.log" \
-  sh -c "timeout 10 scontrol ping | grep -q UP")"
+slurmctld_pid="$(start_slurm_daemon slurmctld sh -c "timeout 10 scontrol ping | grep -q UP")"
 say "slurmctld up (pid $slurmctld_pid)"
-slurmd -f "$SLURM_CONF" >"$work/log/slurmd.stderr" 2>&1 || {
-  log_tail "$work/log/slurmd.stderr"
-  log_tail "$work/log/slurmd.log"
-  die "slurmd failed"
-}
-slurmd_pid="$(wait_daemon slurmd "$work/run/slurmd.pid" "$work/log/slurmd.log" \
+slurmd_pid="$(start_slurm_daemon slurmd \
   sh -c "timeout 10 sinfo -h -n '$host' -o %T | grep -qx idle")"
 say "slurmd up (pid $slurmd_pid), node $host idle ($((SECONDS - t0)) s)"
 

@@ -29,14 +29,16 @@ ZhangResult InitialiseFromCamera(const std::vector<View>& views, const CameraInt
       if (first_failure.empty()) first_failure = "view " + std::to_string(v) + ": " + why;
       continue;
     }
+    double view_sq = 0.0;
+    if (!ViewSquaredErrorPx2(views[v], camera, pose, &view_sq)) {
+      if (first_failure.empty())
+        first_failure = "view " + std::to_string(v) + ": behind the camera";
+      continue;
+    }
     result.used_views.push_back(static_cast<int>(v));
     result.cam_from_board.push_back(pose);
-    for (size_t i = 0; i < views[v].points.size(); ++i) {
-      Eigen::Vector2d pixel;
-      if (!ProjectPoint(camera, pose * views[v].points[i], &pixel)) continue;
-      sum_sq += (pixel - views[v].pixels[i]).squaredNorm();
-      ++count;
-    }
+    sum_sq += view_sq;
+    count += static_cast<long>(views[v].points.size());
   }
   if (result.used_views.empty()) {
     return clock.Finish(&result, MethodStatus::kFailed, "no view's pose: " + first_failure);

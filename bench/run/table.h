@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "bench/run/run_row.h"
 #include "bench/config/scenario.h"
+#include "bench/run/run_row.h"
 
 namespace calibench {
 

@@ -52,6 +52,19 @@ std::string TumViFolder(const std::string& name) {
   return dir;
 }
 
+// The TUM VI folder's target points through calibrate --images' reader, for `lens`.
+testing::AssertionResult LoadTumViPoints(const std::string& name, LensFamily lens,
+                                         PointData* data, ImageFolderReport* report) {
+  CalibrationTarget target;
+  std::string why;
+  if (!LoadTargetYaml(kTarget, &target, &why)) return testing::AssertionFailure() << why;
+  std::vector<int> used;
+  if (!LoadImagePoints(TumViFolder(name), target, data, report, &used, &why, lens)) {
+    return testing::AssertionFailure() << why;
+  }
+  return testing::AssertionSuccess();
+}
+
 using Corners = std::map<int, std::map<int, Eigen::Vector2d>>;  // tag -> corner -> pixel.
 
 Corners ByTag(const ImageCorners& image) {
@@ -143,14 +156,9 @@ TEST(AprilGridFrames, KalibrGridsAreFoundWithTheNominalSpacing) {
 // five 1024 x 1024 TUM VI frames: calibrate needs one image size).
 TEST(AprilGridFrames, CalibrateReadsTheSixteenBitFrames) {
   REQUIRE_SHARED_DATA("aprilgrid-frames");
-  CalibrationTarget target;
-  std::string why;
-  ASSERT_TRUE(LoadTargetYaml(kTarget, &target, &why)) << why;
-  const std::string dir = TumViFolder("tum_vi_frames");
   PointData data;
   ImageFolderReport report;
-  std::vector<int> used;
-  ASSERT_TRUE(LoadImagePoints(dir, target, &data, &report, &used, &why)) << why;
+  ASSERT_TRUE(LoadTumViPoints("tum_vi_frames", LensFamily::kRadTan, &data, &report));
   ASSERT_EQ(report.images.size(), 5u);
   EXPECT_EQ(report.used, 5);
   EXPECT_EQ(data.image_width, 1024);
@@ -175,15 +183,9 @@ constexpr double kTumCentrePx = 1.0;
 
 TEST(AprilGridFrames, TumViFramesCalibrateAsTheirPublishedFisheye) {
   REQUIRE_SHARED_DATA("aprilgrid-frames");
-  CalibrationTarget target;
-  std::string why;
-  ASSERT_TRUE(LoadTargetYaml(kTarget, &target, &why)) << why;
-  const std::string dir = TumViFolder("tum_vi_fisheye");
   PointData data;
   ImageFolderReport report;
-  std::vector<int> used;
-  ASSERT_TRUE(LoadImagePoints(dir, target, &data, &report, &used, &why, LensFamily::kEquidistant))
-      << why;
+  ASSERT_TRUE(LoadTumViPoints("tum_vi_fisheye", LensFamily::kEquidistant, &data, &report));
   CameraFile published;
   CameraIntrinsics& p = published.intrinsics;
   p.family = LensFamily::kEquidistant;

@@ -33,11 +33,10 @@ struct Rendered {
 
 Rendered RenderKalibrGrid() {
   Rendered r;
-  r.grid.tag_rows = 5;
-  r.grid.tag_cols = 6;
-  r.grid.tag_size_m = 0.04;
-  r.grid.black_tag_border = 2;
-  BoardView view{r.grid, TagFamily::Create("tag36h11", 2, nullptr), {}};
+  BoardView view = SixByFiveTagGrid();  // core/synthetic.h, with Kalibr's 2-bit border.
+  view.grid.black_tag_border = 2;
+  view.family = TagFamily::Create("tag36h11", 2, nullptr);
+  r.grid = view.grid;
   view.cam_from_board = FacingBoardPose({0.2, -0.15, 0.3},
                                         {3 * r.grid.Pitch(), 2.5 * r.grid.Pitch(), 0}, {0, 0, 0.5});
   r.cam_from_board = view.cam_from_board;
