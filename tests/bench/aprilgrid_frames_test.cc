@@ -53,8 +53,8 @@ std::string TumViFolder(const std::string& name) {
 }
 
 // The TUM VI folder's target points through calibrate --images' reader, for `lens`.
-testing::AssertionResult LoadTumViPoints(const std::string& name, LensFamily lens,
-                                         PointData* data, ImageFolderReport* report) {
+testing::AssertionResult LoadTumViPoints(const std::string& name, LensFamily lens, PointData* data,
+                                         ImageFolderReport* report) {
   CalibrationTarget target;
   std::string why;
   if (!LoadTargetYaml(kTarget, &target, &why)) return testing::AssertionFailure() << why;
