@@ -34,8 +34,21 @@ struct RenderedSourceOptions {
   // pipeline's selection of corners (which tags, which frames) and removes its corner errors;
   // 0.3 removes only the outliers. Infinity (the default): the detected corners.
   double corner_error_clip_px = std::numeric_limits<double>::infinity();
+  // Diagnostics of where a rendered bias comes from (config: rendering.corner_error_part,
+  // corner_error_grid), applied after the clip: each detected corner is reported at its exact
+  // projection plus one part of its error e. kAll: e; kX / kY: its image x / y component;
+  // kTagTranslation: the mean e of its tag's detected corners (the tag displaced, not deformed);
+  // kTagShape: e minus that mean. With corner_error_grid = g >= 0, only grid g's corners keep
+  // (that part of) their errors, the other grids' are at their exact projections.
+  enum class CornerErrorPart { kAll, kX, kY, kTagTranslation, kTagShape };
+  CornerErrorPart corner_error_part = CornerErrorPart::kAll;
+  int corner_error_grid = -1;  // -1: every grid.
   bool Check(std::string* why) const;
 };
+
+// "all", "x", "y", "tag_translation", "tag_shape"; false for another name.
+bool ParseCornerErrorPart(const std::string& name, RenderedSourceOptions::CornerErrorPart* part);
+std::string CornerErrorPartName(RenderedSourceOptions::CornerErrorPart part);
 
 // Corner errors against the exact projections of the detected points (camera.h convention).
 struct DetectionStats {

@@ -23,7 +23,8 @@
 //                    outside_image: fail | keep}   (oracle: a projection outside image_size)
 //     noise: {point_sigma_m, pixel_sigma_px, hold_s, hold_frames, tag_radial_bias_px}
 //     rendering: {supersample, blur_sigma_px, noise_sigma_gray, ..., refine_corners,
-//                 min_border_distance_px, corner_error_clip_px (diagnostic), detector: {...}}
+//                 min_border_distance_px, corner_error_clip_px, corner_error_part,
+//                 corner_error_grid (diagnostics: detect/rendered_source.h), detector: {...}}
 //     methods:                                   # named instances (methods/registry.h), in row
 //       - {name: a100, type: adaptive, alpha: 100}   # order; keys: name (default: the type),
 //       - {name: ceres, type: ceres, init: dlt}      # type, enabled (default true),

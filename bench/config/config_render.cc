@@ -38,7 +38,7 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
   r.CheckKeys(node, field,
               {"supersample", "blur_sigma_px", "noise_sigma_gray", "background_gray", "black_gray",
                "white_gray", "threads", "refine_corners", "min_border_distance_px",
-               "corner_error_clip_px", "detector"});
+               "corner_error_clip_px", "corner_error_part", "corner_error_grid", "detector"});
   RenderOptions& ro = o->render;
   r.Set(node, "supersample", field, &ro.supersample);
   r.Set(node, "blur_sigma_px", field, &ro.blur_sigma_px);
@@ -50,6 +50,13 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
   r.Set(node, "refine_corners", field, &o->detection.refine_corners);
   r.Set(node, "min_border_distance_px", field, &o->detection.min_border_distance_px);
   r.Set(node, "corner_error_clip_px", field, &o->corner_error_clip_px);
+  r.If(node, "corner_error_part", field, [&](const YAML::Node& n, const std::string& f) {
+    const std::string part = r.String(n, f);
+    if (!ParseCornerErrorPart(part, &o->corner_error_part)) {
+      r.Fail(n, f, "unknown part '" + part + "' (all, x, y, tag_translation, tag_shape)");
+    }
+  });
+  r.Set(node, "corner_error_grid", field, &o->corner_error_grid);
   r.If(node, "detector", field, [&](const YAML::Node& d, const std::string& df) {
     r.CheckKeys(d, df,
                 {"quad_decimate", "quad_sigma", "refine_edges", "decode_sharpening", "threads",
@@ -68,6 +75,10 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
   if (o->threads < 0) r.Fail(node, Reader::Join(field, "threads"), "must be >= 0 (0: all cores)");
   if (!ro.Check(&why)) r.Fail(node, field, why);
   if (!o->detection.Check(&why)) r.Fail(node, field, why);
+  if (o->corner_error_grid < -1) {
+    r.Fail(node, Reader::Join(field, "corner_error_grid"),
+           "must be a grid's index (0, 1, ...) or -1 (every grid)");
+  }
   if (!(o->corner_error_clip_px >= 0)) {
     r.Fail(node, Reader::Join(field, "corner_error_clip_px"),
            "must be >= 0 (.inf, the default: the detected corners)");

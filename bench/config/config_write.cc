@@ -38,7 +38,9 @@ void EmitRendering(YAML::Emitter& out, const RenderedSourceOptions& o) {
       << YAML::Value << o.threads << YAML::Key << "refine_corners" << YAML::Value
       << o.detection.refine_corners << YAML::Key << "min_border_distance_px" << YAML::Value
       << o.detection.min_border_distance_px << YAML::Key << "corner_error_clip_px" << YAML::Value
-      << o.corner_error_clip_px << YAML::Key << "detector" << YAML::Value << YAML::Flow
+      << o.corner_error_clip_px << YAML::Key << "corner_error_part" << YAML::Value
+      << CornerErrorPartName(o.corner_error_part) << YAML::Key << "corner_error_grid" << YAML::Value
+      << o.corner_error_grid << YAML::Key << "detector" << YAML::Value << YAML::Flow
       << YAML::BeginMap << YAML::Key << "quad_decimate" << YAML::Value << a.quad_decimate
       << YAML::Key << "quad_sigma" << YAML::Value << a.quad_sigma << YAML::Key << "refine_edges"
       << YAML::Value << a.refine_edges << YAML::Key << "decode_sharpening" << YAML::Value

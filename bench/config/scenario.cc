@@ -237,13 +237,15 @@ bool SameRendering(const RenderedSourceOptions& a, const RenderedSourceOptions& 
          r.background_gray == s.background_gray && r.black_gray == s.black_gray &&
          r.white_gray == s.white_gray && d.refine_corners == e.refine_corners &&
          d.min_border_distance_px == e.min_border_distance_px &&
-         a.corner_error_clip_px == b.corner_error_clip_px && t.family == u.family &&
-         t.quad_decimate == u.quad_decimate && t.quad_sigma == u.quad_sigma &&
-         t.refine_edges == u.refine_edges && t.decode_sharpening == u.decode_sharpening &&
-         t.threads == u.threads && t.max_hamming == u.max_hamming &&
-         t.black_border_bits == u.black_border_bits && c.samples_per_edge == f.samples_per_edge &&
-         c.corner_margin == f.corner_margin && c.max_search_px == f.max_search_px &&
-         c.max_correction_px == f.max_correction_px && c.width_at_border == f.width_at_border;
+         a.corner_error_clip_px == b.corner_error_clip_px &&
+         a.corner_error_part == b.corner_error_part && a.corner_error_grid == b.corner_error_grid &&
+         t.family == u.family && t.quad_decimate == u.quad_decimate &&
+         t.quad_sigma == u.quad_sigma && t.refine_edges == u.refine_edges &&
+         t.decode_sharpening == u.decode_sharpening && t.threads == u.threads &&
+         t.max_hamming == u.max_hamming && t.black_border_bits == u.black_border_bits &&
+         c.samples_per_edge == f.samples_per_edge && c.corner_margin == f.corner_margin &&
+         c.max_search_px == f.max_search_px && c.max_correction_px == f.max_correction_px &&
+         c.width_at_border == f.width_at_border;
 }
 
 // NaN == NaN here: an unset reference figure equals an unset one.

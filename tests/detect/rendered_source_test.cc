@@ -128,6 +128,74 @@ TEST(RenderedSource, FramesDoNotDependOnTheThreadCount) {
 }
 
 // A camera that sees no board: every frame is counted as empty; nothing fails.
+// The diagnostic corner_error_part / corner_error_grid (issue #14) keeps one part of each detected
+// corner's error: checked against the same trial's detected corners and the exact projections,
+// corner by corner. The tolerance is double rounding on pixel coordinates of a few hundred.
+constexpr double kPartTolPx = 1e-9;
+
+TEST(RenderedSource, CornerErrorPartKeepsThePartItNames) {
+  const Rig rig = MakeRig(1.0);
+  RenderedSourceOptions options;
+  options.frame_rate_hz = 3;
+  options.render.blur_sigma_px = 0.8;  // Errors of a few hundredths of a pixel to split.
+  std::string why;
+  const auto detected = RenderedSource::Create(rig.scene, rig.grids, options, 11, &why);
+  ASSERT_NE(detected, nullptr) << why;
+  using Part = RenderedSourceOptions::CornerErrorPart;
+  auto run = [&](Part part, int grid) {
+    RenderedSourceOptions o = options;
+    o.corner_error_part = part;
+    o.corner_error_grid = grid;
+    auto source = RenderedSource::Create(rig.scene, rig.grids, o, 11, &why);
+    EXPECT_NE(source, nullptr) << why;
+    return source;
+  };
+  const auto translation = run(Part::kTagTranslation, -1), shape = run(Part::kTagShape, -1);
+  const auto x_only = run(Part::kX, -1), grid1 = run(Part::kAll, 1);
+  ASSERT_TRUE(translation && shape && x_only && grid1);
+  const int grid0_points = 4 * rig.grids[0].NumTags();
+  int tags_checked = 0;
+  for (int k = 0; k < detected->NumFrames(); ++k) {
+    Frame d, t, s, x, g;
+    detected->GetFrame(k, &d);
+    translation->GetFrame(k, &t);
+    shape->GetFrame(k, &s);
+    x_only->GetFrame(k, &x);
+    grid1->GetFrame(k, &g);
+    ASSERT_EQ(d.point_ids, t.point_ids);  // Same detections: only the pixels change.
+    const Rigid3 cam_from_points =
+        rig.scene.CamFromParentAt(d.time_s) * rig.scene.ParentFromPoints(d.time_s);
+    std::vector<Eigen::Vector2d> exact(d.pixels.size());
+    for (size_t i = 0; i < d.pixels.size(); ++i) {
+      ASSERT_TRUE(ProjectPoint(rig.scene.IntrinsicsAt(d.time_s),
+                               cam_from_points * rig.scene.points[d.point_ids[i]], &exact[i]));
+      // x keeps the detected x and the exact y; with grid 1 only, grid 0's corners are exact.
+      EXPECT_NEAR(x.pixels[i].x(), d.pixels[i].x(), kPartTolPx);
+      EXPECT_NEAR(x.pixels[i].y(), exact[i].y(), kPartTolPx);
+      const Eigen::Vector2d expected_grid1 = d.point_ids[i] < grid0_points ? exact[i] : d.pixels[i];
+      EXPECT_NEAR((g.pixels[i] - expected_grid1).norm(), 0, kPartTolPx);
+    }
+    // Per tag with four corners: translation = the tag's mean detected error at every corner;
+    // shape = the detected error minus it (so the shape errors sum to zero over the tag).
+    for (size_t i = 0; i + 3 < d.pixels.size(); ++i) {
+      if (d.point_ids[i] % 4 != 0 || d.point_ids[i + 3] != d.point_ids[i] + 3) continue;
+      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+      for (size_t c = i; c < i + 4; ++c) mean += (d.pixels[c] - exact[c]) / 4.0;
+      Eigen::Vector2d shape_sum = Eigen::Vector2d::Zero();
+      for (size_t c = i; c < i + 4; ++c) {
+        EXPECT_NEAR((t.pixels[c] - exact[c] - mean).norm(), 0, kPartTolPx);
+        EXPECT_NEAR((s.pixels[c] - exact[c] - (d.pixels[c] - exact[c] - mean)).norm(), 0,
+                    kPartTolPx);
+        shape_sum += s.pixels[c] - exact[c];
+      }
+      EXPECT_NEAR(shape_sum.norm(), 0, kPartTolPx);
+      EXPECT_GT(mean.norm(), 1e-4);  // The blurred rig's tags are displaced: a real check.
+      ++tags_checked;
+    }
+  }
+  EXPECT_GT(tags_checked, 50);
+}
+
 TEST(RenderedSource, FramesWithoutDetectionsAreCountedNotFatal) {
   Rig rig = MakeRig(0.3);
   for (AprilGrid& g : rig.grids) g.points_from_board.translation.z() += 50.0;  // Far above.
