@@ -104,7 +104,7 @@ bool RenderedSourceOptions::Check(std::string* why) const {
     return false;
   }
   if (corner_error_grid < -1) {
-    if (why) *why = "corner_error_grid must be >= 0 (a grid's index) or -1 (every grid)";
+    if (why) *why = "corner_error_grid must be a grid's index (0, 1, ...) or -1 (every grid)";
     return false;
   }
   return render.Check(why) && detection.Check(why);

@@ -25,6 +25,8 @@
 namespace calibench {
 
 struct RenderedSourceOptions {
+  // The part of a detected corner's error that corner_error_part keeps (below).
+  enum class CornerErrorPart { kAll, kX, kY, kTagTranslation, kTagShape };
   double frame_rate_hz = 30.0;
   RenderOptions render;  // width, height: the camera's image size.
   FrameDetectorOptions detection;
@@ -40,7 +42,6 @@ struct RenderedSourceOptions {
   // kTagTranslation: the mean e of its tag's detected corners (the tag displaced, not deformed);
   // kTagShape: e minus that mean. With corner_error_grid = g >= 0, only grid g's corners keep
   // (that part of) their errors, the other grids' are at their exact projections.
-  enum class CornerErrorPart { kAll, kX, kY, kTagTranslation, kTagShape };
   CornerErrorPart corner_error_part = CornerErrorPart::kAll;
   int corner_error_grid = -1;  // -1: every grid.
   bool Check(std::string* why) const;

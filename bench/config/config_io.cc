@@ -255,9 +255,9 @@ void ParseReference(const Reader& r, const YAML::Node& node, const std::string& 
 void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& field,
                    ScenarioConfig* s) {
   r.CheckKeys(node, field,
-              {"name", "description", "case", "duration_s", "seed", "trials", "truth", "image_size",
-               "points", "motion", "measurements", "noise", "rendering", "methods", "tracking",
-               "reference", "sweep_point"});
+              {"name", "description", "case", "duration_s", "seed", "paired_sweep", "trials",
+               "truth", "image_size", "points", "motion", "measurements", "noise", "rendering",
+               "methods", "tracking", "reference", "sweep_point"});
   r.If(node, "image_size", field, [&](auto n, auto f) {
     if (!n.IsSequence() || n.size() != 2) r.Fail(n, f, "expected [width, height]");
     s->image_width = r.Int(n[0], f + "[0]");
@@ -294,6 +294,7 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
     }
   });
   r.If(node, "seed", field, [&](auto n, auto f) { s->seed = r.Unsigned(n, f); });
+  r.Set(node, "paired_sweep", field, &s->paired_sweep);
   r.If(node, "trials", field, [&](auto n, auto f) {
     const long trials = r.Integer(n, f);
     if (trials < 1) r.Fail(n, f, "must be >= 1, got " + std::to_string(trials));

@@ -6,6 +6,7 @@
 //     name: sim07                               - {name: x, ...}    # or an inline scenario
 //     case: moving_camera | fixed_camera
 //     duration_s: 240, seed: 7, trials: 1
+//     paired_sweep: false   # true: every sweep point runs the same trials (paired diagnostics)
 //     truth: {intrinsics: {fku_px, fkv_px, phi_deg, u0_px, v0_px, k1, k2},
 //             R_C: [[..],[..],[..]], x_C: [x, y, z], allow_improper_rotation: false}
 //     points: {preset: thesis, count: 5}  |  {list: [[x, y, z], ...]}

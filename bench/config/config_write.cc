@@ -110,6 +110,7 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
   out << YAML::Key << "case" << YAML::Value << ToString(s.calibration_case);
   out << YAML::Key << "duration_s" << YAML::Value << s.duration_s;
   out << YAML::Key << "seed" << YAML::Value << s.seed;
+  out << YAML::Key << "paired_sweep" << YAML::Value << s.paired_sweep;
   out << YAML::Key << "trials" << YAML::Value << s.trials;
   out << YAML::Key << "truth" << YAML::Value;
   EmitCamera(out, s.truth, &s.truth_changes);

@@ -15,7 +15,7 @@ bool Reference::Any() const {
 
 uint64_t ScenarioConfig::TrialSeedOf(int trial) const {
   const auto t = static_cast<uint64_t>(trial);
-  if (sweep_point.measurement_index < 0) return TrialSeed(seed, t);
+  if (sweep_point.measurement_index < 0 || paired_sweep) return TrialSeed(seed, t);
   const uint64_t point_seed = Mix64(
       seed ^ (0x5bd1e9955bd1e995ULL * (1 + static_cast<uint64_t>(sweep_point.measurement_index))));
   return TrialSeed(point_seed, t);
@@ -140,6 +140,12 @@ bool ScenarioConfig::Check(std::string* why) const {
     }
     if (!(measurements.sample_rate_hz > 0)) {
       return fail("measurements.sample_rate_hz", "detections: rendered needs a frame rate > 0");
+    }
+    if (rendering.corner_error_grid >= static_cast<int>(aprilgrids.size())) {
+      return fail("rendering.corner_error_grid", std::to_string(rendering.corner_error_grid) +
+                                                     " names no grid (the scenario has " +
+                                                     std::to_string(aprilgrids.size()) +
+                                                     " aprilgrids, indexed from 0)");
     }
     if (measurements.noise.Active()) {
       return fail("noise",
@@ -272,8 +278,9 @@ bool operator==(const SweepPoint& a, const SweepPoint& b) {
 bool operator==(const ScenarioConfig& a, const ScenarioConfig& b) {
   return a.name == b.name && a.description == b.description &&
          a.calibration_case == b.calibration_case && a.duration_s == b.duration_s &&
-         a.seed == b.seed && a.trials == b.trials && a.truth == b.truth &&
-         a.truth_changes == b.truth_changes && a.tracking.enabled == b.tracking.enabled &&
+         a.seed == b.seed && a.paired_sweep == b.paired_sweep && a.trials == b.trials &&
+         a.truth == b.truth && a.truth_changes == b.truth_changes &&
+         a.tracking.enabled == b.tracking.enabled &&
          a.tracking.report_rate_hz == b.tracking.report_rate_hz &&
          a.tracking.band_samples == b.tracking.band_samples &&
          a.tracking.metrics.tolerance == b.tracking.metrics.tolerance &&

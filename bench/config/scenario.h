@@ -113,9 +113,15 @@ struct ScenarioConfig {
   Reference reference;
   SweepPoint sweep_point;
 
+  // paired_sweep: every sweep point runs the same trials (seeds) as the unswept scenario, so
+  // its rows pair trial by trial with the other points' (a diagnostic that changes one thing at a
+  // time); false: each measurement point draws its own trials.
+  bool paired_sweep = false;
+
   // The seed of Monte Carlo trial `trial`: TrialSeed(seed, trial), or for a sweep point
   // TrialSeed(PointSeed(seed, measurement_index), trial), so the method-only points of a group
-  // see the same draws and every measurement point its own.
+  // see the same draws and every measurement point its own (all TrialSeed(seed, trial) when
+  // paired_sweep).
   uint64_t TrialSeedOf(int trial) const;
   // The ground truth scene (motion integrated over duration_s, changes included).
   // The scene of a trial (of any trial when the motion has no random phase: then trial_seed is

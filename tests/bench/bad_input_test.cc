@@ -175,6 +175,13 @@ INSTANTIATE_TEST_SUITE_P(
         ConfigCase{"corner_error_grid_below_minus_one",
                    Scenario("  rendering: {corner_error_grid: -2}\n"),
                    {"scenario.rendering.corner_error_grid", "a grid's index"}},
+        ConfigCase{"corner_error_grid_past_the_grids",
+                   "base: " + std::string(CALIBENCH_SOURCE_DIR) +
+                       "/configs/sweeps/rig.yaml\nscenario:\n  measurements: {detections: "
+                       "rendered}\n  noise: {pixel_sigma_px: 0}\n  rendering: "
+                       "{corner_error_grid: 2}\n",
+                   {"scenario.rendering.corner_error_grid", "2 names no grid",
+                    "the scenario has 2 aprilgrids"}},
         ConfigCase{"missing_base",
                    "base: nowhere.yaml\nscenario: {name: x}\n",
                    {"FILE:1:7: base: cannot open '", "nowhere.yaml'"}},

@@ -148,7 +148,8 @@ INSTANTIATE_TEST_SUITE_P(Configs, ResolvedYamlRoundTrip,
                                            "batch/rig_moving.yaml", "rendered/all.yaml",
                                            "sweeps/noise.yaml", "sweeps/points.yaml",
                                            "sweeps/gain.yaml", "examples/named_instances.yaml",
-                                           "dynamic/all.yaml"));
+                                           "dynamic/all.yaml",
+                                           "diagnostics/corner_error_part.yaml"));
 
 TEST(Config, BatchMethodsAndRandomPointsParse) {
   RunConfig config;

@@ -12,6 +12,7 @@
 #include "bench/run/runner.h"
 #include "bench/run/stats.h"
 #include "bench/run/summary.h"
+#include "core/random.h"
 #include "tests/common/scenario_yaml.h"
 #include "tests/common/temp_files.h"
 
@@ -60,6 +61,23 @@ TEST(Sweep, ExpandsTheCartesianProductWithMethodAxesFastest) {
   // A measurement group shares its trial seeds; measurement points draw their own.
   EXPECT_EQ(config.scenarios[0].TrialSeedOf(2), config.scenarios[2].TrialSeedOf(2));
   EXPECT_NE(config.scenarios[0].TrialSeedOf(2), config.scenarios[3].TrialSeedOf(2));
+  EXPECT_NE(config.scenarios[0].TrialSeedOf(2), config.scenarios[0].TrialSeedOf(3));
+  EXPECT_EQ(MeasurementGroups(config.scenarios),
+            (std::vector<std::vector<int>>{{0, 1, 2}, {3, 4, 5}}));
+}
+
+// paired_sweep: every measurement point runs the unswept scenario's trials, so rows pair by trial
+// across points (the diagnostics of configs/diagnostics/); the points stay separate measurements.
+TEST(Sweep, PairedSweepGivesEveryPointTheSameTrials) {
+  RunConfig config;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfig(kSmall, &config, &why)) << why;
+  const uint64_t unpaired = config.scenarios[3].TrialSeedOf(2);
+  for (ScenarioConfig& s : config.scenarios) s.paired_sweep = true;
+  for (const ScenarioConfig& s : config.scenarios) {
+    EXPECT_EQ(s.TrialSeedOf(2), TrialSeed(s.seed, 2)) << s.name;
+  }
+  EXPECT_NE(config.scenarios[3].TrialSeedOf(2), unpaired);
   EXPECT_NE(config.scenarios[0].TrialSeedOf(2), config.scenarios[0].TrialSeedOf(3));
   EXPECT_EQ(MeasurementGroups(config.scenarios),
             (std::vector<std::vector<int>>{{0, 1, 2}, {3, 4, 5}}));

@@ -127,7 +127,6 @@ TEST(RenderedSource, FramesDoNotDependOnTheThreadCount) {
   EXPECT_TRUE(differs);  // The noise really comes from the seed.
 }
 
-// A camera that sees no board: every frame is counted as empty; nothing fails.
 // The diagnostic corner_error_part / corner_error_grid (issue #14) keeps one part of each detected
 // corner's error: checked against the same trial's detected corners and the exact projections,
 // corner by corner. The tolerance is double rounding on pixel coordinates of a few hundred.
@@ -162,7 +161,11 @@ TEST(RenderedSource, CornerErrorPartKeepsThePartItNames) {
     shape->GetFrame(k, &s);
     x_only->GetFrame(k, &x);
     grid1->GetFrame(k, &g);
-    ASSERT_EQ(d.point_ids, t.point_ids);  // Same detections: only the pixels change.
+    // Same detections: only the pixels change.
+    ASSERT_EQ(d.point_ids, t.point_ids);
+    ASSERT_EQ(d.point_ids, s.point_ids);
+    ASSERT_EQ(d.point_ids, x.point_ids);
+    ASSERT_EQ(d.point_ids, g.point_ids);
     const Rigid3 cam_from_points =
         rig.scene.CamFromParentAt(d.time_s) * rig.scene.ParentFromPoints(d.time_s);
     std::vector<Eigen::Vector2d> exact(d.pixels.size());
@@ -176,26 +179,26 @@ TEST(RenderedSource, CornerErrorPartKeepsThePartItNames) {
       EXPECT_NEAR((g.pixels[i] - expected_grid1).norm(), 0, kPartTolPx);
     }
     // Per tag with four corners: translation = the tag's mean detected error at every corner;
-    // shape = the detected error minus it (so the shape errors sum to zero over the tag).
+    // shape = the detected error minus it.
     for (size_t i = 0; i + 3 < d.pixels.size(); ++i) {
       if (d.point_ids[i] % 4 != 0 || d.point_ids[i + 3] != d.point_ids[i] + 3) continue;
       Eigen::Vector2d mean = Eigen::Vector2d::Zero();
       for (size_t c = i; c < i + 4; ++c) mean += (d.pixels[c] - exact[c]) / 4.0;
-      Eigen::Vector2d shape_sum = Eigen::Vector2d::Zero();
       for (size_t c = i; c < i + 4; ++c) {
         EXPECT_NEAR((t.pixels[c] - exact[c] - mean).norm(), 0, kPartTolPx);
         EXPECT_NEAR((s.pixels[c] - exact[c] - (d.pixels[c] - exact[c] - mean)).norm(), 0,
                     kPartTolPx);
-        shape_sum += s.pixels[c] - exact[c];
       }
-      EXPECT_NEAR(shape_sum.norm(), 0, kPartTolPx);
-      EXPECT_GT(mean.norm(), 1e-4);  // The blurred rig's tags are displaced: a real check.
+      // Guard on the data, not the code: the blurred rig's tags are displaced, so translation and
+      // shape differ from the detected errors and from zero, and the checks above can fail.
+      EXPECT_GT(mean.norm(), 1e-4);
       ++tags_checked;
     }
   }
   EXPECT_GT(tags_checked, 50);
 }
 
+// A camera that sees no board: every frame is counted as empty; nothing fails.
 TEST(RenderedSource, FramesWithoutDetectionsAreCountedNotFatal) {
   Rig rig = MakeRig(0.3);
   for (AprilGrid& g : rig.grids) g.points_from_board.translation.z() += 50.0;  // Far above.
