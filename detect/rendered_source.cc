@@ -124,9 +124,13 @@ void KeepErrorPart(const RenderedSourceOptions& options, const std::vector<int>&
                    const std::vector<std::pair<size_t, Eigen::Vector2d>>& errors, Frame* frame) {
   using Part = RenderedSourceOptions::CornerErrorPart;
   if (options.corner_error_part == Part::kAll && options.corner_error_grid < 0) return;
-  // Mean error of each tag's detected corners (tags own 4 consecutive point ids).
+  // Mean error of each tag's detected corners (tags own 4 consecutive point ids), for the tag
+  // parts.
+  const bool per_tag = options.corner_error_part == Part::kTagTranslation ||
+                       options.corner_error_part == Part::kTagShape;
   std::map<int, std::pair<Eigen::Vector2d, int>> tag_mean;
   for (const auto& [i, e] : errors) {
+    if (!per_tag) break;
     auto& [sum, n] =
         tag_mean.try_emplace(frame->point_ids[i] / 4, Eigen::Vector2d::Zero(), 0).first->second;
     sum += e;
@@ -134,8 +138,11 @@ void KeepErrorPart(const RenderedSourceOptions& options, const std::vector<int>&
   }
   for (const auto& [i, e] : errors) {
     const int point = frame->point_ids[i];
-    const auto& [sum, n] = tag_mean.at(point / 4);
-    const Eigen::Vector2d mean = sum / n;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    if (per_tag) {
+      const auto& [sum, n] = tag_mean.at(point / 4);
+      mean = sum / n;
+    }
     Eigen::Vector2d kept = e;
     switch (options.corner_error_part) {
       case Part::kAll:
@@ -169,6 +176,13 @@ bool ParseCornerErrorPart(const std::string& name, RenderedSourceOptions::Corner
     }
   }
   return false;
+}
+
+std::string CornerErrorPartNames() {
+  std::string names;
+  for (const auto& [value, text] : kCornerErrorParts)
+    names += (names.empty() ? "" : ", ") + std::string(text);
+  return names;
 }
 
 std::string CornerErrorPartName(RenderedSourceOptions::CornerErrorPart part) {

@@ -50,6 +50,8 @@ struct RenderedSourceOptions {
 // "all", "x", "y", "tag_translation", "tag_shape"; false for another name.
 bool ParseCornerErrorPart(const std::string& name, RenderedSourceOptions::CornerErrorPart* part);
 std::string CornerErrorPartName(RenderedSourceOptions::CornerErrorPart part);
+// The accepted names, comma-separated (for error messages).
+std::string CornerErrorPartNames();
 
 // Corner errors against the exact projections of the detected points (camera.h convention).
 struct DetectionStats {

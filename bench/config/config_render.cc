@@ -53,7 +53,7 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
   r.If(node, "corner_error_part", field, [&](const YAML::Node& n, const std::string& f) {
     const std::string part = r.String(n, f);
     if (!ParseCornerErrorPart(part, &o->corner_error_part)) {
-      r.Fail(n, f, "unknown part '" + part + "' (all, x, y, tag_translation, tag_shape)");
+      r.Fail(n, f, "unknown part '" + part + "' (" + CornerErrorPartNames() + ")");
     }
   });
   r.Set(node, "corner_error_grid", field, &o->corner_error_grid);
