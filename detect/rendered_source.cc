@@ -129,12 +129,13 @@ void KeepErrorPart(const RenderedSourceOptions& options, const std::vector<int>&
   const bool per_tag = options.corner_error_part == Part::kTagTranslation ||
                        options.corner_error_part == Part::kTagShape;
   std::map<int, std::pair<Eigen::Vector2d, int>> tag_mean;
-  for (const auto& [i, e] : errors) {
-    if (!per_tag) break;
-    auto& [sum, n] =
-        tag_mean.try_emplace(frame->point_ids[i] / 4, Eigen::Vector2d::Zero(), 0).first->second;
-    sum += e;
-    ++n;
+  if (per_tag) {
+    for (const auto& [i, e] : errors) {
+      auto& [sum, n] =
+          tag_mean.try_emplace(frame->point_ids[i] / 4, Eigen::Vector2d::Zero(), 0).first->second;
+      sum += e;
+      ++n;
+    }
   }
   for (const auto& [i, e] : errors) {
     const int point = frame->point_ids[i];

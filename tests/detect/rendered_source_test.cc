@@ -179,16 +179,19 @@ TEST(RenderedSource, CornerErrorPartKeepsThePartItNames) {
       EXPECT_NEAR((g.pixels[i] - expected_grid1).norm(), 0, kPartTolPx);
     }
     // Per tag with four corners: translation = the tag's mean detected error at every corner;
-    // shape = the detected error minus it.
+    // shape = the detected error minus it (so the shape errors sum to zero over the tag).
     for (size_t i = 0; i + 3 < d.pixels.size(); ++i) {
       if (d.point_ids[i] % 4 != 0 || d.point_ids[i + 3] != d.point_ids[i] + 3) continue;
       Eigen::Vector2d mean = Eigen::Vector2d::Zero();
       for (size_t c = i; c < i + 4; ++c) mean += (d.pixels[c] - exact[c]) / 4.0;
+      Eigen::Vector2d shape_sum = Eigen::Vector2d::Zero();
       for (size_t c = i; c < i + 4; ++c) {
         EXPECT_NEAR((t.pixels[c] - exact[c] - mean).norm(), 0, kPartTolPx);
         EXPECT_NEAR((s.pixels[c] - exact[c] - (d.pixels[c] - exact[c] - mean)).norm(), 0,
                     kPartTolPx);
+        shape_sum += s.pixels[c] - exact[c];
       }
+      EXPECT_NEAR(shape_sum.norm(), 0, kPartTolPx);
       // Guard on the data, not the code: the blurred rig's tags are displaced, so translation and
       // shape differ from the detected errors and from zero, and the checks above can fail.
       EXPECT_GT(mean.norm(), 1e-4);
