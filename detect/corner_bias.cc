@@ -1,5 +1,6 @@
 #include "detect/corner_bias.h"
 
+#include <chrono>
 #include <cmath>
 #include <memory>
 
@@ -207,7 +208,18 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
   render.noise_sigma_gray = options.noise_sigma_gray;
   renderer = FrameRenderer::Create(k, render, &result.message);
   if (!renderer) return result;
-  CaseSums raw, refined;
+  TagPattern pattern;
+  if (!TagPattern::FromFamily(*family, 0, grid.tag_spacing * family->width_at_border(), 0.0,
+                              &pattern, &result.message))
+    return result;
+  const PhotometricFitOptions fit_options;
+  CaseSums raw, refined, photometric;
+  double crlb_sum = 0, blur_sum = 0;
+  int timed = 0;
+  using Clock = std::chrono::steady_clock;
+  auto micros = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::micro>(b - a).count();
+  };
   for (int v = 0; v < options.views; ++v) {
     const uint64_t view_seed = Mix64(options.seed ^ Mix64(1000003ULL * case_index + v));
     Rng shift_rng(view_seed);
@@ -215,15 +227,40 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
     TagView view = view0;  // View 0 is the case's own; the others are shifted.
     if (v > 0 && !MakeView(c, c.centre_px + shift, grid, family, k, &view, &result.message))
       return result;
-    std::vector<std::array<Eigen::Vector2d, 4>> raw_errors, refined_errors;
+    std::vector<std::array<Eigen::Vector2d, 4>> raw_errors, refined_errors, photometric_errors;
     for (int d = 0; d < options.draws; ++d) {
       Rng rng(Mix64(view_seed + 1 + d));
       if (!renderer->Render({view.board}, &rng, &image, &result.message)) return result;
-      for (TagDetection tag : detector->Detect(image)) {
+      const Clock::time_point t0 = Clock::now();
+      const std::vector<TagDetection> tags = detector->Detect(image);
+      const Clock::time_point t1 = Clock::now();
+      for (TagDetection tag : tags) {
         if (tag.id != 0) continue;
+        const std::array<Eigen::Vector2d, 4> raw_corners = tag.corners;
         std::array<Eigen::Vector2d, 4> e;
         for (int i = 0; i < 4; ++i) e[i] = tag.corners[i] - view.truth[i];
-        if (!RefineTagCorners(image, refine, &tag)) break;
+        const Clock::time_point t2 = Clock::now();
+        const bool refined_ok = RefineTagCorners(image, refine, &tag);
+        const Clock::time_point t3 = Clock::now();
+        const PhotometricFitResult fit =
+            FitTagPhotometric(image, pattern, raw_corners, fit_options);
+        const Clock::time_point t4 = Clock::now();
+        result.detect_us += micros(t0, t1);
+        result.refine_us += micros(t2, t3);
+        result.photometric_us += micros(t3, t4);
+        ++timed;
+        ++result.photometric_failures[static_cast<int>(fit.failure)];
+        if (fit.ok()) {
+          std::array<Eigen::Vector2d, 4> ep;
+          for (int i = 0; i < 4; ++i) {
+            ep[i] = fit.corners[i] - view.truth[i];
+            crlb_sum += fit.crlb_px[i] / 4;
+          }
+          blur_sum += fit.blur_px;
+          result.photometric_iterations += fit.iterations;
+          photometric_errors.push_back(ep);
+        }
+        if (!refined_ok) break;
         raw_errors.push_back(e);
         for (int i = 0; i < 4; ++i) e[i] = tag.corners[i] - view.truth[i];
         refined_errors.push_back(e);
@@ -232,6 +269,19 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
     }
     raw.AddView(raw_errors, view.radial);
     refined.AddView(refined_errors, view.radial);
+    photometric.AddView(photometric_errors, view.radial);
+  }
+  if (timed > 0) {
+    result.detect_us /= timed;
+    result.refine_us /= timed;
+    result.photometric_us /= timed;
+  }
+  result.photometric = photometric.Stats();
+  result.photometric_draws = photometric.draws;
+  if (photometric.draws > 0) {
+    result.photometric_crlb_px = crlb_sum / photometric.draws;
+    result.photometric_blur_px = blur_sum / photometric.draws;
+    result.photometric_iterations /= photometric.draws;
   }
   result.detected_draws = refined.draws;
   result.raw = raw.Stats();

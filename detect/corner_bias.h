@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "detect/photometric_fit.h"
 
 namespace calibench {
 
@@ -69,6 +70,17 @@ struct CornerBiasResult {
   std::string message;
   int detected_draws = 0;  // Of views x draws: the tag found and refined.
   std::array<CornerStats, 4> raw, refined;
+  // The photometric tag fit (photometric_fit.h) from the same raw corners: its statistics, the
+  // draws it fitted, why the others were refused, and its mean Cramer-Rao std per corner.
+  std::array<CornerStats, 4> photometric;
+  int photometric_draws = 0;
+  std::array<int, kNumFitFailures> photometric_failures{};
+  double photometric_crlb_px = std::numeric_limits<double>::quiet_NaN();
+  double photometric_blur_px = std::numeric_limits<double>::quiet_NaN();  // Mean fitted sigma.
+  // Mean time per tag (microseconds): AprilTag 3 on the whole frame, the edge fit, the
+  // photometric fit.
+  double detect_us = 0, refine_us = 0, photometric_us = 0;
+  double photometric_iterations = 0;     // Mean LM iterations of the fits.
   double black_area_px2 = 0.0;           // Exact, of the projected black cells (view 0).
   double rendered_black_area_px2 = 0.0;  // Measured on view 0's noise-free rendering.
   double view_angle_deg = 0.0;           // Angle between the board normal and the line of sight.

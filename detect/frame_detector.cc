@@ -90,6 +90,29 @@ void RefineXJunctions(const GrayImageView& image, double square_fraction, TagDet
 
 }  // namespace
 
+bool ParseCornerRefinement(const std::string& name, CornerRefinement* refinement) {
+  for (CornerRefinement r :
+       {CornerRefinement::kNone, CornerRefinement::kEdgeFit, CornerRefinement::kPhotometric}) {
+    if (name == CornerRefinementName(r)) {
+      *refinement = r;
+      return true;
+    }
+  }
+  return false;
+}
+
+const char* CornerRefinementName(CornerRefinement refinement) {
+  switch (refinement) {
+    case CornerRefinement::kNone:
+      return "none";
+    case CornerRefinement::kEdgeFit:
+      return "edge_fit";
+    case CornerRefinement::kPhotometric:
+      return "photometric";
+  }
+  return "unknown";
+}
+
 bool FrameDetectorOptions::Check(std::string* why) const {
   if (!(min_border_distance_px >= 0)) {
     if (why) *why = "min_border_distance_px must be >= 0";
@@ -99,7 +122,7 @@ bool FrameDetectorOptions::Check(std::string* why) const {
     if (why) *why = "corner_square_fraction must lie in (0, 1]";
     return false;
   }
-  return detector.Check(why) && refine.Check(why);
+  return detector.Check(why) && refine.Check(why) && photometric.Check(why);
 }
 
 std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid>& grids,
@@ -137,12 +160,26 @@ std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid
     d->grids_.push_back(ids);
     d->num_points_ += 4 * ids.num_tags;
   }
-  const auto family = TagFamily::Create(grids[0].family, grids[0].black_tag_border, why);
-  if (!family) return nullptr;
-  d->options_.refine.width_at_border = family->width_at_border();
+  d->family_ = TagFamily::Create(grids[0].family, grids[0].black_tag_border, why);
+  if (!d->family_) return nullptr;
+  d->options_.refine.width_at_border = d->family_->width_at_border();
+  for (const AprilGrid& grid : grids) {
+    // The white between tags: tag_spacing of the black square's side; at least the family's own
+    // white ring (a grid with no spacing still has its tags' one-cell white border... printed).
+    d->white_margin_cells_.push_back(std::max(grid.tag_spacing * d->family_->width_at_border(),
+                                              static_cast<double>(d->family_->border_start())));
+  }
   d->detector_ = AprilTagDetector::Create(d->options_.detector, why);
   if (!d->detector_) return nullptr;
   return d;
+}
+
+int FrameDetector::GridOf(int id) const {
+  for (size_t g = 0; g < grids_.size(); ++g) {
+    if (id >= grids_[g].first_id && id < grids_[g].first_id + grids_[g].num_tags)
+      return static_cast<int>(g);
+  }
+  return -1;
 }
 
 int FrameDetector::PointId(int id, int corner) const {
@@ -195,14 +232,36 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
       ++local.border_tags;
       continue;
     }
-    ++local.tags;
-    if (options_.refine_corners && !RefineTagCorners(view, options_.refine, &tag)) {
-      ++local.unrefined_tags;
+    std::array<double, 4> crlb_px;
+    crlb_px.fill(std::numeric_limits<double>::quiet_NaN());
+    const bool photometric =
+        options_.refinement == CornerRefinement::kPhotometric && !options_.corner_squares;
+    const bool edge_fit =
+        options_.refinement == CornerRefinement::kEdgeFit ||
+        (options_.refinement == CornerRefinement::kPhotometric && options_.corner_squares);
+    if (photometric) {
+      TagPattern pattern;
+      if (!TagPattern::FromFamily(*family_, tag.id, white_margin_cells_[GridOf(tag.id)], 0.0,
+                                  &pattern, nullptr)) {
+        ++local.refused_tags[static_cast<int>(FitFailure::kDiverged)];
+        continue;
+      }
+      const PhotometricFitResult fit =
+          FitTagPhotometric(view, pattern, tag.corners, options_.photometric);
+      if (!fit.ok()) {
+        ++local.refused_tags[static_cast<int>(fit.failure)];
+        continue;
+      }
+      tag.corners = fit.corners;
+      crlb_px = fit.crlb_px;
     }
-    if (options_.refine_corners && options_.corner_squares) {
+    ++local.tags;
+    if (edge_fit && !RefineTagCorners(view, options_.refine, &tag)) ++local.unrefined_tags;
+    if (edge_fit && options_.corner_squares) {
       RefineXJunctions(view, options_.corner_square_fraction, &tag);
     }
-    for (int k = 0; k < 4; ++k) observations.push_back({PointId(tag.id, k), tag.corners[k]});
+    for (int k = 0; k < 4; ++k)
+      observations.push_back({PointId(tag.id, k), tag.corners[k], crlb_px[k]});
   }
   std::sort(observations.begin(), observations.end(),
             [](const Observation& a, const Observation& b) { return a.point_id < b.point_id; });

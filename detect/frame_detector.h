@@ -10,6 +10,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,13 +20,28 @@
 #include "core/target.h"
 #include "detect/apriltag_detector.h"
 #include "detect/corner_refinement.h"
+#include "detect/photometric_fit.h"
 
 namespace calibench {
 
+// How a decoded tag's corners are refined.
+enum class CornerRefinement {
+  kNone,         // AprilTag 3's corners.
+  kEdgeFit,      // Four straight (or curved) edges fitted by profiles (corner_refinement.h).
+  kPhotometric,  // The tag's whole pattern fitted to its pixels (photometric_fit.h): a tag whose
+                 // fit is refused is dropped, and counted by reason.
+};
+// "none", "edge_fit", "photometric"; false for another name.
+bool ParseCornerRefinement(const std::string& name, CornerRefinement* refinement);
+const char* CornerRefinementName(CornerRefinement refinement);
+
 struct FrameDetectorOptions {
-  AprilTagOptions detector;    // family and black_border_bits are taken from the grids.
-  bool refine_corners = true;  // Edge-fit refinement (corner_refinement.h); raw corners if false.
-  CornerRefineOptions refine;  // width_at_border is taken from the family.
+  AprilTagOptions detector;  // family and black_border_bits are taken from the grids.
+  // kPhotometric by default for L-corners. With corner_squares, the photometric model is not used
+  // (Kalibr's X-junctions keep the edge fit and the saddle refinement below).
+  CornerRefinement refinement = CornerRefinement::kPhotometric;
+  CornerRefineOptions refine;  // The edge fit's; width_at_border is taken from the family.
+  PhotometricFitOptions photometric;
   // Tags with a corner closer than this to the image border are dropped: a tag cut by the border
   // still decodes, but its corners are extrapolated (measured: up to 2 px off).
   double min_border_distance_px = 2.0;
@@ -54,13 +71,24 @@ struct FrameDetectorOptions {
 struct Observation {
   int point_id = -1;
   Eigen::Vector2d pixel;
+  // The corner's Cramer-Rao std per axis (px) from the photometric fit's Fisher information; NaN
+  // for other refinements.
+  double crlb_px = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct DetectionCounts {
   int tags = 0;            // Tags detected and matched to a grid.
   int unknown_tags = 0;    // Detected ids that are on no grid.
-  int unrefined_tags = 0;  // Tags whose refinement was refused (raw corners kept).
-  int border_tags = 0;     // Tags dropped for touching the image border.
+  int unrefined_tags = 0;  // Tags whose edge fit was refused (raw corners kept).
+  // Tags whose photometric fit was refused (dropped), by FitFailure (photometric_fit.h); index 0
+  // (kNone) stays 0.
+  std::array<int, kNumFitFailures> refused_tags{};
+  int RefusedTags() const {
+    int n = 0;
+    for (int v : refused_tags) n += v;
+    return n;
+  }
+  int border_tags = 0;  // Tags dropped for touching the image border.
   // Detections of an id found more than once in the image (a false positive, or a tag printed
   // twice): all dropped, since which one is the grid's is unknown.
   int duplicate_tags = 0;
@@ -86,9 +114,12 @@ class FrameDetector {
   struct GridIds {
     int first_id, num_tags, first_point;
   };
+  int GridOf(int id) const;
   std::vector<GridIds> grids_;
   int num_points_ = 0;
   FrameDetectorOptions options_;
+  std::shared_ptr<const TagFamily> family_;
+  std::vector<double> white_margin_cells_;  // Per grid: the gap to the next tag, in cells.
   std::unique_ptr<AprilTagDetector> detector_;
 };
 

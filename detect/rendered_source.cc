@@ -21,6 +21,7 @@ struct FrameResult {
   int tags_expected = 0;
   std::vector<Eigen::Vector2d> errors;   // Detected minus exact, per corner.
   std::vector<Eigen::Vector2d> outward;  // Per corner: unit, from its tag's centre (projected).
+  std::vector<double> crlb_px;           // Per corner: Observation::crlb_px.
   std::string error;                     // Non-empty: rendering failed.
 };
 
@@ -58,11 +59,17 @@ void DetectionStatsAccumulator::AddFrame(int tags_expected, const DetectionCount
   stats_.tags_detected += counts.tags;
   stats_.unknown_tags += counts.unknown_tags;
   stats_.unrefined_tags += counts.unrefined_tags;
+  stats_.refused_tags += counts.RefusedTags();
+  for (int f = 0; f < kNumFitFailures; ++f) stats_.refused_by_reason[f] += counts.refused_tags[f];
   stats_.border_tags += counts.border_tags;
 }
 
 void DetectionStatsAccumulator::AddCornerError(const Eigen::Vector2d& e,
-                                               const Eigen::Vector2d& outward) {
+                                               const Eigen::Vector2d& outward, double crlb_px) {
+  if (std::isfinite(crlb_px)) {
+    crlb_sq_sum_ += crlb_px * crlb_px;
+    ++crlb_count_;
+  }
   sum_ += e;
   sum_radial_tangent_ +=
       Eigen::Vector2d(e.dot(outward), e.dot(Eigen::Vector2d(-outward.y(), outward.x())));
@@ -79,6 +86,7 @@ DetectionStats DetectionStatsAccumulator::Finish() const {
   }
   const double n = static_cast<double>(norms_.size());
   stats.rms_px = std::sqrt(sum_sq_ / n);
+  if (crlb_count_ > 0) stats.crlb_rms_px = std::sqrt(crlb_sq_sum_ / crlb_count_);
   stats.bias_x_px = sum_.x() / n;
   stats.bias_y_px = sum_.y() / n;
   stats.bias_radial_px = sum_radial_tangent_.x() / n;
@@ -294,6 +302,7 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
             ProjectPoint(intrinsics, cam_from_points * centre_in_points, &centre)) {
           r.errors.push_back(o.pixel - exact);
           r.outward.push_back((exact - centre).normalized());
+          r.crlb_px.push_back(o.crlb_px);
           const Eigen::Vector2d e = o.pixel - exact;
           if (e.norm() > options.corner_error_clip_px) {
             r.frame.pixels.back() = exact + e * (options.corner_error_clip_px / e.norm());
@@ -321,7 +330,8 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
       return nullptr;
     }
     stats.AddFrame(r.tags_expected, r.counts, r.frame.pixels.empty());
-    for (size_t i = 0; i < r.errors.size(); ++i) stats.AddCornerError(r.errors[i], r.outward[i]);
+    for (size_t i = 0; i < r.errors.size(); ++i)
+      stats.AddCornerError(r.errors[i], r.outward[i], r.crlb_px[i]);
     source->frames_.push_back(std::move(r.frame));
   }
   source->stats_ = stats.Finish();

@@ -60,14 +60,19 @@ struct DetectionStats {
   long tags_expected = 0;  // Tags whose four corners project at least 2 px inside the image.
   long tags_detected = 0;
   long unknown_tags = 0;    // Decoded ids on no grid (false positives or another target).
-  long unrefined_tags = 0;  // Refinement refused: raw detector corners kept.
-  long border_tags = 0;     // Dropped for touching the image border.
+  long unrefined_tags = 0;  // Edge fit refused: raw detector corners kept.
+  long refused_tags = 0;    // Photometric fit refused: tag dropped (by reason below).
+  std::array<long, kNumFitFailures> refused_by_reason{};  // Indexed by FitFailure.
+  long border_tags = 0;                                   // Dropped for touching the image border.
   long corners = 0;
   double rms_px = 0, bias_x_px = 0, bias_y_px = 0, p95_px = 0;  // Per-corner Euclidean error.
   // Mean error along each tag's diagonal, outward from the tag's projected centre (> 0: tags
   // look larger), and perpendicular to it (+90 degrees in the image): the symmetric errors that a
   // mean over x and y cancels (detect/corner_bias.h). NaN when no corner had its tag's direction.
   double bias_radial_px = 0, bias_tangent_px = 0;
+  // RMS over the corners of the photometric fit's Cramer-Rao std per axis (px): the floor the
+  // corner errors are compared with (RMS per axis = rms_px / sqrt 2). NaN without that fit.
+  double crlb_rms_px = std::numeric_limits<double>::quiet_NaN();
   double DetectionRate() const {
     return tags_expected > 0 ? static_cast<double>(tags_detected) / tags_expected : 0.0;
   }
@@ -78,7 +83,9 @@ class DetectionStatsAccumulator {
  public:
   void AddFrame(int tags_expected, const DetectionCounts& counts, bool no_detection);
   // `outward`: the unit vector from the tag's projected centre to the corner's exact projection.
-  void AddCornerError(const Eigen::Vector2d& detected_minus_exact, const Eigen::Vector2d& outward);
+  // crlb_px: the corner's Cramer-Rao std (Observation::crlb_px), NaN when unknown.
+  void AddCornerError(const Eigen::Vector2d& detected_minus_exact, const Eigen::Vector2d& outward,
+                      double crlb_px = std::numeric_limits<double>::quiet_NaN());
   DetectionStats Finish() const;
 
  private:
@@ -86,6 +93,8 @@ class DetectionStatsAccumulator {
   Eigen::Vector2d sum_ = Eigen::Vector2d::Zero();
   Eigen::Vector2d sum_radial_tangent_ = Eigen::Vector2d::Zero();
   double sum_sq_ = 0;
+  double crlb_sq_sum_ = 0;
+  long crlb_count_ = 0;
   std::vector<double> norms_;
 };
 

@@ -817,10 +817,13 @@ def corner_bias_section(dirs, out):
         radial=("bias_radial_px", "mean"), tangent=("bias_tangent_px", "mean"),
         radial_max=("bias_radial_px", lambda x: x.abs().max()),
         view_rms=("view_rms_px", "first"), noise=("noise_rms_px", "first"),
-        n=("detections", "first")).reset_index()
+        n=("detections", "first"),
+        crlb=("crlb_px", lambda x: pd.to_numeric(x, errors="coerce").mean()),
+        refused=("refused", "first"), us=("us_per_tag", "first")).reset_index()
     base = per_case[(per_case.tag_px == 32) & (per_case.blur == 0.5) & (per_case.u == 319.5)]
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharex=True)
-    for ax, stage in zip(axes, ("raw", "refined")):
+    stages = ("raw", "refined", "photometric")
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4), sharex=True, sharey=True)
+    for ax, stage in zip(axes, stages):
         for roll, style in ((0.0, "o-"), (22.5, "s--")):
             h = base[(base.stage == stage) & (base.roll == roll)].sort_values("angle")
             ax.plot(h.angle, h.radial, style, color="C0", label=f"radial (roll {roll:g}°)")
@@ -828,7 +831,8 @@ def corner_bias_section(dirs, out):
             ax.plot(h.angle, h.view_rms, style, color="C2", alpha=0.6,
                     label=f"view-to-view bias RMS (roll {roll:g}°)")
         ax.axhline(0, color="k", lw=0.5)
-        ax.set_title(f"{stage} corners: 32 px tag, blur 0.5 px, noise 2 gray", fontsize=9)
+        name = {"raw": "AprilTag 3", "refined": "edge fit", "photometric": "photometric fit"}[stage]
+        ax.set_title(f"{name}: 32 px tag, blur 0.5 px, noise 2 gray", fontsize=9)
         ax.set_xlabel("viewing angle (deg)")
         ax.set_ylabel("px")
         ax.grid(True, alpha=0.3)
@@ -838,14 +842,18 @@ def corner_bias_section(dirs, out):
     plt.close(fig)
     head = ["stage", "tag px", "viewing angle", "roll", "blur px", "centre (u, v)",
             "radial bias (mean of 4 corners)", "max |radial| of a corner", "tangential",
-            "view-to-view RMS", "noise RMS", "detections"]
+            "view-to-view RMS", "noise RMS", "noise per axis / CRLB", "detections",
+            "refused", "µs per tag"]
     lines = [[r.stage, num(r.tag_px), num(r.angle), num(r.roll), num(r.blur),
               f"({r.u:g}, {r.v:g})", num(r.radial, 2), num(r.radial_max, 2), num(r.tangent, 2),
-              num(r.view_rms, 2), num(r.noise, 2), str(int(r.n))]
-             for r in per_case[per_case.stage == "refined"].itertuples()]
+              num(r.view_rms, 2), num(r.noise, 2),
+              num(r.noise / math.sqrt(2) / r.crlb, 2) if r.crlb == r.crlb and r.crlb > 0 else "",
+              str(int(r.n)), r.refused or "", num(r.us, 3)]
+             for r in per_case[per_case.stage != "raw"].sort_values(["case", "stage"]).itertuples()]
     return ["## Corner bias of the rendered pipeline", "",
             f"`calibench corner-bias` ({paths[0]}): one tag36h11 tag rendered, detected (AprilTag 3, "
-            "quad_decimate 2) and refined as the rendered sweeps do, in views shifted by random "
+            "quad_decimate 2) and refined by the edge fit and by the photometric fit (the rendered "
+            "sweeps' default), in views shifted by random "
             "sub-pixel offsets, each with independent noise draws. Bias: the mean error over "
             "views and draws; view-to-view RMS: the spread of the per-view bias (the error that "
             "depends on the sub-pixel phase of the view and does not average out over frames of "

@@ -54,13 +54,28 @@ int CornerBias(const CornerBiasArgs& args) {
                              "detections",
                              "black_area_px2",
                              "rendered_black_area_px2",
+                             "crlb_px",
+                             "fitted_blur_px",
+                             "refused",
+                             "us_per_tag",
                              "status"});
-  double worst_refined = 0;
+  double worst_refined = 0, worst_photometric = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
     const CornerBiasCase& c = cases[i];
     const CornerBiasResult& r = results[i];
-    for (const char* stage : {"raw", "refined"}) {
-      const auto& stats = std::string(stage) == "raw" ? r.raw : r.refined;
+    // Refusals of the photometric fit, "reason count; ...".
+    std::string refused;
+    for (int f = 1; f < kNumFitFailures; ++f) {
+      if (r.photometric_failures[f] == 0) continue;
+      if (!refused.empty()) refused += "; ";
+      refused += std::string(FitFailureName(static_cast<FitFailure>(f))) + " " +
+                 std::to_string(r.photometric_failures[f]);
+    }
+    for (const std::string stage : {"raw", "refined", "photometric"}) {
+      const bool photometric = stage == "photometric";
+      const auto& stats = stage == "raw" ? r.raw : photometric ? r.photometric : r.refined;
+      const int detections = photometric ? r.photometric_draws : r.detected_draws;
+      const double us = stage == "raw" ? r.detect_us : photometric ? r.photometric_us : r.refine_us;
       for (int k = 0; k < 4; ++k) {
         const CornerStats& s = stats[k];
         csv += CsvLine({std::to_string(i),
@@ -79,12 +94,18 @@ int CornerBias(const CornerBiasArgs& args) {
                         num(s.tangent_px),
                         num(s.view_rms_px),
                         num(s.noise_rms_px),
-                        std::to_string(r.detected_draws),
+                        std::to_string(detections),
                         num(r.black_area_px2),
                         num(r.rendered_black_area_px2),
+                        photometric ? num(r.photometric_crlb_px) : "",
+                        photometric ? num(r.photometric_blur_px) : "",
+                        photometric ? refused : "",
+                        num(us),
                         r.ok ? "ok" : r.message});
-        if (r.ok && std::string(stage) == "refined")
+        if (r.ok && stage == "refined")
           worst_refined = std::max(worst_refined, std::abs(s.radial_px));
+        if (r.ok && photometric)
+          worst_photometric = std::max(worst_photometric, std::abs(s.radial_px));
       }
     }
   }
@@ -95,8 +116,9 @@ int CornerBias(const CornerBiasArgs& args) {
   std::fprintf(
       stderr,
       "calibench: corner-bias: %zu cases x %d views x %d draws -> %s (largest |radial bias| "
-      "of a refined corner: %.4f px)\n",
-      cases.size(), options.views, options.draws, args.out_path.c_str(), worst_refined);
+      "of a corner: edge fit %.4f px, photometric fit %.4f px)\n",
+      cases.size(), options.views, options.draws, args.out_path.c_str(), worst_refined,
+      worst_photometric);
   return 0;
 }
 

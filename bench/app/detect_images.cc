@@ -31,8 +31,15 @@ bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
       DetectionCounts counts;
       for (const Observation& o : detector->Detect(gray, &counts)) {
         // Point 4 i + k is corner k of the tag with index i = id - first_id (target.h).
-        image.corners.push_back(
-            {target.grid.first_id + o.point_id / 4, o.point_id % 4, o.pixel.x(), o.pixel.y()});
+        image.corners.push_back({target.grid.first_id + o.point_id / 4, o.point_id % 4, o.pixel.x(),
+                                 o.pixel.y(), o.crlb_px});
+      }
+      image.refused_tags = counts.RefusedTags();
+      for (int f = 1; f < kNumFitFailures; ++f) {
+        if (counts.refused_tags[f] == 0) continue;
+        if (!image.refused_reasons.empty()) image.refused_reasons += ", ";
+        image.refused_reasons += std::string(FitFailureName(static_cast<FitFailure>(f))) + " " +
+                                 std::to_string(counts.refused_tags[f]);
       }
       image.tags = counts.tags;
       image.unknown_tags = counts.unknown_tags;
@@ -45,11 +52,11 @@ bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
 }
 
 std::string ImageCornersCsv(const std::vector<ImageCorners>& images) {
-  std::string csv = CsvLine({"image", "tag_id", "corner", "u_px", "v_px"});
+  std::string csv = CsvLine({"image", "tag_id", "corner", "u_px", "v_px", "crlb_px"});
   for (const ImageCorners& image : images) {
     for (const ImageCorners::Corner& c : image.corners) {
       csv += CsvLine({image.file, std::to_string(c.tag_id), std::to_string(c.corner),
-                      FormatNumber(c.u_px), FormatNumber(c.v_px)});
+                      FormatNumber(c.u_px), FormatNumber(c.v_px), FormatNumber(c.crlb_px)});
     }
   }
   return csv;
@@ -71,6 +78,10 @@ std::string FormatImageCorners(const std::vector<ImageCorners>& images, int grid
       extra += ", " + std::to_string(image.unknown_tags) + " ids not on the grid";
     if (image.border_tags > 0)
       extra += ", " + std::to_string(image.border_tags) + " at the image border (dropped)";
+    if (image.refused_tags > 0) {
+      extra += ", " + std::to_string(image.refused_tags) + " refused by the photometric fit (" +
+               image.refused_reasons + ")";
+    }
     if (image.duplicate_tags > 0)
       extra += ", " + std::to_string(image.duplicate_tags) + " duplicate ids (dropped)";
     if (!image.note.empty()) extra += "; " + image.note;

@@ -6,13 +6,15 @@
 // target's black border width, edge-fit refinement, Kalibr's corner squares handled, tags within
 // 2 px of the image border dropped: detect/frame_detector.h, image_points.h). corners.csv has one
 // row per detected corner,
-//   image,tag_id,corner,u_px,v_px
+//   image,tag_id,corner,u_px,v_px,crlb_px (crlb_px: the corner's Cramer-Rao std per axis from the
+//   photometric fit, empty for other refinements)
 // image = the file name; corner = 0..3 in Kalibr's order (bottom-left, bottom-right, top-right,
 // top-left of the tag on the board, core/target.h); u_px, v_px in calibench's pixel convention,
 // which is OpenCV's (the centre of pixel (i, j) is at (i, j)). Rows are sorted by image, then tag
 // id, then corner. The file is written atomically (bench/run/csv.h): complete or not at all.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -25,9 +27,12 @@ struct ImageCorners {
   bool readable = false;
   std::string note;  // Why unreadable, or how a 16-bit image was scaled.
   int tags = 0, unknown_tags = 0, border_tags = 0, duplicate_tags = 0;
+  int refused_tags = 0;         // Photometric fit refused (dropped).
+  std::string refused_reasons;  // "diverged 1, image_border 2" (FitFailureName), or empty.
   struct Corner {
     int tag_id = -1, corner = -1;
     double u_px = 0, v_px = 0;
+    double crlb_px = std::numeric_limits<double>::quiet_NaN();  // Observation::crlb_px.
   };
   std::vector<Corner> corners;  // Sorted by tag id, then corner.
 };

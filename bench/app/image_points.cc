@@ -49,7 +49,10 @@ bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, View* vie
 
 FrameDetectorOptions ImageDetectorOptions(const CalibrationTarget& target, LensFamily lens) {
   FrameDetectorOptions options;
+  // The photometric model draws a tag through a homography, which a fisheye's bent edges break:
+  // equidistant lenses keep the curved-edge fit until the model is drawn through the lens.
   options.refine.curved_edges = lens == LensFamily::kEquidistant;
+  if (options.refine.curved_edges) options.refinement = CornerRefinement::kEdgeFit;
   options.corner_squares = target.corner_squares;
   options.corner_square_fraction = std::min(1.0, target.grid.tag_spacing);
   return options;

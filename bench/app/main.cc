@@ -369,7 +369,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   detect->add_option("--target", detect_images.target_path,
                      "With --images: Kalibr target YAML (target_type: aprilgrid)");
   detect->add_option("--out", detect_images.out_path,
-                     "With --images: write image,tag_id,corner,u_px,v_px per corner (CSV)");
+                     "With --images: write image,tag_id,corner,u_px,v_px,crlb_px per corner (CSV)");
   detect->add_option("--frames", detect_args.frames_dir,
                      "Read frames + corners.csv from here (default: render in memory)");
   detect->add_option("--errors", detect_args.options.errors_path,

@@ -36,7 +36,7 @@ void CheckSweptMethod(const Reader& r, const YAML::Node& at, const std::string& 
 void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& field,
                     AprilGrid* grid, Eigen::Vector3d* rpy_deg);
 // rendering: {supersample, blur_sigma_px, noise_sigma_gray, background_gray, black_gray,
-//             white_gray, threads, refine_corners,
+//             white_gray, threads, corner_refinement,
 //             detector: {quad_decimate, quad_sigma, refine_edges, decode_sharpening, threads,
 //                        max_hamming}}
 void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& field,

@@ -37,7 +37,7 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
                     RenderedSourceOptions* o) {
   r.CheckKeys(node, field,
               {"supersample", "blur_sigma_px", "noise_sigma_gray", "background_gray", "black_gray",
-               "white_gray", "threads", "refine_corners", "min_border_distance_px",
+               "white_gray", "threads", "corner_refinement", "min_border_distance_px",
                "corner_error_clip_px", "corner_error_part", "corner_error_grid", "detector"});
   RenderOptions& ro = o->render;
   r.Set(node, "supersample", field, &ro.supersample);
@@ -47,7 +47,12 @@ void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& 
   r.Set(node, "black_gray", field, &ro.black_gray);
   r.Set(node, "white_gray", field, &ro.white_gray);
   r.Set(node, "threads", field, &o->threads);
-  r.Set(node, "refine_corners", field, &o->detection.refine_corners);
+  r.If(node, "corner_refinement", field, [&](const YAML::Node& n, const std::string& f) {
+    const std::string name = r.String(n, f);
+    if (!ParseCornerRefinement(name, &o->detection.refinement)) {
+      r.Fail(n, f, "unknown refinement '" + name + "' (none, edge_fit, photometric)");
+    }
+  });
   r.Set(node, "min_border_distance_px", field, &o->detection.min_border_distance_px);
   r.Set(node, "corner_error_clip_px", field, &o->corner_error_clip_px);
   r.If(node, "corner_error_part", field, [&](const YAML::Node& n, const std::string& f) {

@@ -35,10 +35,10 @@ void EmitRendering(YAML::Emitter& out, const RenderedSourceOptions& o) {
       << YAML::Value << ro.noise_sigma_gray << YAML::Key << "background_gray" << YAML::Value
       << ro.background_gray << YAML::Key << "black_gray" << YAML::Value << ro.black_gray
       << YAML::Key << "white_gray" << YAML::Value << ro.white_gray << YAML::Key << "threads"
-      << YAML::Value << o.threads << YAML::Key << "refine_corners" << YAML::Value
-      << o.detection.refine_corners << YAML::Key << "min_border_distance_px" << YAML::Value
-      << o.detection.min_border_distance_px << YAML::Key << "corner_error_clip_px" << YAML::Value
-      << o.corner_error_clip_px << YAML::Key << "corner_error_part" << YAML::Value
+      << YAML::Value << o.threads << YAML::Key << "corner_refinement" << YAML::Value
+      << CornerRefinementName(o.detection.refinement) << YAML::Key << "min_border_distance_px"
+      << YAML::Value << o.detection.min_border_distance_px << YAML::Key << "corner_error_clip_px"
+      << YAML::Value << o.corner_error_clip_px << YAML::Key << "corner_error_part" << YAML::Value
       << CornerErrorPartName(o.corner_error_part) << YAML::Key << "corner_error_grid" << YAML::Value
       << o.corner_error_grid << YAML::Key << "detector" << YAML::Value << YAML::Flow
       << YAML::BeginMap << YAML::Key << "quad_decimate" << YAML::Value << a.quad_decimate

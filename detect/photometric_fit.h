@@ -1,0 +1,122 @@
+// Photometric refinement of one decoded AprilTag: the tag's known pattern, drawn through a
+// homography, blurred by a Gaussian PSF and integrated over the pixel box, fitted to every pixel
+// of the tag's region. There is no edge window: the corners are the model's corners.
+//
+// Tag coordinates (cells): x to the right along the bitmap's columns, y up (board y, the bitmap's
+// row 0 is the top); the black reference square spans [0, W]^2 (W = width_at_border), so the
+// detector's corners 0..3 (bottom-left, bottom-right, top-right, top-left) are (0, 0), (W, 0),
+// (W, W), (0, W). Pixels follow calibench's convention (pixel (i, j) centred at (i, j)).
+//
+// The model of pixel p (gray levels):
+//   I(p) = s(p) [w + (k - w) b(p)],   s(p) = 1 + g . (p - c0) / S         (linear shading)
+// with k, w the black and white levels and b(p) the blurred, pixel-integrated black fraction. The
+// pattern's black is a union of axis-aligned rectangles R (maximal runs of the decoded bitmap's
+// black cells, and Kalibr's corner squares); each maps to a quadrilateral in the image whose edge
+// lines e have signed distances d_e(p) (px, > 0 inside). Then
+//   b(p) = sum_R  [P(d_x0) + P(d_x1) - 1] [P(d_y0) + P(d_y1) - 1]
+// where P(d) is the 1D profile of a straight edge: the fraction of a pixel at distance d inside
+// the black covered after the PSF, i.e. the CDF at d of  U(|n_x|) + U(|n_y|) + N(0, sigma^2)
+// (the pixel box projected on the edge normal n is the sum of two uniforms of widths |n_x|, |n_y|):
+//   P(d) = [Q(d+a+b') - Q(d+a-b') - Q(d-a+b') + Q(d-a-b')] / (|n_x| |n_y|),  a, b' = |n_x|/2,
+//   |n_y|/2 Q(x) = (x^2 + sigma^2)/2 Phi(x/sigma) + x sigma/2 phi(x/sigma)  (Q'' = Phi(x / sigma))
+//   dQ/dsigma = sigma Phi(x/sigma).
+// The product form is exact for a rectangle that maps to a rectangle (orthogonal edges) and for
+// every straight edge and parallel strip; under strong shear it is approximate within ~sigma of a
+// vertex. Collinear edges of adjacent rectangles are one image line, so the sum has no seams.
+//
+// Parameters (13): the image -> tag homography G (8 entries, G_22 = 1, between normalised pixel
+// and tag coordinates), sigma, k, w and the shading g. Levenberg-Marquardt with analytic
+// Jacobians: d_e = S (l . p^) / |l_xy| with l = G^T m_e (m_e the tag line), linear in G.
+// The fit uses the pixels within 2 R px of a rectangle's edge (R = 3.5 sigma + 0.75)
+// and at least R px inside the known region: the black square and a white margin of
+// `white_margin_cells` (an AprilGrid's gap to the next tag). Saturated pixels are censored.
+//
+// The Cramer-Rao bound of each corner: the corners are functions of G; their covariance is
+// D_k [sigma_n^2 (J^T J)^-1]_GG D_k^T, with sigma_n^2 the residual variance (on N - 13 degrees of
+// freedom) and D_k the corner's derivative with respect to G. `crlb_px` is its per-axis RMS std,
+// sqrt(trace / 2).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/render.h"
+#include "core/tag_family.h"
+
+namespace calibench {
+
+// The tag's black pattern in tag coordinates (see above).
+struct TagPattern {
+  struct Rect {
+    double x0, y0, x1, y1;  // Cells, x0 < x1, y0 < y1.
+  };
+  int width_cells = 8;              // W.
+  double white_margin_cells = 1.0;  // Known white (or corner squares) around the black square.
+  std::vector<Rect> black;
+  // Tag `id` of `family` (its bitmap's black cells inside the reference square, as maximal
+  // rectangles), with a white margin of `white_margin_cells` and, when corner_square_cells > 0,
+  // Kalibr's black squares of that side at the four corners. False (and *why) for a bad id.
+  static bool FromFamily(const TagFamily& family, int id, double white_margin_cells,
+                         double corner_square_cells, TagPattern* pattern, std::string* why);
+};
+
+struct PhotometricFitOptions {
+  int max_iterations = 30;          // LM iterations (a step refused counts as one).
+  double initial_blur_px = 0.5;     // Start of sigma (PSF std, px).
+  double max_blur_px = 4.0;         // A step to a wider PSF is refused (the region grows with it).
+  double max_correction_px = 1.5;   // A corner moving farther from the detector's is refused.
+  double min_contrast_gray = 10.0;  // w - k below this: no tag to fit.
+  // The fitted contrast over the residual RMS below this: the pattern does not explain the pixels
+  // (no tag, occluded, or another pattern).
+  double min_contrast_to_residual = 5.0;
+  double convergence_px = 5e-4;  // Converged when no corner moves more than this in a step.
+  bool fit_shading = true;       // The linear shading g (vignetting, uneven light).
+  int min_pixels = 64;           // Fewer pixels in the region: refused.
+  // Fraction of the region's pixels that may fall outside the image before the tag is refused.
+  double max_outside_fraction = 0.25;
+  bool Check(std::string* why) const;
+};
+
+// Why a fit was refused; kNone when it succeeded.
+enum class FitFailure {
+  kNone,
+  kImageBorder,   // Too much of the region outside the image.
+  kLowContrast,   // Contrast below min_contrast_gray, or below min_contrast_to_residual x the
+                  // residual RMS (saturated, constant, or not this tag).
+  kTooFewPixels,  // The region has fewer than min_pixels usable pixels.
+  kDiverged,      // LM could not reduce the cost, or the homography became degenerate.
+  kNotConverged,  // max_iterations reached.
+  kMoved,         // A corner moved more than max_correction_px.
+};
+constexpr int kNumFitFailures = 7;
+const char* FitFailureName(FitFailure failure);  // "none", "image_border", ...
+
+struct PhotometricFitResult {
+  FitFailure failure = FitFailure::kNone;
+  std::string message;
+  int iterations = 0;
+  int pixels = 0;  // Pixels in the fit.
+  std::array<Eigen::Vector2d, 4> corners;
+  std::array<Eigen::Matrix2d, 4> corner_covariance_px2;
+  std::array<double, 4> crlb_px{};  // sqrt(trace(cov) / 2) per corner.
+  double blur_px = 0, black_gray = 0, white_gray = 0;
+  double residual_rms_gray = 0;
+  bool ok() const { return failure == FitFailure::kNone; }
+};
+
+// Fits `pattern` to `image` from the detector's corners (calibench convention, detector order).
+// Never throws; result.failure says why a fit was refused (corners then unchanged).
+PhotometricFitResult FitTagPhotometric(const GrayImageView& image, const TagPattern& pattern,
+                                       const std::array<Eigen::Vector2d, 4>& initial_corners,
+                                       const PhotometricFitOptions& options);
+
+// The edge profile P(d) above and its derivatives dP/dd, dP/dsigma, for an edge whose image
+// normal is (nx, ny) (unit): exposed for tests.
+struct EdgeProfileValue {
+  double p, dp_dd, dp_dsigma;
+};
+EdgeProfileValue EdgeProfile(double d, double sigma, double nx, double ny);
+
+}  // namespace calibench

@@ -1,0 +1,217 @@
+// The photometric tag fit (detect/photometric_fit.h) against independent computations: its edge
+// profile against a numerical integral of the pixel box and the Gaussian PSF, its pattern against
+// the family's bitmap, and its corners on rendered tags against the exact projections, with the
+// Monte Carlo spread of the fit against the Cramer-Rao std it reports. Bad regions are refused
+// with a reason.
+//
+// Mutations checked by hand: flipping the sign of a rectangle's far-edge Jacobian in Evaluate
+// (weight[r[1]] -= ... -> +=) fails RenderedTagsAreUnbiasedAtTheCramerRaoBound (radial -0.048 px,
+// noise 4x the bound) and FitsASharpTagDrawnCellByCell; doubling the pixel box's width in
+// EdgeProfile ((a + b) / 2 -> (a + b)) fails EdgeProfileIsTheBoxAndGaussianIntegral and
+// RenderedTagsAreUnbiasedAtTheCramerRaoBound.
+#include "detect/photometric_fit.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/render.h"
+#include "core/tag_family.h"
+#include "detect/corner_bias.h"
+
+namespace calibench {
+namespace {
+
+double Phi(double u) { return 0.5 * std::erfc(-u / std::sqrt(2.0)); }
+
+// Midpoint rule on a 400 x 400 grid over the pixel box: error O(1/400^2) on a smooth integrand.
+constexpr double kQuadratureTol = 2e-6;
+// Central differences with h = 1e-5 of a function whose third derivative is O(1/sigma^3).
+constexpr double kDerivativeTol = 1e-5;
+
+TEST(PhotometricFit, EdgeProfileIsTheBoxAndGaussianIntegral) {
+  for (double sigma : {0.3, 0.7, 1.5}) {
+    for (double angle_deg : {0.0, 20.0, 45.0, 70.0}) {
+      const double nx = std::cos(angle_deg * M_PI / 180), ny = std::sin(angle_deg * M_PI / 180);
+      for (double d : {-1.7, -0.6, -0.2, 0.0, 0.15, 0.5, 1.2, 2.5}) {
+        constexpr int kN = 400;
+        double sum = 0;
+        for (int i = 0; i < kN; ++i) {
+          for (int j = 0; j < kN; ++j) {
+            const double u = (i + 0.5) / kN - 0.5, v = (j + 0.5) / kN - 0.5;
+            sum += Phi((d + nx * u + ny * v) / sigma);
+          }
+        }
+        const EdgeProfileValue p = EdgeProfile(d, sigma, nx, ny);
+        EXPECT_NEAR(p.p, sum / (kN * kN), kQuadratureTol)
+            << "sigma " << sigma << " angle " << angle_deg << " d " << d;
+        // Symmetric kernel: P(-d) = 1 - P(d).
+        EXPECT_NEAR(EdgeProfile(-d, sigma, nx, ny).p, 1 - p.p, 1e-12);
+        constexpr double h = 1e-5;
+        EXPECT_NEAR(
+            p.dp_dd,
+            (EdgeProfile(d + h, sigma, nx, ny).p - EdgeProfile(d - h, sigma, nx, ny).p) / (2 * h),
+            kDerivativeTol);
+        EXPECT_NEAR(
+            p.dp_dsigma,
+            (EdgeProfile(d, sigma + h, nx, ny).p - EdgeProfile(d, sigma - h, nx, ny).p) / (2 * h),
+            kDerivativeTol);
+      }
+    }
+  }
+}
+
+TEST(PhotometricFit, PatternRectanglesTileTheBitmapsBlackCells) {
+  std::string why;
+  for (int border : {1, 2}) {
+    const auto family = TagFamily::Create("tag36h11", border, &why);
+    ASSERT_TRUE(family) << why;
+    const int w = family->width_at_border(), start = family->border_start();
+    for (int id : {0, 7, 586}) {
+      TagPattern pattern;
+      ASSERT_TRUE(TagPattern::FromFamily(*family, id, 2.4, 0.0, &pattern, &why)) << why;
+      // Every black cell centre in exactly one rectangle, every white one in none.
+      for (int row = 0; row < w; ++row) {
+        for (int col = 0; col < w; ++col) {
+          const double x = col + 0.5, y = w - row - 0.5;
+          int covered = 0;
+          for (const TagPattern::Rect& r : pattern.black)
+            covered += x > r.x0 && x < r.x1 && y > r.y0 && y < r.y1;
+          EXPECT_EQ(covered, family->IsWhite(id, start + col, start + row) ? 0 : 1)
+              << "border " << border << " id " << id << " cell " << col << "," << row;
+        }
+      }
+    }
+  }
+  const auto family = TagFamily::Create("tag36h11", 1, &why);
+  TagPattern pattern;
+  EXPECT_FALSE(TagPattern::FromFamily(*family, 587, 2.4, 0.0, &pattern, &why));
+  EXPECT_NE(why.find("not in tag36h11"), std::string::npos) << why;
+}
+
+// Rendered single tags (detect/corner_bias.h) at 16 x 16 supersampling, blur 1 px: the renderer's
+// sampled Gaussian kernel is close to the continuous PSF the model assumes from sigma ~ 1 px (at
+// 0.5 px its three taps leave 3-4 gray levels of misfit, README). Bias bound: 0.005 px, the
+// issue's target for the physical floor (12 views: the bias's standard error is ~0.001 px).
+// Spread: the per-axis noise of the corners over draws against the fit's own Cramer-Rao std,
+// within [0.5, 1.5] (measured 0.7-0.8: the bound uses the residual variance, which holds the
+// renderer's quantisation as well as the noise).
+constexpr double kBiasTolPx = 0.005;
+constexpr double kMinSpreadOverCrlb = 0.5, kMaxSpreadOverCrlb = 1.5;
+
+TEST(PhotometricFit, RenderedTagsAreUnbiasedAtTheCramerRaoBound) {
+  CornerBiasOptions options;
+  options.views = 12;
+  options.draws = 3;
+  options.supersample = 16;
+  struct Case {
+    double tag_px, tilt_deg, roll_deg;
+  };
+  for (const Case& k : {Case{48, 0, 0}, Case{32, 30, 10}, Case{64, 20, 22.5}}) {
+    CornerBiasCase c;
+    c.tag_px = k.tag_px;
+    c.tilt_deg = k.tilt_deg;
+    c.roll_deg = k.roll_deg;
+    c.blur_sigma_px = 1.0;
+    const CornerBiasResult r = MeasureCornerBias(c, 3, options);
+    ASSERT_TRUE(r.ok) << r.message;
+    EXPECT_EQ(r.photometric_draws, options.views * options.draws) << k.tag_px;
+    EXPECT_NEAR(r.photometric_blur_px, 1.0, 0.05);  // The renderer's PSF, fitted.
+    double radial = 0, noise = 0, edge_noise = 0;
+    for (int i = 0; i < 4; ++i) {
+      radial += r.photometric[i].radial_px / 4;
+      noise += r.photometric[i].noise_rms_px / 4;
+      edge_noise += r.refined[i].noise_rms_px / 4;
+    }
+    const double per_axis = noise / std::sqrt(2.0);
+    std::printf(
+        "tag %g px, tilt %g: radial %+.4f px, noise per axis %.4f px, CRLB %.4f px, "
+        "edge fit noise per axis %.4f px\n",
+        k.tag_px, k.tilt_deg, radial, per_axis, r.photometric_crlb_px, edge_noise / std::sqrt(2.0));
+    EXPECT_LT(std::abs(radial), kBiasTolPx) << k.tag_px;
+    EXPECT_GT(per_axis, kMinSpreadOverCrlb * r.photometric_crlb_px) << k.tag_px;
+    EXPECT_LT(per_axis, kMaxSpreadOverCrlb * r.photometric_crlb_px) << k.tag_px;
+    EXPECT_LT(noise, edge_noise);  // The whole pattern beats four edge windows.
+  }
+}
+
+// A rendered 40 px tag in the middle of a 160 x 160 frame, its detector corners.
+struct OneTag {
+  GrayImage image;
+  TagPattern pattern;
+  std::array<Eigen::Vector2d, 4> corners;
+};
+OneTag RenderOneTag() {
+  OneTag t;
+  std::string why;
+  const auto family = TagFamily::Create("tag36h11", 1, &why);
+  TagPattern::FromFamily(*family, 0, 2.4, 0.0, &t.pattern, &why);
+  // The pattern drawn directly: 5 px cells, black square [40, 80]^2 (y up in tag = rows down).
+  t.image.width = t.image.height = 160;
+  t.image.pixels.assign(160 * 160, 230);
+  for (const TagPattern::Rect& r : t.pattern.black) {
+    for (int y = static_cast<int>(r.y0 * 5); y < r.y1 * 5; ++y)
+      for (int x = static_cast<int>(r.x0 * 5); x < r.x1 * 5; ++x)
+        t.image.pixels[(79 - y) * 160 + 40 + x] = 25;
+  }
+  // Corner 0 (tag (0, 0)) at the bottom-left: the black pixels span columns and rows 40..79.
+  t.corners = {Eigen::Vector2d(39.5, 79.5), Eigen::Vector2d(79.5, 79.5),
+               Eigen::Vector2d(79.5, 39.5), Eigen::Vector2d(39.5, 39.5)};
+  return t;
+}
+
+TEST(PhotometricFit, FitsASharpTagDrawnCellByCell) {
+  const OneTag t = RenderOneTag();
+  std::array<Eigen::Vector2d, 4> start = t.corners;
+  for (int k = 0; k < 4; ++k) start[k] += Eigen::Vector2d(0.3 * (k % 2) - 0.2, 0.25 - 0.1 * k);
+  const PhotometricFitResult fit = FitTagPhotometric(t.image, t.pattern, start, {});
+  ASSERT_TRUE(fit.ok()) << fit.message;
+  // Pixel-aligned edges, no blur, no noise: the model is exact up to its sigma floor (0.02 px).
+  for (int k = 0; k < 4; ++k) EXPECT_LT((fit.corners[k] - t.corners[k]).norm(), 1e-3) << k;
+  EXPECT_NEAR(fit.black_gray, 25, 0.5);
+  EXPECT_NEAR(fit.white_gray, 230, 0.5);
+  EXPECT_LT(fit.blur_px, 0.05);
+}
+
+TEST(PhotometricFit, BadRegionsAreRefusedWithAReason) {
+  const OneTag t = RenderOneTag();
+  const PhotometricFitOptions options;
+  {  // The region (black square + 2.4 cells of white) cut by the image border.
+    std::array<Eigen::Vector2d, 4> corners = t.corners;
+    for (Eigen::Vector2d& c : corners) c -= Eigen::Vector2d(50, 0);  // 35% of it outside.
+    const PhotometricFitResult fit = FitTagPhotometric(t.image, t.pattern, corners, options);
+    EXPECT_EQ(fit.failure, FitFailure::kImageBorder) << fit.message;
+    EXPECT_NE(fit.message.find("image border"), std::string::npos) << fit.message;
+    EXPECT_EQ(fit.corners[0], corners[0]);  // Unchanged.
+  }
+  for (uint8_t gray : {uint8_t{128}, uint8_t{255}}) {  // Constant, and saturated.
+    GrayImage flat = t.image;
+    std::fill(flat.pixels.begin(), flat.pixels.end(), gray);
+    const PhotometricFitResult fit = FitTagPhotometric(flat, t.pattern, t.corners, options);
+    EXPECT_EQ(fit.failure, FitFailure::kLowContrast) << fit.message;
+    EXPECT_NE(fit.message.find("contrast"), std::string::npos) << fit.message;
+  }
+  {  // No tag there: uniform noise. Whatever the reason, the fit must not claim a tag.
+    GrayImage noise = t.image;
+    Rng rng(7);
+    for (uint8_t& v : noise.pixels) v = static_cast<uint8_t>(rng.Uniform(0, 255));
+    const PhotometricFitResult fit = FitTagPhotometric(noise, t.pattern, t.corners, options);
+    EXPECT_FALSE(fit.ok()) << "residual " << fit.residual_rms_gray;
+    EXPECT_FALSE(fit.message.empty());
+  }
+  {  // Degenerate corners.
+    std::array<Eigen::Vector2d, 4> corners;
+    corners.fill(Eigen::Vector2d(80, 80));
+    const PhotometricFitResult fit = FitTagPhotometric(t.image, t.pattern, corners, options);
+    EXPECT_EQ(fit.failure, FitFailure::kDiverged) << fit.message;
+  }
+  PhotometricFitOptions bad;
+  bad.max_blur_px = -1;
+  std::string why;
+  EXPECT_FALSE(bad.Check(&why));
+  EXPECT_NE(why.find("max_blur_px"), std::string::npos) << why;
+}
+
+}  // namespace
+}  // namespace calibench
