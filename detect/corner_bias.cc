@@ -243,7 +243,8 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
         const bool refined_ok = RefineTagCorners(image, refine, &tag);
         const Clock::time_point t3 = Clock::now();
         const PhotometricFitResult fit =
-            FitTagPhotometric(image, pattern, raw_corners, fit_options);
+            FitTagPhotometric(image, pattern, raw_corners, fit_options,
+                              options.lens_aware_fit ? &options.camera : nullptr);
         const Clock::time_point t4 = Clock::now();
         result.detect_us += micros(t0, t1);
         result.refine_us += micros(t2, t3);

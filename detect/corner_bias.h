@@ -54,6 +54,9 @@ struct CornerBiasOptions {
   int supersample = 4;
   double quad_decimate = 2.0;  // As the default sweeps.
   uint64_t seed = 1;           // View v of case c and its draws derive from (seed, c, v).
+  // The photometric fit is drawn through `camera` (lens-aware, photometric_fit.h) when it is
+  // distorted; false: through a homography in pixels, as without a calibration.
+  bool lens_aware_fit = false;
   bool Check(std::string* why) const;
 };
 

@@ -122,6 +122,7 @@ bool FrameDetectorOptions::Check(std::string* why) const {
     if (why) *why = "corner_square_fraction must lie in (0, 1]";
     return false;
   }
+  if (camera && !camera->Check(why)) return false;
   return detector.Check(why) && refine.Check(why) && photometric.Check(why);
 }
 
@@ -247,7 +248,8 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
         continue;
       }
       const PhotometricFitResult fit =
-          FitTagPhotometric(view, pattern, tag.corners, options_.photometric);
+          FitTagPhotometric(view, pattern, tag.corners, options_.photometric,
+                            options_.camera ? &*options_.camera : nullptr);
       if (!fit.ok()) {
         ++local.refused_tags[static_cast<int>(fit.failure)];
         continue;

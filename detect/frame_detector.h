@@ -13,6 +13,7 @@
 #include <array>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,10 @@ struct FrameDetectorOptions {
   CornerRefinement refinement = CornerRefinement::kPhotometric;
   CornerRefineOptions refine;  // The edge fit's; width_at_border is taken from the family.
   PhotometricFitOptions photometric;
+  // The camera the images come from (a calibration, or its previous iteration): the photometric
+  // fit is then drawn through its lens (lens-aware, photometric_fit.h), also for fisheye lenses,
+  // whose edge fit otherwise takes curved edges. nullopt: a homography in pixels.
+  std::optional<CameraIntrinsics> camera;
   // Tags with a corner closer than this to the image border are dropped: a tag cut by the border
   // still decodes, but its corners are extrapolated (measured: up to 2 px off).
   double min_border_distance_px = 2.0;

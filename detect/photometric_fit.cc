@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <utility>
 
@@ -142,8 +143,15 @@ using RectSlots = std::array<uint8_t, 4>;  // x0, x1, y0, y1 among the pixel's l
 
 class TagFit {
  public:
-  TagFit(const GrayImageView& image, const TagPattern& pattern, const PhotometricFitOptions& o)
-      : image_(image), pattern_(pattern), options_(o), layout_(MakeLayout(pattern)) {}
+  TagFit(const GrayImageView& image, const TagPattern& pattern, const PhotometricFitOptions& o,
+         const CameraIntrinsics* camera)
+      : image_(image),
+        pattern_(pattern),
+        options_(o),
+        layout_(MakeLayout(pattern)),
+        camera_(camera),
+        a_inv_(camera ? Eigen::Matrix3d(camera->Matrix().inverse()) : Eigen::Matrix3d::Identity()) {
+  }
 
   PhotometricFitResult Run(const std::array<Eigen::Vector2d, 4>& initial);
 
@@ -154,22 +162,62 @@ class TagFit {
   // Cost, J^T J and J^T r at x; false when x is invalid (a pixel behind the homography's horizon).
   bool Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, ParamVector* jtr) const;
   bool InitialHomography(const std::array<Eigen::Vector2d, 4>& corners, ParamVector* x) const;
-  Eigen::Vector2d ToPixel(const Eigen::Vector2d& normalised) const {
-    return centre_ + scale_ * normalised;
-  }
+  // The model plane: pixels themselves, or with a camera the undistorted normalised image plane,
+  // where the tag's edges are straight. p^ = (model point - centre_) / scale_.
+  bool ModelOf(const Eigen::Vector2d& pixel, Eigen::Vector2d* p_hat) const;
+  // d p^ / d pixel at a model point (I / scale_ without a camera).
+  Eigen::Matrix2d ModelJacobian(const Eigen::Vector2d& p_hat) const;
+  Eigen::Vector2d ToPixel(const Eigen::Vector2d& p_hat) const;
+  // Pixels per unit of p^ at the tag's centre (for the step and re-classification thresholds).
+  double PixelsPerUnit() const { return px_per_unit_; }
 
   const GrayImageView& image_;
   const TagPattern& pattern_;
   const PhotometricFitOptions& options_;
   const Layout layout_;
+  const CameraIntrinsics* camera_;  // Null: a pinhole tag, straight edges in the image.
+  const Eigen::Matrix3d a_inv_;
   Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
-  double scale_ = 1;
+  double scale_ = 1, px_per_unit_ = 1;
+  Eigen::Matrix2d centre_jacobian_ = Eigen::Matrix2d::Identity();  // ModelJacobian(0).
   std::vector<FitPixel> pixels_;
+  std::vector<Eigen::Matrix2d> pixel_jacobians_;  // With a camera: ModelJacobian per pixel.
   std::vector<int> pixel_lines_;
   std::vector<RectSlots> pixel_rects_;
   std::array<Eigen::Vector2d, 4> classified_corners_;
   double classified_sigma_ = 0;
 };
+
+bool TagFit::ModelOf(const Eigen::Vector2d& pixel, Eigen::Vector2d* p_hat) const {
+  if (!camera_) {
+    *p_hat = (pixel - centre_) / scale_;
+    return true;
+  }
+  Eigen::Vector2d undistorted;
+  if (!UndistortNormalized(*camera_, (a_inv_ * pixel.homogeneous()).hnormalized(), &undistorted))
+    return false;
+  *p_hat = (undistorted - centre_) / scale_;
+  return true;
+}
+
+Eigen::Vector2d TagFit::ToPixel(const Eigen::Vector2d& p_hat) const {
+  if (!camera_) return centre_ + scale_ * p_hat;
+  Eigen::Vector2d pixel(std::numeric_limits<double>::quiet_NaN(), 0);
+  ProjectPoint(*camera_, (centre_ + scale_ * p_hat).homogeneous(), &pixel);
+  return pixel;
+}
+
+Eigen::Matrix2d TagFit::ModelJacobian(const Eigen::Vector2d& p_hat) const {
+  if (!camera_) return Eigen::Matrix2d::Identity() / scale_;
+  // d pixel / d p^ by central differences of the projection (smooth, no iteration), inverted.
+  constexpr double h = 1e-6;
+  Eigen::Matrix2d forward;
+  for (int a = 0; a < 2; ++a) {
+    const Eigen::Vector2d e = Eigen::Vector2d::Unit(a) * h;
+    forward.col(a) = (ToPixel(p_hat + e) - ToPixel(p_hat - e)) / (2 * h);
+  }
+  return forward.inverse();
+}
 
 bool TagFit::InitialHomography(const std::array<Eigen::Vector2d, 4>& corners,
                                ParamVector* x) const {
@@ -180,7 +228,8 @@ bool TagFit::InitialHomography(const std::array<Eigen::Vector2d, 4>& corners,
   Eigen::Matrix<double, 8, 8> a;
   Eigen::Matrix<double, 8, 1> b;
   for (int k = 0; k < 4; ++k) {
-    const Eigen::Vector2d p = (corners[k] - centre_) / scale_;
+    Eigen::Vector2d p;
+    if (!ModelOf(corners[k], &p)) return false;
     const double u = kTag[k].x(), v = kTag[k].y();
     a.row(2 * k) << p.x(), p.y(), 1, 0, 0, 0, -u * p.x(), -u * p.y();
     a.row(2 * k + 1) << 0, 0, 0, p.x(), p.y(), 1, -v * p.x(), -v * p.y();
@@ -197,12 +246,13 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   pixels_.clear();
   pixel_lines_.clear();
   pixel_rects_.clear();
+  pixel_jacobians_.clear();
   const Eigen::Matrix3d g = HomographyOf(x);
   const double reach = ProfileReachPx(x[kSigma]);
   // Margin: corners may move kReclassifyPx before the pixels are classified again.
   const double near_px = reach + kReclassifyPx;
   const double include_px = reach + 2 * kReclassifyPx;  // Flat pixels a little beyond the reach.
-  std::vector<Eigen::Vector3d> lines(layout_.lines.size());
+  std::vector<Eigen::Vector3d> lines(layout_.lines.size()), raw_lines(lines.size());
   for (size_t i = 0; i < lines.size(); ++i) {
     const Eigen::Vector3d l = g.transpose() * layout_.lines[i].m;
     const double n = l.head<2>().norm();
@@ -211,7 +261,8 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
       result->message = "degenerate homography";
       return false;
     }
-    lines[i] = scale_ * l / n;  // f(p) = lines[i] . p^~ in px.
+    raw_lines[i] = l;
+    lines[i] = scale_ * l / n;  // Without a camera: f(p) = lines[i] . p^~ in px.
   }
   // The region's image quadrilateral, its bounding box.
   const Eigen::FullPivLU<Eigen::Matrix3d> lu(g);
@@ -222,17 +273,25 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   }
   const Eigen::Matrix3d inv = lu.inverse();
   double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
-  for (const Eigen::Vector2d& q : layout_.region_corners) {
-    const Eigen::Vector3d h = inv * q.homogeneous();
-    if (!(h.z() * (inv * Eigen::Vector3d(0, 0, 1)).z() > 0)) {
-      result->failure = FitFailure::kDiverged;
-      result->message = "the tag's region crosses the homography's horizon";
-      return false;
+  // With a camera the region's sides bend in the image: 8 points a side, and a margin.
+  const int samples = camera_ ? 8 : 1;
+  for (int k = 0; k < 4; ++k) {
+    for (int s = 0; s < samples; ++s) {
+      const Eigen::Vector2d q = layout_.region_corners[k] +
+                                (layout_.region_corners[(k + 1) % 4] - layout_.region_corners[k]) *
+                                    (static_cast<double>(s) / samples);
+      const Eigen::Vector3d h = inv * q.homogeneous();
+      if (!(h.z() * (inv * Eigen::Vector3d(0, 0, 1)).z() > 0)) {
+        result->failure = FitFailure::kDiverged;
+        result->message = "the tag's region crosses the homography's horizon";
+        return false;
+      }
+      const Eigen::Vector2d p = ToPixel(h.hnormalized());
+      u0 = std::min(u0, p.x()), u1 = std::max(u1, p.x());
+      v0 = std::min(v0, p.y()), v1 = std::max(v1, p.y());
     }
-    const Eigen::Vector2d p = ToPixel(h.hnormalized());
-    u0 = std::min(u0, p.x()), u1 = std::max(u1, p.x());
-    v0 = std::min(v0, p.y()), v1 = std::max(v1, p.y());
   }
+  if (camera_) u0 -= 2, v0 -= 2, u1 += 2, v1 += 2;
   constexpr double kMaxRegionPx = 4096;
   if (!(u1 - u0 < kMaxRegionPx && v1 - v0 < kMaxRegionPx)) {
     result->failure = FitFailure::kDiverged;
@@ -248,7 +307,7 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
     // The row's span inside the region: each limit line is linear in i along the row.
     double lo = i0, hi = i1;
     const double y = (j - centre_.y()) / scale_;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 4 && !camera_; ++k) {
       const Eigen::Vector3d& l = lines[layout_.limits[k]];
       // limit_sign * (l.x (i - cx) / S + l.y y + l.z) > reach.
       const double slope = limit_sign[k] * l.x() / scale_;
@@ -264,10 +323,22 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
     }
     const int row_lo = static_cast<int>(std::floor(lo)), row_hi = static_cast<int>(std::ceil(hi));
     for (int i = std::max(i0, row_lo); i <= std::min(i1, row_hi); ++i) {
-      const Eigen::Vector3d p((i - centre_.x()) / scale_, (j - centre_.y()) / scale_, 1);
+      Eigen::Vector3d p((i - centre_.x()) / scale_, (j - centre_.y()) / scale_, 1);
+      Eigen::Matrix2d m = Eigen::Matrix2d::Identity() / scale_;
+      if (camera_) {
+        Eigen::Vector2d p_hat;
+        if (!ModelOf(Eigen::Vector2d(i, j), &p_hat)) continue;
+        p = p_hat.homogeneous();
+        m = ModelJacobian(p_hat);
+      }
+      // Signed distance (px) to line l: (l . p^~) / |M^T l_xy| (the model's gradient in pixels).
+      auto distance = [&](size_t l) {
+        return camera_ ? raw_lines[l].dot(p) / (m.transpose() * raw_lines[l].head<2>()).norm()
+                       : lines[l].dot(p);
+      };
       bool in_region = true;
       for (int k = 0; k < 4 && in_region; ++k) {
-        in_region = limit_sign[k] * lines[layout_.limits[k]].dot(p) > reach;
+        in_region = limit_sign[k] * distance(layout_.limits[k]) > reach;
       }
       if (!in_region) continue;
       if (i < 0 || j < 0 || i >= image_.width || j >= image_.height) {
@@ -290,7 +361,7 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
         return static_cast<uint8_t>(px.num_lines++);
       };
       bool include = false;
-      for (size_t l = 0; l < lines.size(); ++l) line_values[l] = lines[l].dot(p);
+      for (size_t l = 0; l < lines.size(); ++l) line_values[l] = distance(l);
       for (size_t r = 0; r < layout_.rects.size(); ++r) {
         const Layout::Rect& rect = layout_.rects[r];
         const double inside_min = std::min({line_values[rect.x0], -line_values[rect.x1],
@@ -305,6 +376,7 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
       }
       if (include) {
         pixels_.push_back(px);
+        if (camera_) pixel_jacobians_.push_back(m);
       } else {
         pixel_lines_.resize(px.first_line);
         pixel_rects_.resize(px.first_rect);
@@ -337,18 +409,23 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
   const size_t num_lines = layout_.lines.size();
   // Per line: f(p) = S (l . p^) / |l_xy| = unit . p^ (px) and d f / d l = S (p^ - (l^ . p^) l^_xy0)
   // / |l_xy|, with l = G^T m linear in G.
-  std::vector<Eigen::Vector3d> unit(num_lines);
+  std::vector<Eigen::Vector3d> unit(num_lines), raw(num_lines);
   std::vector<double> inv_norm(num_lines);
   for (size_t i = 0; i < num_lines; ++i) {
     const Eigen::Vector3d l = g.transpose() * layout_.lines[i].m;
     const double n = l.head<2>().norm();
     if (!(n > 1e-12)) return false;
+    raw[i] = l;
     unit[i] = l / n;
     inv_norm[i] = 1 / n;
   }
+  // The edges' normals in the image (with a camera: at the tag's centre) for the pixel box.
+  auto image_normal = [&](int line) -> Eigen::Vector2d {
+    return (centre_jacobian_.transpose() * raw[line].head<2>()).normalized();
+  };
   ProfileTable vertical, horizontal;
-  vertical.Build(sigma, unit[layout_.middle_vertical].head<2>());
-  horizontal.Build(sigma, unit[layout_.middle_horizontal].head<2>());
+  vertical.Build(sigma, image_normal(layout_.middle_vertical));
+  horizontal.Build(sigma, image_normal(layout_.middle_horizontal));
 
   jtj->setZero();
   jtr->setZero();
@@ -358,15 +435,28 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
   // [P(d_0) + P(d_1) - 1] = P(f_0) - P(f_1) with f the signed distance towards larger x (or y).
   std::array<EdgeProfileValue, kMaxLinesPerPixel> profile;
   std::array<double, kMaxLinesPerPixel> weight;
+  // With a camera, per line: 1 / N and M M^T l_xy / N^2, N = |M^T l_xy| (f = l . p^~ / N).
+  std::array<double, kMaxLinesPerPixel> lens_inv_n;
+  std::array<Eigen::Vector2d, kMaxLinesPerPixel> lens_q;
   Eigen::Matrix<double, kNumParams, 1> jac;
-  for (const FitPixel& px : pixels_) {
+  for (size_t index = 0; index < pixels_.size(); ++index) {
+    const FitPixel& px = pixels_[index];
     const Eigen::Vector3d p(px.p.x(), px.p.y(), 1);
     if (!((g.row(2) * p)(0) > 0)) return false;  // Behind the homography's horizon.
     std::fill(weight.begin(), weight.begin() + px.num_lines, 0.0);
     const int* lines_of_pixel = pixel_lines_.data() + px.first_line;
     for (int k = 0; k < px.num_lines; ++k) {
       const int line = lines_of_pixel[k];
-      const double f = scale_ * unit[line].dot(p);
+      double f;
+      if (camera_) {
+        const Eigen::Matrix2d& m = pixel_jacobians_[index];
+        const Eigen::Vector2d mt_l = m.transpose() * raw[line].head<2>();
+        lens_inv_n[k] = 1 / mt_l.norm();
+        lens_q[k] = m * mt_l * (lens_inv_n[k] * lens_inv_n[k]);
+        f = raw[line].dot(p) * lens_inv_n[k];
+      } else {
+        f = scale_ * unit[line].dot(p);
+      }
       profile[k] = layout_.lines[line].vertical ? vertical(f) : horizontal(f);
     }
     double b = px.deep, db_dsigma = 0;
@@ -397,9 +487,16 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
       Eigen::Matrix3d dg = Eigen::Matrix3d::Zero();
       for (int k = 0; k < px.num_lines; ++k) {
         const int line = lines_of_pixel[k];
-        const Eigen::Vector3d& u = unit[line];
-        const double w = scale_ * inv_norm[line] * weight[k], f = u.dot(p);
-        const Eigen::Vector3d df(w * (p.x() - f * u.x()), w * (p.y() - f * u.y()), w);
+        Eigen::Vector3d df;  // weight * d f / d l.
+        if (camera_) {
+          const double w = lens_inv_n[k] * weight[k], f = raw[line].dot(p) * lens_inv_n[k];
+          df = Eigen::Vector3d(w * (p.x() - f * lens_q[k].x() / lens_inv_n[k]),
+                               w * (p.y() - f * lens_q[k].y() / lens_inv_n[k]), w);
+        } else {
+          const Eigen::Vector3d& u = unit[line];
+          const double w = scale_ * inv_norm[line] * weight[k], f = u.dot(p);
+          df = Eigen::Vector3d(w * (p.x() - f * u.x()), w * (p.y() - f * u.y()), w);
+        }
         const TagLine& tag_line = layout_.lines[line];
         dg.row(tag_line.vertical ? 0 : 1) += df;
         dg.row(2) += tag_line.m.z() * df;
@@ -429,15 +526,29 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
 PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) {
   PhotometricFitResult result;
   result.corners = initial;
+  // The model plane's corners: the pixels, or their undistorted normalised coordinates.
+  std::array<Eigen::Vector2d, 4> model_corners = initial;
+  for (int k = 0; k < 4 && camera_; ++k) {
+    if (!UndistortNormalized(*camera_, (a_inv_ * initial[k].homogeneous()).hnormalized(),
+                             &model_corners[k])) {
+      result.failure = FitFailure::kDiverged;
+      result.message = "corner " + std::to_string(k) + " is outside the camera's valid region";
+      return result;
+    }
+  }
   centre_.setZero();
-  double perimeter = 0;
+  double perimeter = 0, pixel_perimeter = 0;
   for (int k = 0; k < 4; ++k) {
-    centre_ += initial[k] / 4;
-    perimeter += (initial[(k + 1) % 4] - initial[k]).norm();
+    centre_ += model_corners[k] / 4;
+    perimeter += (model_corners[(k + 1) % 4] - model_corners[k]).norm();
+    pixel_perimeter += (initial[(k + 1) % 4] - initial[k]).norm();
   }
   scale_ = perimeter / 8;  // Half the mean edge length.
+  centre_jacobian_ = ModelJacobian(Eigen::Vector2d::Zero());
+  px_per_unit_ = 1 / std::sqrt(std::abs(centre_jacobian_.determinant()));
   ParamVector x = ParamVector::Zero();
-  if (!(scale_ > 1) || !InitialHomography(initial, &x)) {
+  if (!(pixel_perimeter > 8) || !(scale_ > 0) || !centre_jacobian_.allFinite() ||
+      !InitialHomography(initial, &x)) {
     result.failure = FitFailure::kDiverged;
     result.message = "the detector's corners do not span a quadrilateral";
     return result;
@@ -499,9 +610,9 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
     for (int k = 0; k < 4 && valid; ++k) {
       const Eigen::Vector2d c = ToPixel(trial_corners[k]);
       valid = (c - initial[k]).norm() <= 2 * options_.max_correction_px;
-      moved = std::max(moved, scale_ * (trial_corners[k] - corners[k]).norm());
-      since_classified =
-          std::max(since_classified, scale_ * (trial_corners[k] - classified_corners_[k]).norm());
+      moved = std::max(moved, px_per_unit_ * (trial_corners[k] - corners[k]).norm());
+      since_classified = std::max(
+          since_classified, px_per_unit_ * (trial_corners[k] - classified_corners_[k]).norm());
     }
     const bool sigma_settled = std::abs(trial[kSigma] - x[kSigma]) < 1e-3;
     if (valid && moved < options_.convergence_px && sigma_settled && lambda < 1e-2) {
@@ -595,11 +706,12 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
     Eigen::Matrix<double, 2, 3> jpi;
     jpi << 1 / h.z(), 0, -h.x() / (h.z() * h.z()), 0, 1 / h.z(), -h.y() / (h.z() * h.z());
     const Eigen::Matrix2d a_inv = (jpi * g.leftCols<2>()).inverse();
+    const Eigen::Matrix2d to_pixel = ModelJacobian(corners[k]).inverse();  // d pixel / d p^.
     Eigen::Matrix<double, 2, 8> d;
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
         if (i == 2 && j == 2) continue;
-        d.col(3 * i + j) = -scale_ * a_inv * jpi.col(i) * c[j];
+        d.col(3 * i + j) = -to_pixel * a_inv * jpi.col(i) * c[j];
       }
     }
     result.corner_covariance_px2[k] = d * covariance.topLeftCorner<8, 8>() * d.transpose();
@@ -729,7 +841,8 @@ const char* FitFailureName(FitFailure failure) {
 
 PhotometricFitResult FitTagPhotometric(const GrayImageView& image, const TagPattern& pattern,
                                        const std::array<Eigen::Vector2d, 4>& initial_corners,
-                                       const PhotometricFitOptions& options) {
+                                       const PhotometricFitOptions& options,
+                                       const CameraIntrinsics* camera) {
   PhotometricFitResult result;
   result.corners = initial_corners;
   if (!options.Check(&result.message)) {
@@ -741,7 +854,11 @@ PhotometricFitResult FitTagPhotometric(const GrayImageView& image, const TagPatt
     result.message = "the tag pattern has no black";
     return result;
   }
-  TagFit fit(image, pattern, options);
+  if (camera && !camera->Check(&result.message)) {
+    result.failure = FitFailure::kDiverged;
+    return result;
+  }
+  TagFit fit(image, pattern, options, camera && camera->IsDistorted() ? camera : nullptr);
   return fit.Run(initial_corners);
 }
 

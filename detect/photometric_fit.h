@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "core/camera.h"
 #include "core/render.h"
 #include "core/tag_family.h"
 
@@ -107,10 +108,16 @@ struct PhotometricFitResult {
 };
 
 // Fits `pattern` to `image` from the detector's corners (calibench convention, detector order).
-// Never throws; result.failure says why a fit was refused (corners then unchanged).
+// With a distorted `camera` (lens-aware fit) the homography maps the camera's undistorted
+// normalised image plane to the tag, where its edges are straight; every distance above is then
+// measured in pixels through the lens: d = (l . u~(p)) / |J(p)^T l_xy|, u(p) the undistorted point
+// of pixel p and J = du/dp, so the model's edges bend as the lens bends them. A pinhole camera (or
+// none) fits in pixels. Never throws; result.failure says why a fit was refused (corners then
+// unchanged).
 PhotometricFitResult FitTagPhotometric(const GrayImageView& image, const TagPattern& pattern,
                                        const std::array<Eigen::Vector2d, 4>& initial_corners,
-                                       const PhotometricFitOptions& options);
+                                       const PhotometricFitOptions& options,
+                                       const CameraIntrinsics* camera = nullptr);
 
 // The edge profile P(d) above and its derivatives dP/dd, dP/dsigma, for an edge whose image
 // normal is (nx, ny) (unit): exposed for tests.

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <sstream>
 
 #include "batch/board_pose.h"
@@ -235,6 +236,100 @@ std::string FormatImageReport(const ImageFolderReport& images, const std::vector
     out << line;
   }
   return out.str();
+}
+
+namespace {
+
+// The corners of two detections of the same images matched by image and target point: the RMS
+// and the largest move (px), and how many matched.
+struct CornerMoves {
+  double rms_px = 0, max_px = 0;
+  long matched = 0;
+};
+CornerMoves CompareCorners(const PointData& a, const std::vector<int>& a_index,
+                           const ImageFolderReport& a_images, const PointData& b,
+                           const std::vector<int>& b_index, const ImageFolderReport& b_images) {
+  std::map<std::string, const View*> by_file;
+  for (size_t i = 0; i < a.views.size(); ++i)
+    by_file[a_images.images[a_index[i]].file] = &a.views[i];
+  CornerMoves moves;
+  double sum_sq = 0;
+  for (size_t i = 0; i < b.views.size(); ++i) {
+    const auto it = by_file.find(b_images.images[b_index[i]].file);
+    if (it == by_file.end()) continue;
+    std::map<std::array<double, 3>, Eigen::Vector2d> pixel_of;
+    const View& old_view = *it->second;
+    for (size_t k = 0; k < old_view.points.size(); ++k) {
+      const Eigen::Vector3d& p = old_view.points[k];
+      pixel_of[{p.x(), p.y(), p.z()}] = old_view.pixels[k];
+    }
+    for (size_t k = 0; k < b.views[i].points.size(); ++k) {
+      const Eigen::Vector3d& p = b.views[i].points[k];
+      const auto match = pixel_of.find({p.x(), p.y(), p.z()});
+      if (match == pixel_of.end()) continue;
+      const double d = (b.views[i].pixels[k] - match->second).norm();
+      sum_sq += d * d;
+      moves.max_px = std::max(moves.max_px, d);
+      ++moves.matched;
+    }
+  }
+  if (moves.matched > 0) moves.rms_px = std::sqrt(sum_sq / static_cast<double>(moves.matched));
+  return moves;
+}
+
+}  // namespace
+
+CalibrateReport IterateCornersThroughTheLens(const std::string& dir,
+                                             const CalibrationTarget& target,
+                                             const CalibrateOptions& options, int max_iterations,
+                                             const CalibrateReport& first, PointData* data,
+                                             ImageFolderReport* images,
+                                             std::vector<int>* used_index, std::ostream& log) {
+  CalibrateReport report = first;
+  char line[256];
+  auto print = [&](const char* what, const CalibrateReport& r, const CornerMoves* moves) {
+    std::snprintf(line, sizeof(line), "corners %-22s f.ku %.4f +- %.4f px, RMS %.4f px", what,
+                  r.camera.intrinsics.fku_px, r.ceres.intrinsics_std[0], r.camera.rms_reproj_px);
+    log << line;
+    if (moves) {
+      std::snprintf(line, sizeof(line), "; %ld corners moved by %.4f px RMS (max %.4f px)",
+                    moves->matched, moves->rms_px, moves->max_px);
+      log << line;
+    }
+    log << "\n";
+  };
+  if (!report.IsUsable()) return report;
+  print(options.init ? "through --init's lens:" : "through a homography:", report, nullptr);
+  for (int pass = 1; pass <= max_iterations; ++pass) {
+    PointData next_data;
+    ImageFolderReport next_images;
+    std::vector<int> next_index;
+    std::string why;
+    const CameraIntrinsics lens = report.camera.intrinsics;
+    if (!LoadImagePoints(dir, target, &next_data, &next_images, &next_index, &why,
+                         FamilyOf(options.model), &lens)) {
+      log << "corners through the lens: pass " << pass << " failed (" << why
+          << "); keeping the previous calibration\n";
+      break;
+    }
+    const CalibrateReport next = CalibrateFromPoints(next_data, options);
+    if (!next.IsUsable()) {
+      log << "corners through the lens: pass " << pass
+          << " gave no usable calibration; keeping the previous one\n";
+      break;
+    }
+    const CornerMoves moves =
+        CompareCorners(*data, *used_index, *images, next_data, next_index, next_images);
+    const double step = std::abs(next.camera.intrinsics.fku_px - report.camera.intrinsics.fku_px);
+    const double std_fku = next.ceres.intrinsics_std[0];
+    report = next;
+    *data = std::move(next_data);
+    *images = std::move(next_images);
+    *used_index = std::move(next_index);
+    print(("through the lens, pass " + std::to_string(pass) + ":").c_str(), report, &moves);
+    if (!(step >= kCornerIterationTol * std_fku)) break;  // Also stops on a NaN std.
+  }
+  return report;
 }
 
 }  // namespace calibench

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <optional>
+#include <ostream>
 #include <string>
 
 #include "batch/refine.h"
@@ -41,6 +42,21 @@ struct CalibrateReport {
 };
 
 CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOptions& options);
+
+// calibrate --images through a lens that distorts (aprilgrid targets): the corners of every image
+// are fitted again through the current estimate (the lens-aware photometric fit,
+// detect/photometric_fit.h: the tags' edges bend as the lens bends them) and the camera is
+// recalibrated, until f.ku moves by less than kCornerIterationTol of its std or after
+// `max_iterations` re-fits. Each pass prints one line to `log`: f.ku +- std, RMS, and the RMS and
+// largest move of the corners matched between passes. Returns the last usable report; *data,
+// *images and *used_index are those it was computed from.
+constexpr double kCornerIterationTol = 0.1;
+CalibrateReport IterateCornersThroughTheLens(const std::string& dir,
+                                             const CalibrationTarget& target,
+                                             const CalibrateOptions& options, int max_iterations,
+                                             const CalibrateReport& first, PointData* data,
+                                             ImageFolderReport* images,
+                                             std::vector<int>* used_index, std::ostream& log);
 
 // Human-readable report: intrinsics +- std for ceres beside zhang, RMS, per-view RMS.
 std::string FormatCalibrateReport(const CalibrateReport& report, const PointData& data);

@@ -47,12 +47,17 @@ bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, View* vie
 
 }  // namespace
 
-FrameDetectorOptions ImageDetectorOptions(const CalibrationTarget& target, LensFamily lens) {
+FrameDetectorOptions ImageDetectorOptions(const CalibrationTarget& target, LensFamily lens,
+                                          const CameraIntrinsics* camera) {
   FrameDetectorOptions options;
   // The photometric model draws a tag through a homography, which a fisheye's bent edges break:
-  // equidistant lenses keep the curved-edge fit until the model is drawn through the lens.
+  // without a camera to draw it through, equidistant lenses keep the curved-edge fit.
   options.refine.curved_edges = lens == LensFamily::kEquidistant;
-  if (options.refine.curved_edges) options.refinement = CornerRefinement::kEdgeFit;
+  if (camera) {
+    options.camera = *camera;
+  } else if (options.refine.curved_edges) {
+    options.refinement = CornerRefinement::kEdgeFit;
+  }
   options.corner_squares = target.corner_squares;
   options.corner_square_fraction = std::min(1.0, target.grid.tag_spacing);
   return options;
@@ -147,14 +152,15 @@ bool ReadGray8(const std::string& path, GrayImage* image, std::string* why, std:
 
 bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, PointData* data,
                      ImageFolderReport* report, std::vector<int>* used_index, std::string* why,
-                     LensFamily lens) {
+                     LensFamily lens, const CameraIntrinsics* camera) {
   std::vector<std::string> names;
   if (!ListImageFiles(dir, &names, why)) return false;
   const std::vector<fs::path> files(names.begin(), names.end());
   std::unique_ptr<FrameDetector> detector;
   std::vector<Eigen::Vector3d> grid_corners;
   if (target.type == CalibrationTarget::Type::kAprilGrid) {
-    detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(target, lens), why);
+    detector =
+        FrameDetector::Create({target.grid}, ImageDetectorOptions(target, lens, camera), why);
     if (!detector) return false;
     grid_corners = target.grid.CornersInBoard();
   }

@@ -26,8 +26,10 @@ namespace calibench {
 // squares of Kalibr's printed grids handled when the target has them (target.corner_squares:
 // frame_detector.h, corner_squares; their edge is tag_spacing of a tag's). For a fisheye lens
 // (`lens` equidistant) the edge fit takes curved edges (corner_refinement.h, curved_edges).
+// With `camera` (a calibration of these images) the photometric fit is drawn through its lens.
 FrameDetectorOptions ImageDetectorOptions(const CalibrationTarget& target,
-                                          LensFamily lens = LensFamily::kRadTan);
+                                          LensFamily lens = LensFamily::kRadTan,
+                                          const CameraIntrinsics* camera = nullptr);
 
 // The image files of `dir` (extensions above, any case), sorted by name. False with *why naming
 // the folder when it cannot be listed or holds no image.
@@ -70,9 +72,11 @@ constexpr double kLowDetectionRate = 0.5;
 // Views (target points in the board frame, their pixels) of every usable image; data->views[i]
 // comes from report->images[used_index[i]]. Returns false with *why naming the folder or target
 // when the folder cannot be listed, holds no image, or no image shows the target.
-// `lens`: the family the images will be calibrated with (ImageDetectorOptions).
+// `lens`: the family the images will be calibrated with; `camera`: a calibration of them, whose
+// lens the corner fit is drawn through (ImageDetectorOptions).
 bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, PointData* data,
                      ImageFolderReport* report, std::vector<int>* used_index, std::string* why,
-                     LensFamily lens = LensFamily::kRadTan);
+                     LensFamily lens = LensFamily::kRadTan,
+                     const CameraIntrinsics* camera = nullptr);
 
 }  // namespace calibench

@@ -132,7 +132,11 @@ struct CalibrateArgs {
   std::string points_path, images_dir, target_path, init_path, format;
   std::string out_path = "camera.yaml", model = "pinhole-k2";
   bool skew = false, model_given = false, evaluate = false;
+  int corner_iterations = 4;  // Re-fits of the corners through the estimate (aprilgrid, lens).
 };
+
+int FinishCalibration(const calibench::CalibrateReport& report, const std::string& out_path,
+                      calibench::CameraFormat format);
 
 int Calibrate(const CalibrateArgs& args) {
   const std::string& out_path = args.out_path;
@@ -179,20 +183,45 @@ int Calibrate(const CalibrateArgs& args) {
       std::cerr << "calibench: --target: " << why << "\n";
       return 2;
     }
+    // With --init, the given camera's lens draws the corner fit from the first pass.
+    const calibench::CameraIntrinsics* lens = options.init ? &options.init->intrinsics : nullptr;
     if (!calibench::LoadImagePoints(args.images_dir, target, &data, &images, &used_index, &why,
-                                    calibench::FamilyOf(options.model))) {
+                                    calibench::FamilyOf(options.model), lens)) {
       std::cerr << "calibench: --images: " << why << "\n";
       return 2;
     }
+    if (options.init && options.init->image_width > 0 &&
+        (options.init->image_width != data.image_width ||
+         options.init->image_height != data.image_height)) {
+      std::cerr << "calibench: --init: " << args.init_path << ": image size "
+                << options.init->image_width << " x " << options.init->image_height
+                << " (its image_width / image_height), but the images in " << args.images_dir
+                << " are " << data.image_width << " x " << data.image_height << " px\n";
+      return 2;
+    }
+    calibench::CalibrateReport report = calibench::CalibrateFromPoints(data, options);
+    if (!args.evaluate && target.type == calibench::CalibrationTarget::Type::kAprilGrid &&
+        options.model != calibench::LensModel::kPinhole && args.corner_iterations > 0) {
+      report = calibench::IterateCornersThroughTheLens(args.images_dir, target, options,
+                                                       args.corner_iterations, report, &data,
+                                                       &images, &used_index, std::cerr);
+    }
+    std::cout << calibench::FormatCalibrateReport(report, data);
+    std::cout << calibench::FormatImageReport(images, used_index, report);
+    return FinishCalibration(report, out_path, format);
   } else if (!calibench::LoadPointData(args.points_path, &data, &why)) {
     std::cerr << "calibench: --points: " << why << "\n";
     return 2;
   }
   const calibench::CalibrateReport report = calibench::CalibrateFromPoints(data, options);
   std::cout << calibench::FormatCalibrateReport(report, data);
-  if (!args.images_dir.empty()) {
-    std::cout << calibench::FormatImageReport(images, used_index, report);
-  }
+  return FinishCalibration(report, out_path, format);
+}
+
+// Writes camera.yaml of a usable calibration (exit 0), or exits 4 (unusable) or 3 (unwritable).
+int FinishCalibration(const calibench::CalibrateReport& report, const std::string& out_path,
+                      calibench::CameraFormat format) {
+  std::string why;
   if (!report.IsUsable()) return 4;
   if (!calibench::WriteCameraFile(out_path, format, report.camera, &why)) {
     std::cerr << "calibench: --out: " << why << "\n";
@@ -349,6 +378,13 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
                    "A camera file (opencv, kalibr or mrcal) as the initial guess instead of "
                    "zhang; its lens model unless --model is given")
       ->check(CLI::ExistingFile);
+  calibrate
+      ->add_option("--corner-iterations", cal.corner_iterations,
+                   "With --images (aprilgrid) and a lens model that distorts: re-fit the corners "
+                   "through the estimate and recalibrate at most this often, until f moves by "
+                   "< 0.1 std (0: detect once)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   calibrate->add_flag("--evaluate", cal.evaluate,
                       "With --init: keep that camera fixed, fit only each image's pose, report "
                       "the reprojection RMS per image and flag outliers");

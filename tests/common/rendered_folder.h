@@ -19,10 +19,12 @@ struct RenderedFolderOptions {
   double noise_sigma_gray = 1.0;
   uint64_t seed = 2024;
   double lateral_m = 0.05;  // Board centres spread over +-lateral_m in x, +-0.8 lateral_m in y.
+  int width = 640, height = 480;
+  double blur_sigma_px = 0.0;
 };
 
 // Writes DIR/view<k>.png (k < options.views) of `grid` seen by `truth` from random facing
-// viewpoints (tilt up to ~35 degrees, 0.45-0.6 m, every corner > 5 px inside the 640 x 480 image).
+// viewpoints (tilt up to ~35 degrees, 0.45-0.6 m, every corner > 5 px inside the image).
 // Returns the number of views written (< options.views only if poses ran out).
 inline int WriteRenderedAprilGridFolder(const std::string& dir, const CameraIntrinsics& truth,
                                         const AprilGrid& grid,
@@ -32,6 +34,9 @@ inline int WriteRenderedAprilGridFolder(const std::string& dir, const CameraIntr
   const auto family = TagFamily::Create(grid.family, grid.black_tag_border, nullptr);
   RenderOptions render_options;
   render_options.noise_sigma_gray = options.noise_sigma_gray;
+  render_options.width = options.width;
+  render_options.height = options.height;
+  render_options.blur_sigma_px = options.blur_sigma_px;
   const auto renderer = FrameRenderer::Create(truth, render_options, nullptr);
   if (!family || !renderer) return 0;
   const double extent = grid.tag_cols * grid.Pitch() - grid.Pitch() + grid.tag_size_m;
@@ -52,7 +57,7 @@ inline int WriteRenderedAprilGridFolder(const std::string& dir, const CameraIntr
     for (const Eigen::Vector3d& p : grid.CornersInBoard()) {
       Eigen::Vector2d pixel;
       inside &= ProjectPoint(truth, view.cam_from_board * p, &pixel) && pixel.x() > 5 &&
-                pixel.y() > 5 && pixel.x() < 634 && pixel.y() < 474;
+                pixel.y() > 5 && pixel.x() < options.width - 6 && pixel.y() < options.height - 6;
     }
     if (!inside) continue;
     GrayImage image;
