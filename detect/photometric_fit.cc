@@ -251,7 +251,7 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   const double reach = ProfileReachPx(x[kSigma]);
   // Margin: corners may move kReclassifyPx before the pixels are classified again.
   const double near_px = reach + kReclassifyPx;
-  const double include_px = reach + 2 * kReclassifyPx;  // Flat pixels a little beyond the reach.
+  const double include_px = near_px;  // Flat pixels up to the re-classification margin.
   std::vector<Eigen::Vector3d> lines(layout_.lines.size()), raw_lines(lines.size());
   for (size_t i = 0; i < lines.size(); ++i) {
     const Eigen::Vector3d l = g.transpose() * layout_.lines[i].m;
