@@ -279,6 +279,19 @@ CornerMoves CompareCorners(const PointData& a, const std::vector<int>& a_index,
 
 }  // namespace
 
+bool CheckInitImageSize(const CameraFile& init, const std::string& init_path, const PointData& data,
+                        const std::string& images_dir, std::string* why) {
+  if (init.image_width <= 0 || init.image_height <= 0) return true;
+  if (init.image_width == data.image_width && init.image_height == data.image_height) return true;
+  if (why) {
+    *why = init_path + ": image_width / image_height " + std::to_string(init.image_width) + " x " +
+           std::to_string(init.image_height) + " px, but the images in " + images_dir + " are " +
+           std::to_string(data.image_width) + " x " + std::to_string(data.image_height) +
+           " px: the camera was calibrated for another image size";
+  }
+  return false;
+}
+
 CalibrateReport IterateCornersThroughTheLens(const std::string& dir,
                                              const CalibrationTarget& target,
                                              const CalibrateOptions& options, int max_iterations,

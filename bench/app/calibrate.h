@@ -43,6 +43,12 @@ struct CalibrateReport {
 
 CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOptions& options);
 
+// A given camera (`init`, read from `init_path`) fits images of `data`'s size: false with *why
+// naming the file, its image_width / image_height and the images' size (from `images_dir`)
+// otherwise. A camera file without a size (0) fits any.
+bool CheckInitImageSize(const CameraFile& init, const std::string& init_path, const PointData& data,
+                        const std::string& images_dir, std::string* why);
+
 // calibrate --images through a lens that distorts (aprilgrid targets): the corners of every image
 // are fitted again through the current estimate (the lens-aware photometric fit,
 // detect/photometric_fit.h: the tags' edges bend as the lens bends them) and the camera is

@@ -190,13 +190,9 @@ int Calibrate(const CalibrateArgs& args) {
       std::cerr << "calibench: --images: " << why << "\n";
       return 2;
     }
-    if (options.init && options.init->image_width > 0 &&
-        (options.init->image_width != data.image_width ||
-         options.init->image_height != data.image_height)) {
-      std::cerr << "calibench: --init: " << args.init_path << ": image size "
-                << options.init->image_width << " x " << options.init->image_height
-                << " (its image_width / image_height), but the images in " << args.images_dir
-                << " are " << data.image_width << " x " << data.image_height << " px\n";
+    if (options.init && !calibench::CheckInitImageSize(*options.init, args.init_path, data,
+                                                       args.images_dir, &why)) {
+      std::cerr << "calibench: --init: " << why << "\n";
       return 2;
     }
     calibench::CalibrateReport report = calibench::CalibrateFromPoints(data, options);

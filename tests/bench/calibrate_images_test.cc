@@ -143,6 +143,24 @@ TEST(CalibrateImages, EurocLikeLensIsCalibratedThroughTheLens) {
   }
 }
 
+TEST(CalibrateImages, AnInitCameraOfAnotherImageSizeIsRefused) {
+  CameraFile init;
+  init.image_width = 752;
+  init.image_height = 480;
+  PointData data;
+  data.image_width = 640;
+  data.image_height = 480;
+  std::string why;
+  EXPECT_FALSE(CheckInitImageSize(init, "cam.yaml", data, "frames/", &why));
+  EXPECT_NE(why.find("cam.yaml: image_width / image_height 752 x 480"), std::string::npos) << why;
+  EXPECT_NE(why.find("frames/ are 640 x 480"), std::string::npos) << why;
+  data.image_width = 752;
+  EXPECT_TRUE(CheckInitImageSize(init, "cam.yaml", data, "frames/", &why));
+  init.image_width = init.image_height = 0;  // A file without a size fits any images.
+  data.image_width = 640;
+  EXPECT_TRUE(CheckInitImageSize(init, "cam.yaml", data, "frames/", &why));
+}
+
 TEST(CalibrateImages, BadFoldersAndTargetsGiveClearErrors) {
   CalibrationTarget target;
   std::string why;
