@@ -27,9 +27,12 @@
 // Parameters (13): the image -> tag homography G (8 entries, G_22 = 1, between normalised pixel
 // and tag coordinates), sigma, k, w and the shading g. Levenberg-Marquardt with analytic
 // Jacobians: d_e = S (l . p^) / |l_xy| with l = G^T m_e (m_e the tag line), linear in G.
-// The fit uses the pixels within 2 R px of a rectangle's edge (R = 3.5 sigma + 0.75)
-// and at least R px inside the known region: the black square and a white margin of
-// `white_margin_cells` (an AprilGrid's gap to the next tag). Saturated pixels are censored.
+// The fit uses the pixels within R + 0.5 px of a rectangle's edge (R = 3.5 sigma + 0.75, the
+// profile's reach; the 0.5 px lets the corners move before the pixels are classified again) and
+// at least R px inside the known region: the black square and a white margin of
+// `white_margin_cells` (an AprilGrid's gap to the next tag). Saturated pixels are censored. The
+// residual variance holds whatever the model does not explain (a renderer's sampled blur kernel,
+// vignetting beyond linear): the bound is then conservative.
 //
 // The Cramer-Rao bound of each corner: the corners are functions of G; their covariance is
 // D_k [sigma_n^2 (J^T J)^-1]_GG D_k^T, with sigma_n^2 the residual variance (on N - 13 degrees of
