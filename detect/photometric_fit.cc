@@ -44,9 +44,9 @@ class ProfileTable {
   // the contrast), P' and dP/dsigma linearly (they enter the Jacobian only).
   EdgeProfileValue operator()(double d) const {
     const double t = (d + reach_) * kPerPx;
-    if (t <= 0) return {0, 0, 0};
+    if (!(t > 0)) return {0, 0, 0};  // Also NaN: no cast of a non-finite value below.
+    if (!(t < static_cast<double>(values_.size() - 1))) return {1, 0, 0};
     const int i = static_cast<int>(t);
-    if (i + 1 >= static_cast<int>(values_.size())) return {1, 0, 0};
     const double f = t - i, f2 = f * f, f3 = f2 * f;
     const EdgeProfileValue& a = values_[i];
     const EdgeProfileValue& b = values_[i + 1];
