@@ -90,11 +90,14 @@ void RefineXJunctions(const GrayImageView& image, double square_fraction, TagDet
 
 }  // namespace
 
+namespace {
+constexpr std::array<const char*, 3> kRefinementNames = {"none", "edge_fit", "photometric"};
+}  // namespace
+
 bool ParseCornerRefinement(const std::string& name, CornerRefinement* refinement) {
-  for (CornerRefinement r :
-       {CornerRefinement::kNone, CornerRefinement::kEdgeFit, CornerRefinement::kPhotometric}) {
-    if (name == CornerRefinementName(r)) {
-      *refinement = r;
+  for (size_t i = 0; i < kRefinementNames.size(); ++i) {
+    if (name == kRefinementNames[i]) {
+      *refinement = static_cast<CornerRefinement>(i);
       return true;
     }
   }
@@ -102,15 +105,8 @@ bool ParseCornerRefinement(const std::string& name, CornerRefinement* refinement
 }
 
 const char* CornerRefinementName(CornerRefinement refinement) {
-  switch (refinement) {
-    case CornerRefinement::kNone:
-      return "none";
-    case CornerRefinement::kEdgeFit:
-      return "edge_fit";
-    case CornerRefinement::kPhotometric:
-      return "photometric";
-  }
-  return "unknown";
+  const auto i = static_cast<size_t>(refinement);
+  return i < kRefinementNames.size() ? kRefinementNames[i] : "unknown";
 }
 
 bool FrameDetectorOptions::Check(std::string* why) const {
@@ -164,23 +160,22 @@ std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid
   d->family_ = TagFamily::Create(grids[0].family, grids[0].black_tag_border, why);
   if (!d->family_) return nullptr;
   d->options_.refine.width_at_border = d->family_->width_at_border();
+  // Every tag's pattern for the photometric fit, once: tag index = point id / 4. The white
+  // between tags is tag_spacing of the black square's side, at least the family's own white ring.
+  // An id the family lacks keeps an empty pattern (its fit is refused).
   for (const AprilGrid& grid : grids) {
-    // The white between tags: tag_spacing of the black square's side; at least the family's own
-    // white ring (a grid with no spacing still has its tags' one-cell white border... printed).
-    d->white_margin_cells_.push_back(std::max(grid.tag_spacing * d->family_->width_at_border(),
-                                              static_cast<double>(d->family_->border_start())));
+    const double margin = std::max(grid.tag_spacing * d->family_->width_at_border(),
+                                   static_cast<double>(d->family_->border_start()));
+    for (int t = 0; t < grid.NumTags(); ++t) {
+      TagPattern pattern;
+      if (!TagPattern::FromFamily(*d->family_, grid.first_id + t, margin, 0.0, &pattern, nullptr))
+        pattern.black.clear();
+      d->patterns_.push_back(std::move(pattern));
+    }
   }
   d->detector_ = AprilTagDetector::Create(d->options_.detector, why);
   if (!d->detector_) return nullptr;
   return d;
-}
-
-int FrameDetector::GridOf(int id) const {
-  for (size_t g = 0; g < grids_.size(); ++g) {
-    if (id >= grids_[g].first_id && id < grids_[g].first_id + grids_[g].num_tags)
-      return static_cast<int>(g);
-  }
-  return -1;
 }
 
 int FrameDetector::PointId(int id, int corner) const {
@@ -241,15 +236,9 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
         options_.refinement == CornerRefinement::kEdgeFit ||
         (options_.refinement == CornerRefinement::kPhotometric && options_.corner_squares);
     if (photometric) {
-      TagPattern pattern;
-      if (!TagPattern::FromFamily(*family_, tag.id, white_margin_cells_[GridOf(tag.id)], 0.0,
-                                  &pattern, nullptr)) {
-        ++local.refused_tags[static_cast<int>(FitFailure::kDiverged)];
-        continue;
-      }
       const PhotometricFitResult fit =
-          FitTagPhotometric(view, pattern, tag.corners, options_.photometric,
-                            options_.camera ? &*options_.camera : nullptr);
+          FitTagPhotometric(view, patterns_[PointId(tag.id, 0) / 4], tag.corners,
+                            options_.photometric, options_.camera ? &*options_.camera : nullptr);
       if (!fit.ok()) {
         ++local.refused_tags[static_cast<int>(fit.failure)];
         continue;

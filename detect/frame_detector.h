@@ -119,12 +119,11 @@ class FrameDetector {
   struct GridIds {
     int first_id, num_tags, first_point;
   };
-  int GridOf(int id) const;
   std::vector<GridIds> grids_;
   int num_points_ = 0;
   FrameDetectorOptions options_;
   std::shared_ptr<const TagFamily> family_;
-  std::vector<double> white_margin_cells_;  // Per grid: the gap to the next tag, in cells.
+  std::vector<TagPattern> patterns_;  // Per tag (point id / 4): the photometric fit's model.
   std::unique_ptr<AprilTagDetector> detector_;
 };
 

@@ -2,27 +2,10 @@
 // homography, blurred by a Gaussian PSF and integrated over the pixel box, fitted to every pixel
 // of the tag's region. There is no edge window: the corners are the model's corners.
 //
-// Tag coordinates (cells): x to the right along the bitmap's columns, y up (board y, the bitmap's
-// row 0 is the top); the black reference square spans [0, W]^2 (W = width_at_border), so the
-// detector's corners 0..3 (bottom-left, bottom-right, top-right, top-left) are (0, 0), (W, 0),
-// (W, W), (0, W). Pixels follow calibench's convention (pixel (i, j) centred at (i, j)).
-//
-// The model of pixel p (gray levels):
+// The model (the pattern in tag coordinates, the blurred edge profile and the black fraction b(p)
+// of a pixel) is detect/tag_model.h's. The model of pixel p (gray levels) is
 //   I(p) = s(p) [w + (k - w) b(p)],   s(p) = 1 + g . (p - c0) / S         (linear shading)
-// with k, w the black and white levels and b(p) the blurred, pixel-integrated black fraction. The
-// pattern's black is a union of axis-aligned rectangles R (maximal runs of the decoded bitmap's
-// black cells, and Kalibr's corner squares); each maps to a quadrilateral in the image whose edge
-// lines e have signed distances d_e(p) (px, > 0 inside). Then
-//   b(p) = sum_R  [P(d_x0) + P(d_x1) - 1] [P(d_y0) + P(d_y1) - 1]
-// where P(d) is the 1D profile of a straight edge: the fraction of a pixel at distance d inside
-// the black covered after the PSF, i.e. the CDF at d of  U(|n_x|) + U(|n_y|) + N(0, sigma^2)
-// (the pixel box projected on the edge normal n is the sum of two uniforms of widths |n_x|, |n_y|):
-//   P(d) = [Q(d+a+b') - Q(d+a-b') - Q(d-a+b') + Q(d-a-b')] / (|n_x| |n_y|),  a, b' = |n_x|/2,
-//   |n_y|/2 Q(x) = (x^2 + sigma^2)/2 Phi(x/sigma) + x sigma/2 phi(x/sigma)  (Q'' = Phi(x / sigma))
-//   dQ/dsigma = sigma Phi(x/sigma).
-// The product form is exact for a rectangle that maps to a rectangle (orthogonal edges) and for
-// every straight edge and parallel strip; under strong shear it is approximate within ~sigma of a
-// vertex. Collinear edges of adjacent rectangles are one image line, so the sum has no seams.
+// with k, w the black and white levels.
 //
 // Parameters (13): the image -> tag homography G (8 entries, G_22 = 1, between normalised pixel
 // and tag coordinates), sigma, k, w and the shading g. Levenberg-Marquardt with analytic
@@ -48,23 +31,9 @@
 #include "core/camera.h"
 #include "core/render.h"
 #include "core/tag_family.h"
+#include "detect/tag_model.h"
 
 namespace calibench {
-
-// The tag's black pattern in tag coordinates (see above).
-struct TagPattern {
-  struct Rect {
-    double x0, y0, x1, y1;  // Cells, x0 < x1, y0 < y1.
-  };
-  int width_cells = 8;              // W.
-  double white_margin_cells = 1.0;  // Known white (or corner squares) around the black square.
-  std::vector<Rect> black;
-  // Tag `id` of `family` (its bitmap's black cells inside the reference square, as maximal
-  // rectangles), with a white margin of `white_margin_cells` and, when corner_square_cells > 0,
-  // Kalibr's black squares of that side at the four corners. False (and *why) for a bad id.
-  static bool FromFamily(const TagFamily& family, int id, double white_margin_cells,
-                         double corner_square_cells, TagPattern* pattern, std::string* why);
-};
 
 struct PhotometricFitOptions {
   int max_iterations = 30;          // LM iterations (a step refused counts as one).
@@ -96,6 +65,8 @@ enum class FitFailure {
 };
 constexpr int kNumFitFailures = 7;
 const char* FitFailureName(FitFailure failure);  // "none", "image_border", ...
+// Refusals counted by FitFailure (index 0, kNone, ignored): "diverged 1, moved 2", or empty.
+std::string FormatFitFailures(const std::array<int, kNumFitFailures>& counts);
 
 struct PhotometricFitResult {
   FitFailure failure = FitFailure::kNone;
@@ -121,12 +92,5 @@ PhotometricFitResult FitTagPhotometric(const GrayImageView& image, const TagPatt
                                        const std::array<Eigen::Vector2d, 4>& initial_corners,
                                        const PhotometricFitOptions& options,
                                        const CameraIntrinsics* camera = nullptr);
-
-// The edge profile P(d) above and its derivatives dP/dd, dP/dsigma, for an edge whose image
-// normal is (nx, ny) (unit): exposed for tests.
-struct EdgeProfileValue {
-  double p, dp_dd, dp_dsigma;
-};
-EdgeProfileValue EdgeProfile(double d, double sigma, double nx, double ny);
 
 }  // namespace calibench

@@ -63,14 +63,7 @@ int CornerBias(const CornerBiasArgs& args) {
   for (size_t i = 0; i < cases.size(); ++i) {
     const CornerBiasCase& c = cases[i];
     const CornerBiasResult& r = results[i];
-    // Refusals of the photometric fit, "reason count; ...".
-    std::string refused;
-    for (int f = 1; f < kNumFitFailures; ++f) {
-      if (r.photometric_failures[f] == 0) continue;
-      if (!refused.empty()) refused += "; ";
-      refused += std::string(FitFailureName(static_cast<FitFailure>(f))) + " " +
-                 std::to_string(r.photometric_failures[f]);
-    }
+    const std::string refused = FormatFitFailures(r.photometric_failures);
     for (const std::string stage : {"raw", "refined", "photometric"}) {
       const bool photometric = stage == "photometric";
       const auto& stats = stage == "raw" ? r.raw : photometric ? r.photometric : r.refined;

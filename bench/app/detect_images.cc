@@ -35,12 +35,7 @@ bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
                                  o.pixel.y(), o.crlb_px});
       }
       image.refused_tags = counts.RefusedTags();
-      for (int f = 1; f < kNumFitFailures; ++f) {
-        if (counts.refused_tags[f] == 0) continue;
-        if (!image.refused_reasons.empty()) image.refused_reasons += ", ";
-        image.refused_reasons += std::string(FitFailureName(static_cast<FitFailure>(f))) + " " +
-                                 std::to_string(counts.refused_tags[f]);
-      }
+      image.refused_reasons = FormatFitFailures(counts.refused_tags);
       image.tags = counts.tags;
       image.unknown_tags = counts.unknown_tags;
       image.border_tags = counts.border_tags;

@@ -135,8 +135,18 @@ struct CalibrateArgs {
   int corner_iterations = 4;  // Re-fits of the corners through the estimate (aprilgrid, lens).
 };
 
+// Writes camera.yaml of a usable calibration (exit 0), or exits 4 (unusable) or 3 (unwritable).
 int FinishCalibration(const calibench::CalibrateReport& report, const std::string& out_path,
-                      calibench::CameraFormat format);
+                      calibench::CameraFormat format) {
+  std::string why;
+  if (!report.IsUsable()) return 4;
+  if (!calibench::WriteCameraFile(out_path, format, report.camera, &why)) {
+    std::cerr << "calibench: --out: " << why << "\n";
+    return 3;
+  }
+  std::cerr << "calibench: wrote " << out_path << " (" << calibench::ToString(format) << ")\n";
+  return 0;
+}
 
 int Calibrate(const CalibrateArgs& args) {
   const std::string& out_path = args.out_path;
@@ -212,19 +222,6 @@ int Calibrate(const CalibrateArgs& args) {
   const calibench::CalibrateReport report = calibench::CalibrateFromPoints(data, options);
   std::cout << calibench::FormatCalibrateReport(report, data);
   return FinishCalibration(report, out_path, format);
-}
-
-// Writes camera.yaml of a usable calibration (exit 0), or exits 4 (unusable) or 3 (unwritable).
-int FinishCalibration(const calibench::CalibrateReport& report, const std::string& out_path,
-                      calibench::CameraFormat format) {
-  std::string why;
-  if (!report.IsUsable()) return 4;
-  if (!calibench::WriteCameraFile(out_path, format, report.camera, &why)) {
-    std::cerr << "calibench: --out: " << why << "\n";
-    return 3;
-  }
-  std::cerr << "calibench: wrote " << out_path << " (" << calibench::ToString(format) << ")\n";
-  return 0;
 }
 
 struct FramesArgs {

@@ -1,0 +1,114 @@
+// The photometric fit's machinery (detect/photometric_fit.h): the tag's layout of lines and
+// rectangles, the model plane, the classification of a tag's pixels and the evaluation of the
+// model's cost and Jacobian over them. Internal to detect/: photometric_fit.cc runs the fit,
+// tag_fit_pixels.cc holds the pixel work.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "detect/photometric_fit.h"
+
+namespace calibench {
+namespace photometric_internal {
+
+constexpr int kNumParams = 13;  // G (8), sigma, black, white, shading (2).
+constexpr int kSigma = 8, kBlack = 9, kWhite = 10, kShadeX = 11, kShadeY = 12;
+using ParamVector = Eigen::Matrix<double, kNumParams, 1>;
+using ParamMatrix = Eigen::Matrix<double, kNumParams, kNumParams>;
+constexpr double kMinSigmaPx = 0.02;
+constexpr double kReclassifyPx = 0.5;
+constexpr double kReclassifySigmaPx = 0.1;  // Sigma may grow this much before (reach + 0.35 px).
+constexpr int kMaxLinesPerPixel = 32;       // Cells of >= 1 px: a pixel is near far fewer.
+
+// A line of the pattern in normalised tag coordinates: m . (x^, y^, 1) = 0, > 0 on the side of
+// larger x (vertical lines) or y (horizontal lines).
+struct TagLine {
+  Eigen::Vector3d m;
+  bool vertical;
+};
+
+// The pattern prepared for fitting: unique lines, rectangles as line indices.
+struct Layout {
+  std::vector<TagLine> lines;
+  struct Rect {
+    int x0, x1, y0, y1;  // Line indices.
+  };
+  std::vector<Rect> rects;
+  std::array<int, 4> limits;  // The region's bounding lines x = -m, x = W + m, y = -m, y = W + m.
+  std::array<Eigen::Vector2d, 4> region_corners;   // Normalised tag coordinates.
+  int middle_vertical = 0, middle_horizontal = 0;  // Lines x = W / 2, y = W / 2 (for the tables).
+};
+
+Layout MakeLayout(const TagPattern& pattern);
+
+// G from the 8 free parameters (G_22 = 1).
+Eigen::Matrix3d HomographyOf(const ParamVector& x);
+
+// The four corners (normalised pixel coordinates) of G: G c~ ~ q~ for q = (+-1, +-1).
+bool CornersOf(const Eigen::Matrix3d& g, std::array<Eigen::Vector2d, 4>* corners);
+
+// One pixel of the fit.
+struct FitPixel {
+  Eigen::Vector2d p;  // Normalised pixel coordinates.
+  double gray;
+  int first_line, num_lines;  // The lines of its near rectangles (pixel_lines_).
+  int first_rect, num_rects;  // Its near rectangles as 4 slots of its lines (pixel_rects_).
+  int deep;                   // Rectangles that contain it beyond the profile's reach.
+};
+using RectSlots = std::array<uint8_t, 4>;  // x0, x1, y0, y1 among the pixel's lines.
+
+class TagFit {
+ public:
+  TagFit(const GrayImageView& image, const TagPattern& pattern, const PhotometricFitOptions& o,
+         const CameraIntrinsics* camera)
+      : image_(image),
+        pattern_(pattern),
+        options_(o),
+        layout_(MakeLayout(pattern)),
+        camera_(camera),
+        a_inv_(camera ? Eigen::Matrix3d(camera->Matrix().inverse()) : Eigen::Matrix3d::Identity()) {
+  }
+
+  PhotometricFitResult Run(const std::array<Eigen::Vector2d, 4>& initial);
+
+ private:
+  // Selects the pixels for parameters x (classification radius from sigma). False with the
+  // failure set when the region is unusable.
+  bool Classify(const ParamVector& x, PhotometricFitResult* result);
+  // Cost, J^T J and J^T r at x; false when x is invalid (a pixel behind the homography's horizon).
+  bool Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, ParamVector* jtr) const;
+  bool InitialHomography(const std::array<Eigen::Vector2d, 4>& corners, ParamVector* x) const;
+  // The model plane: pixels themselves, or with a camera the undistorted normalised image plane,
+  // where the tag's edges are straight. p^ = (model point - centre_) / scale_.
+  bool ModelOf(const Eigen::Vector2d& pixel, Eigen::Vector2d* p_hat) const;
+  // d pixel / d p^ at a model point (scale_ I without a camera), and its inverse d p^ / d pixel.
+  Eigen::Matrix2d PixelJacobian(const Eigen::Vector2d& p_hat) const;
+  Eigen::Matrix2d ModelJacobian(const Eigen::Vector2d& p_hat) const {
+    return PixelJacobian(p_hat).inverse();
+  }
+  Eigen::Vector2d ToPixel(const Eigen::Vector2d& p_hat) const;
+  // Pixels per unit of p^ at the tag's centre (for the step and re-classification thresholds).
+  double PixelsPerUnit() const { return px_per_unit_; }
+
+  const GrayImageView& image_;
+  const TagPattern& pattern_;
+  const PhotometricFitOptions& options_;
+  const Layout layout_;
+  const CameraIntrinsics* camera_;  // Null: a pinhole tag, straight edges in the image.
+  const Eigen::Matrix3d a_inv_;
+  Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
+  double scale_ = 1, px_per_unit_ = 1;
+  Eigen::Matrix2d centre_jacobian_ = Eigen::Matrix2d::Identity();  // ModelJacobian(0).
+  std::vector<FitPixel> pixels_;
+  std::vector<Eigen::Matrix2d> pixel_jacobians_;  // With a camera: ModelJacobian per pixel.
+  std::vector<int> pixel_lines_;
+  std::vector<RectSlots> pixel_rects_;
+  std::array<Eigen::Vector2d, 4> classified_corners_;
+  double classified_sigma_ = 0;
+};
+
+}  // namespace photometric_internal
+}  // namespace calibench

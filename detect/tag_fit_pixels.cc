@@ -1,0 +1,400 @@
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+#include <utility>
+
+#include "detect/tag_fit.h"
+
+namespace calibench {
+namespace photometric_internal {
+
+Layout MakeLayout(const TagPattern& pattern) {
+  Layout layout;
+  const double half = pattern.width_cells / 2.0;
+  std::map<std::pair<bool, double>, int> index;
+  auto line = [&](bool vertical, double cells) {
+    const auto key = std::make_pair(vertical, cells);
+    auto it = index.find(key);
+    if (it != index.end()) return it->second;
+    const double c = (cells - half) / half;
+    const Eigen::Vector3d m = vertical ? Eigen::Vector3d(1, 0, -c) : Eigen::Vector3d(0, 1, -c);
+    layout.lines.push_back({m, vertical});
+    index[key] = static_cast<int>(layout.lines.size()) - 1;
+    return static_cast<int>(layout.lines.size()) - 1;
+  };
+  for (const TagPattern::Rect& r : pattern.black) {
+    layout.rects.push_back(
+        {line(true, r.x0), line(true, r.x1), line(false, r.y0), line(false, r.y1)});
+  }
+  const double m = pattern.white_margin_cells, w = pattern.width_cells;
+  layout.limits = {line(true, -m), line(true, w + m), line(false, -m), line(false, w + m)};
+  layout.middle_vertical = line(true, half);
+  layout.middle_horizontal = line(false, half);
+  const double e = (m + half) / half;
+  layout.region_corners = {Eigen::Vector2d(-e, -e), Eigen::Vector2d(e, -e), Eigen::Vector2d(e, e),
+                           Eigen::Vector2d(-e, e)};
+  return layout;
+}
+
+Eigen::Matrix3d HomographyOf(const ParamVector& x) {
+  Eigen::Matrix3d g;
+  g << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], 1.0;
+  return g;
+}
+
+// The four corners (normalised pixel coordinates) of G: G c~ ~ q~ for q = (+-1, +-1).
+bool CornersOf(const Eigen::Matrix3d& g, std::array<Eigen::Vector2d, 4>* corners) {
+  static const std::array<Eigen::Vector2d, 4> kTag = {Eigen::Vector2d(-1, -1),
+                                                      Eigen::Vector2d(1, -1), Eigen::Vector2d(1, 1),
+                                                      Eigen::Vector2d(-1, 1)};
+  const Eigen::FullPivLU<Eigen::Matrix3d> lu(g);
+  if (!lu.isInvertible()) return false;
+  const Eigen::Matrix3d inv = lu.inverse();
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d c = inv * kTag[k].homogeneous();
+    if (!(std::abs(c.z()) > 1e-12)) return false;
+    (*corners)[k] = c.hnormalized();
+  }
+  return true;
+}
+
+bool TagFit::ModelOf(const Eigen::Vector2d& pixel, Eigen::Vector2d* p_hat) const {
+  if (!camera_) {
+    *p_hat = (pixel - centre_) / scale_;
+    return true;
+  }
+  Eigen::Vector2d undistorted;
+  if (!UndistortNormalized(*camera_, (a_inv_ * pixel.homogeneous()).hnormalized(), &undistorted))
+    return false;
+  *p_hat = (undistorted - centre_) / scale_;
+  return true;
+}
+
+Eigen::Vector2d TagFit::ToPixel(const Eigen::Vector2d& p_hat) const {
+  if (!camera_) return centre_ + scale_ * p_hat;
+  Eigen::Vector2d pixel(std::numeric_limits<double>::quiet_NaN(), 0);
+  ProjectPoint(*camera_, (centre_ + scale_ * p_hat).homogeneous(), &pixel);
+  return pixel;
+}
+
+Eigen::Matrix2d TagFit::PixelJacobian(const Eigen::Vector2d& p_hat) const {
+  if (!camera_) return scale_ * Eigen::Matrix2d::Identity();
+  // Central differences of the projection (smooth, no iteration).
+  constexpr double h = 1e-6;
+  Eigen::Matrix2d forward;
+  for (int a = 0; a < 2; ++a) {
+    const Eigen::Vector2d e = Eigen::Vector2d::Unit(a) * h;
+    forward.col(a) = (ToPixel(p_hat + e) - ToPixel(p_hat - e)) / (2 * h);
+  }
+  return forward;
+}
+
+bool TagFit::InitialHomography(const std::array<Eigen::Vector2d, 4>& corners,
+                               ParamVector* x) const {
+  // Normalised pixel corner k -> tag corner (+-1, +-1): 8 equations in G's 8 free entries.
+  static const std::array<Eigen::Vector2d, 4> kTag = {Eigen::Vector2d(-1, -1),
+                                                      Eigen::Vector2d(1, -1), Eigen::Vector2d(1, 1),
+                                                      Eigen::Vector2d(-1, 1)};
+  Eigen::Matrix<double, 8, 8> a;
+  Eigen::Matrix<double, 8, 1> b;
+  for (int k = 0; k < 4; ++k) {
+    Eigen::Vector2d p;
+    if (!ModelOf(corners[k], &p)) return false;
+    const double u = kTag[k].x(), v = kTag[k].y();
+    a.row(2 * k) << p.x(), p.y(), 1, 0, 0, 0, -u * p.x(), -u * p.y();
+    a.row(2 * k + 1) << 0, 0, 0, p.x(), p.y(), 1, -v * p.x(), -v * p.y();
+    b[2 * k] = u;
+    b[2 * k + 1] = v;
+  }
+  const Eigen::FullPivLU<Eigen::Matrix<double, 8, 8>> lu(a);
+  if (!lu.isInvertible()) return false;
+  x->head<8>() = lu.solve(b);
+  return x->head<8>().allFinite();
+}
+
+bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
+  pixels_.clear();
+  pixel_lines_.clear();
+  pixel_rects_.clear();
+  pixel_jacobians_.clear();
+  const Eigen::Matrix3d g = HomographyOf(x);
+  const double reach = EdgeProfileReachPx(x[kSigma]);
+  // Margin: corners may move kReclassifyPx before the pixels are classified again.
+  const double near_px = reach + kReclassifyPx;
+  const double include_px = near_px;  // Flat pixels up to the re-classification margin.
+  std::vector<Eigen::Vector3d> lines(layout_.lines.size()), raw_lines(lines.size());
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const Eigen::Vector3d l = g.transpose() * layout_.lines[i].m;
+    const double n = l.head<2>().norm();
+    if (!(n > 0)) {
+      result->failure = FitFailure::kDiverged;
+      result->message = "degenerate homography";
+      return false;
+    }
+    raw_lines[i] = l;
+    lines[i] = scale_ * l / n;  // Without a camera: f(p) = lines[i] . p^~ in px.
+  }
+  // The region's image quadrilateral, its bounding box.
+  const Eigen::FullPivLU<Eigen::Matrix3d> lu(g);
+  if (!lu.isInvertible()) {
+    result->failure = FitFailure::kDiverged;
+    result->message = "degenerate homography";
+    return false;
+  }
+  const Eigen::Matrix3d inv = lu.inverse();
+  double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
+  // With a camera the region's sides bend in the image: 8 points a side, and a margin.
+  const int samples = camera_ ? 8 : 1;
+  for (int k = 0; k < 4; ++k) {
+    for (int s = 0; s < samples; ++s) {
+      const Eigen::Vector2d q = layout_.region_corners[k] +
+                                (layout_.region_corners[(k + 1) % 4] - layout_.region_corners[k]) *
+                                    (static_cast<double>(s) / samples);
+      const Eigen::Vector3d h = inv * q.homogeneous();
+      if (!(h.z() * (inv * Eigen::Vector3d(0, 0, 1)).z() > 0)) {
+        result->failure = FitFailure::kDiverged;
+        result->message = "the tag's region crosses the homography's horizon";
+        return false;
+      }
+      const Eigen::Vector2d p = ToPixel(h.hnormalized());
+      u0 = std::min(u0, p.x()), u1 = std::max(u1, p.x());
+      v0 = std::min(v0, p.y()), v1 = std::max(v1, p.y());
+    }
+  }
+  if (camera_) u0 -= 2, v0 -= 2, u1 += 2, v1 += 2;
+  constexpr double kMaxRegionPx = 4096;
+  if (!(u1 - u0 < kMaxRegionPx && v1 - v0 < kMaxRegionPx)) {
+    result->failure = FitFailure::kDiverged;
+    result->message = "the tag's region is larger than 4096 px";
+    return false;
+  }
+  long inside = 0, outside = 0;
+  const int i0 = static_cast<int>(std::floor(u0)), i1 = static_cast<int>(std::ceil(u1));
+  const int j0 = static_cast<int>(std::floor(v0)), j1 = static_cast<int>(std::ceil(v1));
+  const std::array<double, 4> limit_sign = {1, -1, 1, -1};
+  std::vector<double> line_values(lines.size());
+  for (int j = j0; j <= j1; ++j) {
+    // The row's span inside the region: each limit line is linear in i along the row.
+    double lo = i0, hi = i1;
+    const double y = (j - centre_.y()) / scale_;
+    for (int k = 0; k < 4 && !camera_; ++k) {
+      const Eigen::Vector3d& l = lines[layout_.limits[k]];
+      // limit_sign * (l.x (i - cx) / S + l.y y + l.z) > reach.
+      const double slope = limit_sign[k] * l.x() / scale_;
+      const double offset =
+          limit_sign[k] * (l.y() * y + l.z() - l.x() * centre_.x() / scale_) - reach;
+      if (std::abs(slope) < 1e-12) {
+        if (offset <= 0) hi = lo - 1;
+      } else if (slope > 0) {
+        lo = std::max(lo, -offset / slope);
+      } else {
+        hi = std::min(hi, -offset / slope);
+      }
+    }
+    const int row_lo = static_cast<int>(std::floor(lo)), row_hi = static_cast<int>(std::ceil(hi));
+    for (int i = std::max(i0, row_lo); i <= std::min(i1, row_hi); ++i) {
+      Eigen::Vector3d p((i - centre_.x()) / scale_, (j - centre_.y()) / scale_, 1);
+      Eigen::Matrix2d m = Eigen::Matrix2d::Identity() / scale_;
+      if (camera_) {
+        Eigen::Vector2d p_hat;
+        if (!ModelOf(Eigen::Vector2d(i, j), &p_hat)) continue;
+        p = p_hat.homogeneous();
+        m = ModelJacobian(p_hat);
+      }
+      // Signed distance (px) to line l: (l . p^~) / |M^T l_xy| (the model's gradient in pixels).
+      auto distance = [&](size_t l) {
+        return camera_ ? raw_lines[l].dot(p) / (m.transpose() * raw_lines[l].head<2>()).norm()
+                       : lines[l].dot(p);
+      };
+      bool in_region = true;
+      for (int k = 0; k < 4 && in_region; ++k) {
+        in_region = limit_sign[k] * distance(layout_.limits[k]) > reach;
+      }
+      if (!in_region) continue;
+      if (i < 0 || j < 0 || i >= image_.width || j >= image_.height) {
+        ++outside;
+        continue;
+      }
+      ++inside;
+      FitPixel px{p.head<2>(),
+                  static_cast<double>(image_.at(i, j)),
+                  static_cast<int>(pixel_lines_.size()),
+                  0,
+                  static_cast<int>(pixel_rects_.size()),
+                  0,
+                  0};
+      auto slot = [&](int line) {
+        for (int k = 0; k < px.num_lines; ++k) {
+          if (pixel_lines_[px.first_line + k] == line) return static_cast<uint8_t>(k);
+        }
+        pixel_lines_.push_back(line);
+        return static_cast<uint8_t>(px.num_lines++);
+      };
+      bool include = false;
+      for (size_t l = 0; l < lines.size(); ++l) line_values[l] = distance(l);
+      for (size_t r = 0; r < layout_.rects.size(); ++r) {
+        const Layout::Rect& rect = layout_.rects[r];
+        const double inside_min = std::min({line_values[rect.x0], -line_values[rect.x1],
+                                            line_values[rect.y0], -line_values[rect.y1]});
+        include |= inside_min > -include_px && inside_min < include_px;
+        if (inside_min >= near_px) {
+          ++px.deep;
+        } else if (inside_min > -near_px && px.num_lines <= kMaxLinesPerPixel - 4) {
+          pixel_rects_.push_back({slot(rect.x0), slot(rect.x1), slot(rect.y0), slot(rect.y1)});
+          ++px.num_rects;
+        }
+      }
+      if (include) {
+        pixels_.push_back(px);
+        if (camera_) pixel_jacobians_.push_back(m);
+      } else {
+        pixel_lines_.resize(px.first_line);
+        pixel_rects_.resize(px.first_rect);
+      }
+    }
+  }
+  if (outside > options_.max_outside_fraction * static_cast<double>(inside + outside)) {
+    result->failure = FitFailure::kImageBorder;
+    result->message = "the tag's region is cut by the image border (" + std::to_string(outside) +
+                      " of " + std::to_string(inside + outside) + " px outside)";
+    return false;
+  }
+  if (static_cast<int>(pixels_.size()) < options_.min_pixels) {
+    result->failure = FitFailure::kTooFewPixels;
+    result->message = "the tag's region has " + std::to_string(pixels_.size()) +
+                      " usable pixels (min_pixels " + std::to_string(options_.min_pixels) + ")";
+    return false;
+  }
+  CornersOf(g, &classified_corners_);
+  classified_sigma_ = x[kSigma];
+  return true;
+}
+
+bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
+                      ParamVector* jtr) const {
+  const Eigen::Matrix3d g = HomographyOf(x);
+  const double sigma = std::max(x[kSigma], kMinSigmaPx);
+  const double black = x[kBlack], white = x[kWhite], contrast = black - white;
+  const Eigen::Vector2d shading(x[kShadeX], x[kShadeY]);
+  const size_t num_lines = layout_.lines.size();
+  // Per line: f(p) = S (l . p^) / |l_xy| = unit . p^ (px) and d f / d l = S (p^ - (l^ . p^) l^_xy0)
+  // / |l_xy|, with l = G^T m linear in G.
+  std::vector<Eigen::Vector3d> unit(num_lines), raw(num_lines);
+  std::vector<double> inv_norm(num_lines);
+  for (size_t i = 0; i < num_lines; ++i) {
+    const Eigen::Vector3d l = g.transpose() * layout_.lines[i].m;
+    const double n = l.head<2>().norm();
+    if (!(n > 1e-12)) return false;
+    raw[i] = l;
+    unit[i] = l / n;
+    inv_norm[i] = 1 / n;
+  }
+  // The edges' normals in the image (with a camera: at the tag's centre) for the pixel box.
+  auto image_normal = [&](int line) -> Eigen::Vector2d {
+    return (centre_jacobian_.transpose() * raw[line].head<2>()).normalized();
+  };
+  EdgeProfileTable vertical, horizontal;
+  vertical.Build(sigma, image_normal(layout_.middle_vertical));
+  horizontal.Build(sigma, image_normal(layout_.middle_horizontal));
+
+  jtj->setZero();
+  jtr->setZero();
+  *cost = 0;
+  // Per pixel, per line of its rectangles: P (f), P' (f), dP/dsigma (f), and d b / d f. The profile
+  // is odd about one half: the far edge of a rectangle contributes 1 - P(f), so that
+  // [P(d_0) + P(d_1) - 1] = P(f_0) - P(f_1) with f the signed distance towards larger x (or y).
+  std::array<EdgeProfileValue, kMaxLinesPerPixel> profile;
+  std::array<double, kMaxLinesPerPixel> weight;
+  // With a camera, per line: 1 / N and r = M M^T l_xy / N, N = |M^T l_xy| (f = l . p^~ / N,
+  // d f / d l = (p^~ - f (r, 0)) / N).
+  std::array<double, kMaxLinesPerPixel> lens_inv_n;
+  std::array<Eigen::Vector2d, kMaxLinesPerPixel> lens_r;
+  Eigen::Matrix<double, kNumParams, 1> jac;
+  for (size_t index = 0; index < pixels_.size(); ++index) {
+    const FitPixel& px = pixels_[index];
+    const Eigen::Vector3d p(px.p.x(), px.p.y(), 1);
+    if (!((g.row(2) * p)(0) > 0)) return false;  // Behind the homography's horizon.
+    std::fill(weight.begin(), weight.begin() + px.num_lines, 0.0);
+    const int* lines_of_pixel = pixel_lines_.data() + px.first_line;
+    for (int k = 0; k < px.num_lines; ++k) {
+      const int line = lines_of_pixel[k];
+      double f;
+      if (camera_) {
+        const Eigen::Matrix2d& m = pixel_jacobians_[index];
+        const Eigen::Vector2d mt_l = m.transpose() * raw[line].head<2>();
+        lens_inv_n[k] = 1 / mt_l.norm();
+        lens_r[k] = m * mt_l * lens_inv_n[k];
+        f = raw[line].dot(p) * lens_inv_n[k];
+      } else {
+        f = scale_ * unit[line].dot(p);
+      }
+      profile[k] = layout_.lines[line].vertical ? vertical(f) : horizontal(f);
+    }
+    double b = px.deep, db_dsigma = 0;
+    for (int k = 0; k < px.num_rects; ++k) {
+      const RectSlots& r = pixel_rects_[px.first_rect + k];
+      const EdgeProfileValue &a0 = profile[r[0]], &a1 = profile[r[1]];
+      const EdgeProfileValue &c0 = profile[r[2]], &c1 = profile[r[3]];
+      const double fx = a0.p - a1.p, fy = c0.p - c1.p;
+      b += fx * fy;
+      db_dsigma += (a0.dp_dsigma - a1.dp_dsigma) * fy + (c0.dp_dsigma - c1.dp_dsigma) * fx;
+      weight[r[0]] += a0.dp_dd * fy;
+      weight[r[1]] -= a1.dp_dd * fy;
+      weight[r[2]] += c0.dp_dd * fx;
+      weight[r[3]] -= c1.dp_dd * fx;
+    }
+    const double base = white + contrast * b;
+    const double shade = 1 + shading.dot(px.p);
+    double model = shade * base;
+    jac.setZero();
+    bool censored = false;
+    if (model >= 255 || model <= 0) {
+      // Saturated: the sensor clips; an equally clipped pixel carries no information.
+      censored = (model >= 255 && px.gray >= 255) || (model <= 0 && px.gray <= 0);
+      model = std::clamp(model, 0.0, 255.0);
+    } else {
+      // d model / d G_ij = sum over lines of w m_i (d f / d l_j); m = (1, 0, m_2) for vertical
+      // lines and (0, 1, m_2) for horizontal ones.
+      Eigen::Matrix3d dg = Eigen::Matrix3d::Zero();
+      for (int k = 0; k < px.num_lines; ++k) {
+        const int line = lines_of_pixel[k];
+        Eigen::Vector3d df;  // weight * d f / d l.
+        if (camera_) {
+          const double w = lens_inv_n[k] * weight[k], f = raw[line].dot(p) * lens_inv_n[k];
+          df = Eigen::Vector3d(w * (p.x() - f * lens_r[k].x()), w * (p.y() - f * lens_r[k].y()), w);
+        } else {
+          const Eigen::Vector3d& u = unit[line];
+          const double w = scale_ * inv_norm[line] * weight[k], f = u.dot(p);
+          df = Eigen::Vector3d(w * (p.x() - f * u.x()), w * (p.y() - f * u.y()), w);
+        }
+        const TagLine& tag_line = layout_.lines[line];
+        dg.row(tag_line.vertical ? 0 : 1) += df;
+        dg.row(2) += tag_line.m.z() * df;
+      }
+      dg *= shade * contrast;
+      jac << dg(0, 0), dg(0, 1), dg(0, 2), dg(1, 0), dg(1, 1), dg(1, 2), dg(2, 0), dg(2, 1),
+          shade * contrast * db_dsigma, shade * b, shade * (1 - b), base * px.p.x(),
+          base * px.p.y();
+      if (!options_.fit_shading) jac[kShadeX] = jac[kShadeY] = 0;
+    }
+    if (censored) continue;
+    const double r = px.gray - model;
+    *cost += r * r;
+    double* h = jtj->data();  // Column-major: the upper triangle is (row <= col).
+    // A pixel beyond every edge's reach depends only on the levels and the shading.
+    const int first = px.num_rects == 0 ? kBlack : 0;
+    for (int col = first; col < kNumParams; ++col) {
+      const double jc = jac[col];
+      for (int row = first; row <= col; ++row) h[col * kNumParams + row] += jac[row] * jc;
+    }
+    for (int i = first; i < kNumParams; ++i) (*jtr)[i] += jac[i] * r;
+  }
+  *jtj = jtj->selfadjointView<Eigen::Upper>();
+  return true;
+}
+
+}  // namespace photometric_internal
+}  // namespace calibench

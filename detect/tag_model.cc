@@ -1,0 +1,106 @@
+#include "detect/tag_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <utility>
+
+namespace calibench {
+namespace {
+
+constexpr double kInvSqrt2 = 0.70710678118654752440;
+constexpr double kInvSqrt2Pi = 0.39894228040143267794;
+
+double Phi(double u) { return 0.5 * std::erfc(-u * kInvSqrt2); }
+double PhiDensity(double u) { return kInvSqrt2Pi * std::exp(-0.5 * u * u); }
+
+}  // namespace
+
+EdgeProfileValue EdgeProfile(double d, double sigma, double nx, double ny) {
+  sigma = std::max(sigma, 1e-3);
+  double a = std::abs(nx), b = std::abs(ny);
+  if (a < b) std::swap(a, b);
+  // Q2 (x) and its derivatives: Q2' = Q1 = x Phi + sigma phi, Q1' = Phi; dQ2/dsigma = sigma Phi,
+  // dQ1/dsigma = phi.
+  struct Terms {
+    double q2, q1, phi, density;
+  };
+  auto terms = [sigma](double x) {
+    const double u = x / sigma, cdf = Phi(u), pdf = PhiDensity(u);
+    return Terms{0.5 * (x * x + sigma * sigma) * cdf + 0.5 * x * sigma * pdf, x * cdf + sigma * pdf,
+                 cdf, pdf};
+  };
+  if (b < 1e-4) {  // One box of width a: P = [Q1(d + a/2) - Q1(d - a/2)] / a.
+    const Terms hi = terms(d + a / 2), lo = terms(d - a / 2);
+    return {(hi.q1 - lo.q1) / a, (hi.phi - lo.phi) / a, (hi.density - lo.density) / a};
+  }
+  const Terms t1 = terms(d + (a + b) / 2), t2 = terms(d + (a - b) / 2), t3 = terms(d - (a - b) / 2),
+              t4 = terms(d - (a + b) / 2);
+  const double inv = 1 / (a * b);
+  return {(t1.q2 - t2.q2 - t3.q2 + t4.q2) * inv, (t1.q1 - t2.q1 - t3.q1 + t4.q1) * inv,
+          sigma * (t1.phi - t2.phi - t3.phi + t4.phi) * inv};
+}
+
+bool TagPattern::FromFamily(const TagFamily& family, int id, double white_margin_cells,
+                            double corner_square_cells, TagPattern* pattern, std::string* why) {
+  if (id < 0 || id >= family.num_codes()) {
+    if (why) *why = "tag id " + std::to_string(id) + " is not in " + family.name();
+    return false;
+  }
+  if (!(white_margin_cells > 0) || !(corner_square_cells >= 0)) {
+    if (why) *why = "white_margin_cells must be > 0 and corner_square_cells >= 0";
+    return false;
+  }
+  TagPattern p;
+  const int w = family.width_at_border(), start = family.border_start();
+  p.width_cells = w;
+  p.white_margin_cells = white_margin_cells;
+  // Row runs of black cells, merged downward into maximal rectangles while a run repeats.
+  std::map<std::pair<int, int>, TagPattern::Rect> open;
+  for (int row = 0; row < w; ++row) {
+    std::map<std::pair<int, int>, TagPattern::Rect> next;
+    const double y1 = w - row, y0 = y1 - 1;  // Bitmap row 0 is the top: y grows upward.
+    for (int col = 0; col < w;) {
+      if (family.IsWhite(id, start + col, start + row)) {
+        ++col;
+        continue;
+      }
+      int end = col;
+      while (end < w && !family.IsWhite(id, start + end, start + row)) ++end;
+      const auto key = std::make_pair(col, end);
+      auto it = open.find(key);
+      if (it != open.end()) {
+        TagPattern::Rect r = it->second;
+        r.y0 = y0;
+        next[key] = r;
+        open.erase(it);
+      } else {
+        next[key] = {static_cast<double>(col), y0, static_cast<double>(end), y1};
+      }
+      col = end;
+    }
+    for (const auto& kv : open) p.black.push_back(kv.second);
+    open = std::move(next);
+  }
+  for (const auto& kv : open) p.black.push_back(kv.second);
+  if (corner_square_cells > 0) {
+    const double s = corner_square_cells;
+    p.black.push_back({-s, -s, 0, 0});
+    p.black.push_back({static_cast<double>(w), -s, w + s, 0});
+    p.black.push_back({static_cast<double>(w), static_cast<double>(w), w + s, w + s});
+    p.black.push_back({-s, static_cast<double>(w), 0, w + s});
+  }
+  *pattern = std::move(p);
+  return true;
+}
+
+void EdgeProfileTable::Build(double sigma, const Eigen::Vector2d& normal) {
+  reach_ = EdgeProfileReachPx(sigma);
+  const int n = static_cast<int>(std::ceil(2 * reach_ * kPerPx)) + 1;
+  values_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    values_[i] = EdgeProfile(-reach_ + i / kPerPx, sigma, normal.x(), normal.y());
+  }
+}
+
+}  // namespace calibench
