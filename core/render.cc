@@ -51,7 +51,9 @@ class BoardShader {
     inv_cell_ = 1.0 / cell_;
     pitch_ = g.Pitch();
     inv_pitch_ = 1.0 / pitch_;
-    const double margin = pitch_ - g.tag_size_m;
+    gap_ = pitch_ - g.tag_size_m;
+    corner_squares_ = g.corner_squares;
+    const double margin = (corner_squares_ ? 2 : 1) * gap_;  // White beyond the outer squares.
     min_ = -margin;
     max_x_ = g.tag_cols * pitch_ - (pitch_ - g.tag_size_m) + margin;
     max_y_ = g.tag_rows * pitch_ - (pitch_ - g.tag_size_m) + margin;
@@ -91,6 +93,16 @@ class BoardShader {
   // Shade of board point (bx, by): 0 black, 1 white, kOffBoard outside the board.
   int Shade(double bx, double by) const {
     if (bx < min_ || by < min_ || bx > max_x_ || by > max_y_) return kOffBoard;
+    if (corner_squares_) {
+      // Square (i, j) spans [i p - g, i p) x [j p - g, j p) (core/target.h). Its edges are edges
+      // of the tags' black squares too: AxisKeys needs no new keys.
+      const double u = bx + gap_, v = by + gap_;
+      const int i = FloorSmall(u * inv_pitch_), j = FloorSmall(v * inv_pitch_);
+      if (i >= 0 && j >= 0 && i <= cols_ && j <= rows_ && u - i * pitch_ < gap_ &&
+          v - j * pitch_ < gap_) {
+        return 0;
+      }
+    }
     // The tag whose full bitmap (reference square plus border_start cells around) may hold b.
     const int c = FloorSmall((bx + start_ * cell_) * inv_pitch_);
     const int r = FloorSmall((by + start_ * cell_) * inv_pitch_);
@@ -162,6 +174,8 @@ class BoardShader {
   bool visible_ = false;
   Eigen::Matrix3d board_from_ray_;
   double cell_ = 0, inv_cell_ = 0, pitch_ = 0, inv_pitch_ = 0, min_ = 0, max_x_ = 0, max_y_ = 0;
+  double gap_ = 0;  // White between two tags' black squares (m).
+  bool corner_squares_ = false;
   int start_ = 0, width_ = 0, cols_ = 0, rows_ = 0;
   int i0_ = 0, i1_ = -1, j0_ = 0, j1_ = -1;  // Pixel-corner bounds, inclusive.
   std::vector<uint8_t> cells_;

@@ -90,7 +90,7 @@ bool operator==(const AprilGrid& a, const AprilGrid& b) {
   return a.family == b.family && a.tag_rows == b.tag_rows && a.tag_cols == b.tag_cols &&
          a.tag_size_m == b.tag_size_m && a.tag_spacing == b.tag_spacing &&
          a.first_id == b.first_id && a.black_tag_border == b.black_tag_border &&
-         a.points_from_board == b.points_from_board;
+         a.corner_squares == b.corner_squares && a.points_from_board == b.points_from_board;
 }
 
 }  // namespace calibench

@@ -41,15 +41,20 @@ struct PlanarBoard {
 // bottom-left, bottom-right, top-right, top-left in the board frame (= of the tag's bitmap, placed
 // bitmap-up = board +y); corner k of the tag with index i (= id - first_id) is point 4 i + k.
 // (Kalibr numbers the same corners row-major on a 2 tag_rows x 2 tag_cols grid; the positions
-// are identical.) Kalibr's printed grids also have black squares of edge tag_spacing * s in the
-// gaps at the tags' corners; they carry no points and the renderer does not draw them.
+// are identical.)
+//   corner_squares (Kalibr's printed grids, kalibr_create_target_pdf): black squares of edge
+//     g = tag_spacing * s filling every gap crossing, (tag_cols + 1) x (tag_rows + 1) of them:
+//     square (i, j), i = 0..tag_cols, j = 0..tag_rows, spans [i p - g, i p] x [j p - g, j p]. They
+//     touch the tags' corners, so each tag corner is an X-junction; they carry no points. The board
+//     (renderer) is then white to 2 g around the tags (g beyond the outer squares), else to g.
 struct AprilGrid {
   std::string family = "tag36h11";
   int tag_rows = 6, tag_cols = 6;
   double tag_size_m = 0.088;
   double tag_spacing = 0.3;
   int first_id = 0;
-  int black_tag_border = 1;  // Border bits: 1 (AprilTag 3) or 2 (Kalibr's printed grids).
+  int black_tag_border = 1;     // Border bits: 1 (AprilTag 3) or 2 (Kalibr's printed grids).
+  bool corner_squares = false;  // Kalibr's black squares at the tag corners (above).
   Rigid3 points_from_board;
 
   int NumTags() const { return tag_rows * tag_cols; }

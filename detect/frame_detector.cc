@@ -59,6 +59,76 @@ bool UndoErosion(TagDetection* tag) {
   return true;
 }
 
+}  // namespace
+
+// A corner square to paint out: its outline in the coordinates of the tag it is mapped through
+// (the tag's black square is [0, 1]^2) and that tag's detected corners.
+struct SquareToPaint {
+  std::array<cv::Point2f, 4> in_tag;
+  const TagDetection* tag;
+};
+
+namespace {
+
+// A copy of `image` with every square of `squares` painted white, grown by kPaintMarginPx about
+// its centre: with the squares gone, the tags that touch them stand alone, as on a grid without
+// squares, and AprilTag 3 traces their outlines. Each square's white is the brightest pixel of its
+// neighbourhood. Corners of painted tags lose a margin-sized tip, which changes nothing: the
+// refinement runs on the original image.
+std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
+                                        const std::vector<SquareToPaint>& squares) {
+  constexpr double kPaintMarginPx = 1.5;
+  std::vector<uint8_t> copy(static_cast<size_t>(image.width) * image.height);
+  for (int y = 0; y < image.height; ++y) {
+    const uint8_t* row = image.data + static_cast<size_t>(y) * image.stride;
+    std::copy(row, row + image.width, copy.data() + static_cast<size_t>(y) * image.width);
+  }
+  cv::Mat painted(image.height, image.width, CV_8UC1, copy.data());
+  const cv::Mat original(image.height, image.width, CV_8UC1, const_cast<uint8_t*>(image.data),
+                         static_cast<size_t>(image.stride));
+  const cv::Rect frame(0, 0, image.width, image.height);
+  const std::vector<cv::Point2f> unit = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const TagDetection* homography_of = nullptr;
+  cv::Mat to_image;
+  for (const SquareToPaint& square : squares) {
+    if (square.tag != homography_of) {
+      std::vector<cv::Point2f> seen;
+      for (const Eigen::Vector2d& c : square.tag->corners) seen.emplace_back(c.x(), c.y());
+      to_image = cv::getPerspectiveTransform(unit, seen);
+      homography_of = square.tag;
+    }
+    std::vector<cv::Point2f> in_image;
+    cv::perspectiveTransform(std::vector<cv::Point2f>(square.in_tag.begin(), square.in_tag.end()),
+                             in_image, to_image);
+    cv::Point2f centre(0, 0);
+    for (const cv::Point2f& p : in_image) centre += 0.25f * p;
+    double inradius = std::numeric_limits<double>::infinity();
+    for (int e = 0; e < 4; ++e) {
+      const cv::Point2f d = in_image[(e + 1) % 4] - in_image[e];
+      const cv::Point2f r = centre - in_image[e];
+      const double len = std::hypot(d.x, d.y);
+      if (len > 0) inradius = std::min(inradius, std::abs(d.x * r.y - d.y * r.x) / len);
+    }
+    if (!(inradius > 0.25) || !std::isfinite(inradius)) continue;  // Degenerate or off to infinity.
+    const float grow = static_cast<float>(1.0 + kPaintMarginPx / inradius);
+    constexpr int kShift = 4, kOne = 1 << kShift;  // fillConvexPoly's fractional bits.
+    std::vector<cv::Point> polygon;
+    for (const cv::Point2f& p : in_image) {
+      const cv::Point2f g = centre + grow * (p - centre);
+      polygon.emplace_back(cvRound(g.x * kOne), cvRound(g.y * kOne));
+    }
+    const cv::Rect box = cv::boundingRect(polygon);
+    const cv::Rect around =
+        cv::Rect(box.x / kOne - 3, box.y / kOne - 3, box.width / kOne + 8, box.height / kOne + 8) &
+        frame;
+    if (around.area() == 0) continue;
+    double white = 0;
+    cv::minMaxLoc(original(around), nullptr, &white);
+    cv::fillConvexPoly(painted, polygon, cv::Scalar(white), cv::LINE_8, kShift);
+  }
+  return copy;
+}
+
 // The saddle point of each corner's X-junction (cv::cornerSubPix) in a window scaled to the
 // corner squares (frame_detector.h); a corner that moves 1 px or more keeps its edge-fit value.
 void RefineXJunctions(const GrayImageView& image, double square_fraction, TagDetection* tag) {
@@ -114,10 +184,6 @@ bool FrameDetectorOptions::Check(std::string* why) const {
     if (why) *why = "min_border_distance_px must be >= 0";
     return false;
   }
-  if (!(corner_square_fraction > 0 && corner_square_fraction <= 1)) {
-    if (why) *why = "corner_square_fraction must lie in (0, 1]";
-    return false;
-  }
   if (camera && !camera->Check(why)) return false;
   return detector.Check(why) && refine.Check(why) && photometric.Check(why);
 }
@@ -141,13 +207,19 @@ std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid
       return fail("grid " + std::to_string(g) + " uses " + grids[g].family + ", grid 0 uses " +
                   grids[0].family + ": one detector decodes one family");
     }
+    if (grids[g].corner_squares != grids[0].corner_squares) {
+      return fail("grid " + std::to_string(g) + (grids[g].corner_squares ? " has" : " has no") +
+                  " corner squares, grid 0" + (grids[0].corner_squares ? " has" : " has none") +
+                  ": one detector finds one layout");
+    }
     if (grids[g].black_tag_border != grids[0].black_tag_border) {
       return fail("grid " + std::to_string(g) + " has a " +
                   std::to_string(grids[g].black_tag_border) + "-bit black border, grid 0 a " +
                   std::to_string(grids[0].black_tag_border) +
                   "-bit one: one detector decodes one border width");
     }
-    const GridIds ids{grids[g].first_id, grids[g].NumTags(), d->num_points_};
+    const GridIds ids{grids[g].first_id, grids[g].NumTags(), d->num_points_,
+                      grids[g].tag_rows, grids[g].tag_cols,  grids[g].tag_spacing};
     for (const GridIds& other : d->grids_) {
       if (ids.first_id < other.first_id + other.num_tags &&
           other.first_id < ids.first_id + ids.num_tags) {
@@ -157,18 +229,22 @@ std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid
     d->grids_.push_back(ids);
     d->num_points_ += 4 * ids.num_tags;
   }
+  d->corner_squares_ = grids[0].corner_squares;
   d->family_ = TagFamily::Create(grids[0].family, grids[0].black_tag_border, why);
   if (!d->family_) return nullptr;
   d->options_.refine.width_at_border = d->family_->width_at_border();
   // Every tag's pattern for the photometric fit, once: tag index = point id / 4. The white
-  // between tags is tag_spacing of the black square's side, at least the family's own white ring.
-  // An id the family lacks keeps an empty pattern (its fit is refused).
+  // between tags is tag_spacing of the black square's side, at least the family's own white ring;
+  // the corner squares fill it at the corners. An id the family lacks keeps an empty pattern (its
+  // fit is refused).
   for (const AprilGrid& grid : grids) {
-    const double margin = std::max(grid.tag_spacing * d->family_->width_at_border(),
-                                   static_cast<double>(d->family_->border_start()));
+    const double gap_cells = grid.tag_spacing * d->family_->width_at_border();
+    const double margin = std::max(gap_cells, static_cast<double>(d->family_->border_start()));
+    const double squares = grid.corner_squares ? gap_cells : 0.0;
     for (int t = 0; t < grid.NumTags(); ++t) {
       TagPattern pattern;
-      if (!TagPattern::FromFamily(*d->family_, grid.first_id + t, margin, 0.0, &pattern, nullptr))
+      if (!TagPattern::FromFamily(*d->family_, grid.first_id + t, margin, squares, &pattern,
+                                  nullptr))
         pattern.black.clear();
       d->patterns_.push_back(std::move(pattern));
     }
@@ -176,6 +252,110 @@ std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid
   d->detector_ = AprilTagDetector::Create(d->options_.detector, why);
   if (!d->detector_) return nullptr;
   return d;
+}
+
+// frame_detector.h: the eroded copy, then the squares of the tags found painted out, until a
+// pass finds no new tag. A tag first found in the eroded copy takes the corners of a painted pass
+// that sees it (its outline is then free of squares, not re-inflated), and so does a tag of the
+// image itself that a square bent (below); an id seen twice in one image stays a duplicate
+// (dropped by Detect).
+void FrameDetector::FindTagsAmongSquares(const GrayImageView& view, std::vector<TagDetection>* tags,
+                                         std::vector<bool>* from_copy) const {
+  constexpr int kMaxPaintPasses = 3;
+  // A tag of the image itself whose painted-pass corners are farther than this from its own was
+  // joined to a square there (its outline bent round it: measured up to 7 px off): it takes the
+  // painted pass's corners (off by the painted tips only, < 1 px).
+  constexpr double kDisagreePx = 1.0;
+  std::map<int, int> times_in_first;
+  for (const TagDetection& tag : *tags) ++times_in_first[tag.id];
+  std::map<int, int> found;       // Id -> index in *tags, or -1 for a duplicate.
+  std::vector<bool> replaceable;  // Per tag: its corners came from the eroded copy.
+  for (size_t i = 0; i < tags->size(); ++i) {
+    found[(*tags)[i].id] = times_in_first[(*tags)[i].id] > 1 ? -1 : static_cast<int>(i);
+    replaceable.push_back(false);
+  }
+  auto add = [&](const TagDetection& tag, bool eroded) {
+    const auto it = found.find(tag.id);
+    if (it == found.end()) {
+      found[tag.id] = static_cast<int>(tags->size());
+      tags->push_back(tag);
+      from_copy->push_back(true);
+      replaceable.push_back(eroded);
+      return true;
+    }
+    if (eroded || it->second < 0) return false;
+    TagDetection& known = (*tags)[it->second];
+    double moved_px = 0;
+    for (int k = 0; k < 4; ++k)
+      moved_px = std::max(moved_px, (tag.corners[k] - known.corners[k]).norm());
+    if (replaceable[it->second] || moved_px > kDisagreePx) {
+      known.corners = tag.corners;
+      (*from_copy)[it->second] = true;
+      replaceable[it->second] = false;
+    }
+    return false;
+  };
+  const std::vector<uint8_t> eroded = MaxFilter3x3(view);
+  for (TagDetection& tag : detector_->Detect(eroded.data(), view.width, view.height, view.width)) {
+    if (found.count(tag.id) == 0 && UndoErosion(&tag)) add(tag, true);
+  }
+  for (int pass = 0; pass < kMaxPaintPasses && !tags->empty(); ++pass) {
+    const std::vector<uint8_t> painted = PaintCornerSquares(view, SquaresNear(*tags));
+    const std::vector<TagDetection> seen =
+        detector_->Detect(painted.data(), view.width, view.height, view.width);
+    std::map<int, int> times_in_pass;
+    for (const TagDetection& tag : seen) ++times_in_pass[tag.id];
+    int added = 0;
+    for (const TagDetection& tag : seen) {
+      if (times_in_pass[tag.id] == 1 && add(tag, false)) ++added;
+    }
+    if (added == 0) break;
+  }
+}
+
+// Square (i, j) spans [i p - g, i p] x [j p - g, j p] on the board (core/target.h), i.e.
+// [(i - c)(1 + q) - q, (i - c)(1 + q)] x (the same in j, r) in the coordinates of tag (r, c) (its
+// black square [0, 1]^2, q = g / s = tag_spacing). Each square within one tag of a found tag
+// (Chebyshev distance in tags: 0 for the tag's own four) is mapped through the nearest such tag:
+// exact for its own squares, extrapolated over a pitch for the next ring.
+std::vector<SquareToPaint> FrameDetector::SquaresNear(const std::vector<TagDetection>& tags) const {
+  std::vector<SquareToPaint> squares;
+  for (const GridIds& g : grids_) {
+    std::map<int, const TagDetection*> found;  // Tag index on the grid -> detection.
+    for (const TagDetection& tag : tags) {
+      if (tag.id >= g.first_id && tag.id < g.first_id + g.num_tags)
+        found[tag.id - g.first_id] = &tag;
+    }
+    if (found.empty()) continue;
+    auto distance = [](int i, int c) { return i < c ? c - i : std::max(0, i - c - 1); };
+    for (int j = 0; j <= g.tag_rows; ++j) {
+      for (int i = 0; i <= g.tag_cols; ++i) {
+        // Through a fisheye's bent edges a homography extrapolates badly: its own squares only.
+        int best = options_.refine.curved_edges ? 1 : 2, r = 0, c = 0;
+        const TagDetection* through = nullptr;
+        for (const auto& [index, tag] : found) {
+          const int tr = index / g.tag_cols, tc = index % g.tag_cols;
+          const int d = std::max(distance(i, tc), distance(j, tr));
+          if (d < best) best = d, r = tr, c = tc, through = tag;
+        }
+        if (!through) continue;
+        const double q = g.tag_spacing;
+        const auto x1 = static_cast<float>((i - c) * (1 + q)), x0 = static_cast<float>(x1 - q);
+        const auto y1 = static_cast<float>((j - r) * (1 + q)), y0 = static_cast<float>(y1 - q);
+        squares.push_back({{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}}, through});
+      }
+    }
+  }
+  std::stable_sort(squares.begin(), squares.end(),
+                   [](const SquareToPaint& a, const SquareToPaint& b) { return a.tag < b.tag; });
+  return squares;
+}
+
+double FrameDetector::SquareFraction(int id) const {
+  for (const GridIds& g : grids_) {
+    if (id >= g.first_id && id < g.first_id + g.num_tags) return std::min(1.0, g.tag_spacing);
+  }
+  return 0.3;
 }
 
 int FrameDetector::PointId(int id, int corner) const {
@@ -198,17 +378,13 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
   std::vector<Observation> observations;
   const GrayImageView view(pixels, width, height, stride);
   std::vector<TagDetection> tags = detector_->Detect(pixels, width, height, stride);
-  if (options_.corner_squares) {
-    std::map<int, int> found;
-    for (const TagDetection& tag : tags) ++found[tag.id];
-    const std::vector<uint8_t> eroded = MaxFilter3x3(view);
-    for (TagDetection& tag : detector_->Detect(eroded.data(), width, height, width)) {
-      if (found.count(tag.id) == 0 && UndoErosion(&tag)) tags.push_back(tag);
-    }
-  }
+  // Per tag: its corners come from a modified copy of the image (eroded, squares painted out).
+  std::vector<bool> from_copy(tags.size(), false);
+  if (corner_squares_) FindTagsAmongSquares(view, &tags, &from_copy);
   std::map<int, int> times_seen;
   for (const TagDetection& tag : tags) ++times_seen[tag.id];
-  for (TagDetection& tag : tags) {
+  for (size_t t = 0; t < tags.size(); ++t) {
+    TagDetection& tag = tags[t];
     if (PointId(tag.id, 0) < 0) {
       ++local.unknown_tags;
       continue;
@@ -230,11 +406,8 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
     }
     std::array<double, 4> crlb_px;
     crlb_px.fill(std::numeric_limits<double>::quiet_NaN());
-    const bool photometric =
-        options_.refinement == CornerRefinement::kPhotometric && !options_.corner_squares;
-    const bool edge_fit =
-        options_.refinement == CornerRefinement::kEdgeFit ||
-        (options_.refinement == CornerRefinement::kPhotometric && options_.corner_squares);
+    const bool photometric = options_.refinement == CornerRefinement::kPhotometric;
+    const bool edge_fit = options_.refinement == CornerRefinement::kEdgeFit;
     if (photometric) {
       const PhotometricFitResult fit =
           FitTagPhotometric(view, patterns_[PointId(tag.id, 0) / 4], tag.corners,
@@ -247,10 +420,14 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
       crlb_px = fit.crlb_px;
     }
     ++local.tags;
-    if (edge_fit && !RefineTagCorners(view, options_.refine, &tag)) ++local.unrefined_tags;
-    if (edge_fit && options_.corner_squares) {
-      RefineXJunctions(view, options_.corner_square_fraction, &tag);
+    if (edge_fit && !RefineTagCorners(view, options_.refine, &tag)) {
+      if (from_copy[t]) {  // Raw corners of a modified copy are biased: no refinement, no tag.
+        ++local.unrefined_copy_tags;
+        continue;
+      }
+      ++local.unrefined_tags;
     }
+    if (edge_fit && corner_squares_) RefineXJunctions(view, SquareFraction(tag.id), &tag);
     for (int k = 0; k < 4; ++k)
       observations.push_back({PointId(tag.id, k), tag.corners[k], crlb_px[k]});
   }

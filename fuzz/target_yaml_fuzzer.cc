@@ -46,7 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string written = calibench::TargetYamlText(target);
   Check(calibench::LoadTargetYamlFromString(written, kVirtualPath, &again, &why),
         "the written target YAML does not load", written + "\n" + why);
-  const bool same = again.type == target.type && again.corner_squares == target.corner_squares &&
+  const bool same = again.type == target.type &&
                     (target.type == calibench::CalibrationTarget::Type::kAprilGrid
                          ? again.grid == target.grid
                          : again.cols == target.cols && again.rows == target.rows &&

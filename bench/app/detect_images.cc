@@ -18,7 +18,7 @@ bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
   }
   std::vector<std::string> files;
   if (!ListImageFiles(dir, &files, why)) return false;
-  const auto detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(target), why);
+  const auto detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(), why);
   if (!detector) return false;
   for (const std::string& path : files) {
     ImageCorners image;

@@ -47,8 +47,7 @@ bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, View* vie
 
 }  // namespace
 
-FrameDetectorOptions ImageDetectorOptions(const CalibrationTarget& target, LensFamily lens,
-                                          const CameraIntrinsics* camera) {
+FrameDetectorOptions ImageDetectorOptions(LensFamily lens, const CameraIntrinsics* camera) {
   FrameDetectorOptions options;
   // The photometric model draws a tag through a homography, which a fisheye's bent edges break:
   // without a camera to draw it through, equidistant lenses keep the curved-edge fit.
@@ -58,8 +57,6 @@ FrameDetectorOptions ImageDetectorOptions(const CalibrationTarget& target, LensF
   } else if (options.refine.curved_edges) {
     options.refinement = CornerRefinement::kEdgeFit;
   }
-  options.corner_squares = target.corner_squares;
-  options.corner_square_fraction = std::min(1.0, target.grid.tag_spacing);
   return options;
 }
 
@@ -159,8 +156,7 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
   std::unique_ptr<FrameDetector> detector;
   std::vector<Eigen::Vector3d> grid_corners;
   if (target.type == CalibrationTarget::Type::kAprilGrid) {
-    detector =
-        FrameDetector::Create({target.grid}, ImageDetectorOptions(target, lens, camera), why);
+    detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(lens, camera), why);
     if (!detector) return false;
     grid_corners = target.grid.CornersInBoard();
   }

@@ -22,13 +22,11 @@
 
 namespace calibench {
 
-// The detector options for an image of the aprilgrid `target`: the defaults, with the corner
-// squares of Kalibr's printed grids handled when the target has them (target.corner_squares:
-// frame_detector.h, corner_squares; their edge is tag_spacing of a tag's). For a fisheye lens
+// The detector options for images of an aprilgrid: the defaults (the corner squares of Kalibr's
+// printed grids are the grid's: AprilGrid::corner_squares). For a fisheye lens
 // (`lens` equidistant) the edge fit takes curved edges (corner_refinement.h, curved_edges).
 // With `camera` (a calibration of these images) the photometric fit is drawn through its lens.
-FrameDetectorOptions ImageDetectorOptions(const CalibrationTarget& target,
-                                          LensFamily lens = LensFamily::kRadTan,
+FrameDetectorOptions ImageDetectorOptions(LensFamily lens = LensFamily::kRadTan,
                                           const CameraIntrinsics* camera = nullptr);
 
 // The image files of `dir` (extensions above, any case), sorted by name. False with *why naming

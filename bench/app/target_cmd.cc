@@ -68,7 +68,7 @@ bool MakeTargetLayout(const TargetArgs& a, TargetLayout* layout, std::string* wh
     g.tag_spacing = a.spacing;
     g.first_id = a.first_id;
     g.black_tag_border = a.border_bits;
-    t.corner_squares = true;
+    g.corner_squares = true;
     const auto family = TagFamily::Create(g.family, g.black_tag_border, why);
     if (!family) return false;
     if (g.first_id + g.NumTags() > family->num_codes()) {

@@ -13,9 +13,10 @@
 //             | {random: {count, min: [3], max: [3]}}   (uniform in the box, from the seed)
 //             | {boards: [{rows, cols, spacing_m, origin: [3], rpy_deg: [3]}, ...]}  (a rig)
 //             | {aprilgrids: [{family, tag_rows, tag_cols, tag_size_m, tag_spacing, first_id,
-//                              black_tag_border, origin: [3], rpy_deg: [3]}, ...]}  (AprilTag
-//               rig; black_tag_border: 1 = AprilTag 3's layout, the default; 2 = Kalibr's
-//               printed tags, rendered and detected with a 2-bit border; core/target.h)
+//                              black_tag_border, corner_squares, origin: [3], rpy_deg: [3]},
+//                             ...]}  (AprilTag rig; black_tag_border: 1 = AprilTag 3's layout,
+//               the default; 2 = Kalibr's printed tags, rendered and detected with a 2-bit border;
+//               corner_squares: false by default, true for Kalibr's squares; core/target.h)
 //     image_size: [640, 480]
 //     motion: {preset: small}  |  {v_const, v_cos, v_sin, w_const, w_cos, w_sin: [3],
 //              frequency_rad_s, frame: auto | body | world}; either form may add

@@ -31,7 +31,7 @@ void CheckSweptMethod(const Reader& r, const YAML::Node& at, const std::string& 
                       const std::string& name, const ScenarioConfig& swept);
 
 // {family, tag_rows, tag_cols, tag_size_m, tag_spacing, first_id, black_tag_border (default 1),
-//  origin: [3], rpy_deg: [3]};
+//  corner_squares (default false), origin: [3], rpy_deg: [3]};
 // *rpy_deg gets the angles as written (0 when absent).
 void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& field,
                     AprilGrid* grid, Eigen::Vector3d* rpy_deg);

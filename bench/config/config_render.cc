@@ -14,7 +14,7 @@ void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& 
                     Eigen::Vector3d* rpy_deg) {
   r.CheckKeys(node, field,
               {"family", "tag_rows", "tag_cols", "tag_size_m", "tag_spacing", "first_id",
-               "black_tag_border", "origin", "rpy_deg"});
+               "black_tag_border", "corner_squares", "origin", "rpy_deg"});
   r.If(node, "family", field,
        [&](auto n, auto f) { g->family = r.Choice(n, f, TagFamily::Names()); });
   r.Set(node, "tag_rows", field, &g->tag_rows);
@@ -23,6 +23,7 @@ void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& 
   r.Set(node, "tag_spacing", field, &g->tag_spacing);
   r.Set(node, "first_id", field, &g->first_id);
   r.Set(node, "black_tag_border", field, &g->black_tag_border);
+  r.If(node, "corner_squares", field, [&](auto n, auto f) { g->corner_squares = r.Bool(n, f); });
   r.Set(node, "origin", field, &g->points_from_board.translation);
   *rpy_deg = Eigen::Vector3d::Zero();
   r.If(node, "rpy_deg", field, [&](auto n, auto f) {
@@ -114,7 +115,7 @@ std::string TargetYamlText(const CalibrationTarget& t) {
         << RoundTripNumber(t.grid.tag_spacing) << YAML::Key << "blackTagBorder" << YAML::Value
         << t.grid.black_tag_border << YAML::Key << "tagFamily" << YAML::Value << t.grid.family
         << YAML::Key << "codeOffset" << YAML::Value << t.grid.first_id << YAML::Key
-        << "cornerSquares" << YAML::Value << t.corner_squares;
+        << "cornerSquares" << YAML::Value << t.grid.corner_squares;
   } else {
     out << YAML::Key << "target_type" << YAML::Value << "checkerboard" << YAML::Key << "targetCols"
         << YAML::Value << t.cols << YAML::Key << "targetRows" << YAML::Value << t.rows << YAML::Key
@@ -164,7 +165,9 @@ bool LoadTargetYamlFromString(const std::string& yaml, const std::string& path,
       t.grid.black_tag_border = CheckBorderBits(t.grid.family, 2, nullptr) ? 2 : 1;
       r.If(root, "blackTagBorder", "",
            [&](auto n, auto f) { t.grid.black_tag_border = r.Int(n, f); });
-      r.If(root, "cornerSquares", "", [&](auto n, auto f) { t.corner_squares = r.Bool(n, f); });
+      t.grid.corner_squares = true;  // Every Kalibr grid has them.
+      r.If(root, "cornerSquares", "",
+           [&](auto n, auto f) { t.grid.corner_squares = r.Bool(n, f); });
       // Each field's own reason, named (AprilGrid::Check would say it in its own words).
       if (t.grid.tag_cols < 1) r.Fail(root["tagCols"], "tagCols", "must be >= 1");
       if (t.grid.tag_rows < 1) r.Fail(root["tagRows"], "tagRows", "must be >= 1");

@@ -20,7 +20,8 @@ void EmitAprilGrid(YAML::Emitter& out, const AprilGrid& g, const Eigen::Vector3d
       << YAML::Value << g.tag_cols << YAML::Key << "tag_size_m" << YAML::Value << g.tag_size_m
       << YAML::Key << "tag_spacing" << YAML::Value << g.tag_spacing << YAML::Key << "first_id"
       << YAML::Value << g.first_id << YAML::Key << "black_tag_border" << YAML::Value
-      << g.black_tag_border << YAML::Key << "origin" << YAML::Value;
+      << g.black_tag_border << YAML::Key << "corner_squares" << YAML::Value << g.corner_squares
+      << YAML::Key << "origin" << YAML::Value;
   EmitVector(out, g.points_from_board.translation);
   out << YAML::Key << "rpy_deg" << YAML::Value;
   EmitVector(out, rpy_deg);

@@ -9,8 +9,8 @@
 //   blackTagBorder: 2     # optional: border bits, 1 or 2 (default 2 as Kalibr's detector
 //                         # option; 1 for the families with a white border, which have no other)
 //   cornerSquares: true   # calibench extension, optional: the black squares Kalibr's generator
-//                         # draws at the tags' corners (default true, as every Kalibr grid has
-//                         # them; false for a grid without them, e.g. calibench's own renders)
+//                         # draws at the tags' corners (AprilGrid::corner_squares; default true,
+//                         # as every Kalibr grid has them; false for a grid without them)
 // tagSize, tagSpacing, corner order and ids mean exactly what they mean to Kalibr (core/target.h).
 // Errors name the file, line, column, field and reason.
 #pragma once
@@ -23,8 +23,7 @@ namespace calibench {
 
 struct CalibrationTarget {
   enum class Type { kAprilGrid, kCheckerboard } type = Type::kAprilGrid;
-  AprilGrid grid;              // aprilgrid.
-  bool corner_squares = true;  // aprilgrid: FrameDetectorOptions::corner_squares.
+  AprilGrid grid;  // aprilgrid (grid.corner_squares: true unless the YAML says otherwise).
   // checkerboard: inner corners, corner (r, c) at (c * col_spacing_m, r * row_spacing_m, 0).
   int cols = 0, rows = 0;
   double row_spacing_m = 0, col_spacing_m = 0;

@@ -51,7 +51,6 @@ CalibrationTarget TargetOf(const AprilGrid& grid) {
   CalibrationTarget t;
   t.type = CalibrationTarget::Type::kAprilGrid;
   t.grid = grid;
-  t.corner_squares = false;  // calibench's renderer draws none.
   return t;
 }
 

@@ -62,7 +62,7 @@ TEST(Target, AprilGridPrintIsDetectedWithItsLayout) {
   EXPECT_EQ(target.grid.tag_spacing, 0.3);
   EXPECT_EQ(target.grid.black_tag_border, 2);
   EXPECT_EQ(target.grid.first_id, 5);
-  EXPECT_TRUE(target.corner_squares);
+  EXPECT_TRUE(target.grid.corner_squares);
   std::filesystem::remove(stem + ".pdf");  // Only the PNG is an image.
   std::vector<ImageCorners> images;
   ASSERT_TRUE(DetectImageCorners(dir, target, &images, &why)) << why;
