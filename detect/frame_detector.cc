@@ -351,20 +351,16 @@ std::vector<SquareToPaint> FrameDetector::SquaresNear(const std::vector<TagDetec
   return squares;
 }
 
-double FrameDetector::SquareFraction(int id) const {
+const FrameDetector::GridIds* FrameDetector::GridOf(int id) const {
   for (const GridIds& g : grids_) {
-    if (id >= g.first_id && id < g.first_id + g.num_tags) return std::min(1.0, g.tag_spacing);
+    if (id >= g.first_id && id < g.first_id + g.num_tags) return &g;
   }
-  return 0.3;
+  return nullptr;
 }
 
 int FrameDetector::PointId(int id, int corner) const {
-  for (const GridIds& g : grids_) {
-    if (id >= g.first_id && id < g.first_id + g.num_tags) {
-      return g.first_point + 4 * (id - g.first_id) + corner;
-    }
-  }
-  return -1;
+  const GridIds* g = GridOf(id);
+  return g ? g->first_point + 4 * (id - g->first_id) + corner : -1;
 }
 
 std::vector<Observation> FrameDetector::Detect(const GrayImage& image,
@@ -419,7 +415,6 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
       tag.corners = fit.corners;
       crlb_px = fit.crlb_px;
     }
-    ++local.tags;
     if (edge_fit && !RefineTagCorners(view, options_.refine, &tag)) {
       if (from_copy[t]) {  // Raw corners of a modified copy are biased: no refinement, no tag.
         ++local.unrefined_copy_tags;
@@ -427,7 +422,10 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
       }
       ++local.unrefined_tags;
     }
-    if (edge_fit && corner_squares_) RefineXJunctions(view, SquareFraction(tag.id), &tag);
+    ++local.tags;
+    if (edge_fit && corner_squares_) {
+      RefineXJunctions(view, std::min(1.0, GridOf(tag.id)->tag_spacing), &tag);
+    }
     for (int k = 0; k < 4; ++k)
       observations.push_back({PointId(tag.id, k), tag.corners[k], crlb_px[k]});
   }

@@ -126,7 +126,7 @@ class FrameDetector {
     int tag_rows, tag_cols;
     double tag_spacing;  // The corner squares' edge / the tag's.
   };
-  double SquareFraction(int id) const;  // Of the grid holding tag `id` (at most 1).
+  const GridIds* GridOf(int id) const;  // The grid holding tag `id`, or nullptr.
   // Adds the tags that corner squares hide (header comment): *from_copy grows with *tags.
   void FindTagsAmongSquares(const GrayImageView& view, std::vector<TagDetection>* tags,
                             std::vector<bool>* from_copy) const;

@@ -59,6 +59,7 @@ void DetectionStatsAccumulator::AddFrame(int tags_expected, const DetectionCount
   stats_.tags_detected += counts.tags;
   stats_.unknown_tags += counts.unknown_tags;
   stats_.unrefined_tags += counts.unrefined_tags;
+  stats_.unrefined_copy_tags += counts.unrefined_copy_tags;
   stats_.refused_tags += counts.RefusedTags();
   for (int f = 0; f < kNumFitFailures; ++f) stats_.refused_by_reason[f] += counts.refused_tags[f];
   stats_.border_tags += counts.border_tags;

@@ -61,7 +61,9 @@ struct DetectionStats {
   long tags_detected = 0;
   long unknown_tags = 0;    // Decoded ids on no grid (false positives or another target).
   long unrefined_tags = 0;  // Edge fit refused: raw detector corners kept.
-  long refused_tags = 0;    // Photometric fit refused: tag dropped (by reason below).
+  long unrefined_copy_tags =
+      0;                  // Edge fit refused on a tag found only in a modified copy: dropped.
+  long refused_tags = 0;  // Photometric fit refused: tag dropped (by reason below).
   std::array<long, kNumFitFailures> refused_by_reason{};  // Indexed by FitFailure.
   long border_tags = 0;                                   // Dropped for touching the image border.
   long corners = 0;

@@ -46,12 +46,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string written = calibench::TargetYamlText(target);
   Check(calibench::LoadTargetYamlFromString(written, kVirtualPath, &again, &why),
         "the written target YAML does not load", written + "\n" + why);
-  const bool same = again.type == target.type &&
-                    (target.type == calibench::CalibrationTarget::Type::kAprilGrid
-                         ? again.grid == target.grid
-                         : again.cols == target.cols && again.rows == target.rows &&
-                               again.row_spacing_m == target.row_spacing_m &&
-                               again.col_spacing_m == target.col_spacing_m);
+  const bool same =
+      again.type == target.type && (target.type == calibench::CalibrationTarget::Type::kAprilGrid
+                                        ? again.grid == target.grid
+                                        : again.cols == target.cols && again.rows == target.rows &&
+                                              again.row_spacing_m == target.row_spacing_m &&
+                                              again.col_spacing_m == target.col_spacing_m);
   Check(same, "the written target YAML loads to another target", yaml + "\n->\n" + written);
   return 0;
 }

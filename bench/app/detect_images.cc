@@ -40,6 +40,7 @@ bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
       image.unknown_tags = counts.unknown_tags;
       image.border_tags = counts.border_tags;
       image.duplicate_tags = counts.duplicate_tags;
+      image.unrefined_copy_tags = counts.unrefined_copy_tags;
     }
     images->push_back(std::move(image));
   }
@@ -76,6 +77,10 @@ std::string FormatImageCorners(const std::vector<ImageCorners>& images, int grid
     if (image.refused_tags > 0) {
       extra += ", " + std::to_string(image.refused_tags) + " refused by the photometric fit (" +
                image.refused_reasons + ")";
+    }
+    if (image.unrefined_copy_tags > 0) {
+      extra += ", " + std::to_string(image.unrefined_copy_tags) +
+               " behind corner squares not refined (dropped)";
     }
     if (image.duplicate_tags > 0)
       extra += ", " + std::to_string(image.duplicate_tags) + " duplicate ids (dropped)";

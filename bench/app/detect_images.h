@@ -28,6 +28,7 @@ struct ImageCorners {
   std::string note;  // Why unreadable, or how a 16-bit image was scaled.
   int tags = 0, unknown_tags = 0, border_tags = 0, duplicate_tags = 0;
   int refused_tags = 0;         // Photometric fit refused (dropped).
+  int unrefined_copy_tags = 0;  // DetectionCounts::unrefined_copy_tags (dropped).
   std::string refused_reasons;  // "diverged 1, image_border 2" (FitFailureName), or empty.
   struct Corner {
     int tag_id = -1, corner = -1;
