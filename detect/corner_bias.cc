@@ -10,7 +10,7 @@
 #include "core/tag_family.h"
 #include "core/target.h"
 #include "detect/apriltag_detector.h"
-#include "detect/corner_refinement.h"
+#include "detect/frame_detector.h"
 
 namespace calibench {
 namespace {
@@ -32,6 +32,7 @@ struct CaseSums {
   double noise_sq_sum = 0;   // Over views, draws and corners, of |e - b_v|^2.
   double noise_dof = 0;      // Sum over views of (draws - 1): b_v uses one draw's worth.
   double inverse_draws = 0;  // Sum over views of 1 / draws (the noise left in each b_v).
+  double error_sq_sum = 0;   // Over views, draws and corners, of |e|^2.
   int views = 0, draws = 0;
   CaseSums() {
     for (int k = 0; k < 4; ++k)
@@ -44,7 +45,10 @@ struct CaseSums {
     for (int k = 0; k < 4; ++k) {
       Eigen::Vector2d b = Eigen::Vector2d::Zero();
       for (const auto& e : errors) b += e[k] / static_cast<double>(errors.size());
-      for (const auto& e : errors) noise_sq_sum += (e[k] - b).squaredNorm();
+      for (const auto& e : errors) {
+        noise_sq_sum += (e[k] - b).squaredNorm();
+        error_sq_sum += e[k].squaredNorm();
+      }
       bias_sum[k] += b;
       bias_sq_sum[k] += b.cwiseProduct(b);
       radial_sum[k] += radial[k];
@@ -77,6 +81,7 @@ struct CaseSums {
     }
     return s;
   }
+  double RmsPerAxis() const { return draws > 0 ? std::sqrt(error_sq_sum / (8.0 * draws)) : NAN; }
 };
 
 // One view of a case: the board pose, the exact corners and their outward directions.
@@ -86,13 +91,17 @@ struct TagView {
   double view_angle_deg = 0;
 };
 
-bool MakeView(const CornerBiasCase& c, const Eigen::Vector2d& centre_px, const AprilGrid& grid,
-              const std::shared_ptr<const TagFamily>& family, const CameraIntrinsics& k, TagView* v,
-              std::string* why) {
-  // The tag centre on the ray of centre_px at the depth that gives tag_px.
-  const double depth = k.fku_px * grid.tag_size_m / c.tag_px;
-  const Eigen::Vector3d ray =
-      k.Matrix().inverse() * Eigen::Vector3d(centre_px.x(), centre_px.y(), 1);
+// The tag centre on the ray of centre_px at `depth` (m, along the optical axis).
+bool MakeView(const CornerBiasCase& c, const Eigen::Vector2d& centre_px, double depth,
+              const AprilGrid& grid, const std::shared_ptr<const TagFamily>& family,
+              const CameraIntrinsics& k, TagView* v, std::string* why) {
+  Eigen::Vector2d ray_xy;
+  if (!UndistortNormalized(k, (k.Matrix().inverse() * centre_px.homogeneous()).hnormalized(),
+                           &ray_xy)) {
+    if (why) *why = "the tag centre is outside the lens's valid region";
+    return false;
+  }
+  const Eigen::Vector3d centre_in_cam = depth * ray_xy.homogeneous();
   const std::vector<Eigen::Vector3d> corners = grid.CornersInBoard();
   const Eigen::Vector3d centre_in_board = (corners[0] + corners[2]) / 2;
   v->board.grid = grid;
@@ -100,10 +109,10 @@ bool MakeView(const CornerBiasCase& c, const Eigen::Vector2d& centre_px, const A
   // Facing the camera (board y up in the image, its normal toward the camera), then roll, tilt.
   v->board.cam_from_board.rotation = RotX(c.tilt_deg * kDeg) * RotX(M_PI) * RotZ(c.roll_deg * kDeg);
   v->board.cam_from_board.translation =
-      depth * ray / ray.z() - v->board.cam_from_board.rotation * centre_in_board;
+      centre_in_cam - v->board.cam_from_board.rotation * centre_in_board;
   const Eigen::Vector3d normal = v->board.cam_from_board.rotation.col(2);
-  const Eigen::Vector3d sight = (depth * ray / ray.z()).normalized();
-  v->view_angle_deg = std::acos(std::min(1.0, std::abs(normal.dot(sight)))) / kDeg;
+  v->view_angle_deg =
+      std::acos(std::min(1.0, std::abs(normal.dot(centre_in_cam.normalized())))) / kDeg;
   Eigen::Vector2d centre;
   bool in_front = ProjectPoint(k, v->board.cam_from_board * centre_in_board, &centre);
   for (int i = 0; i < 4 && in_front; ++i) {
@@ -112,6 +121,25 @@ bool MakeView(const CornerBiasCase& c, const Eigen::Vector2d& centre_px, const A
   }
   if (!in_front && why) *why = "the tag is behind the camera";
   return in_front;
+}
+
+// The depth at which the tag, fronto-parallel and unrolled at centre_px, shows a mean side of
+// tag_px pixels through the lens (a few fixed-point steps: the side is ~ 1 / depth).
+bool DepthForTagPx(const CornerBiasCase& c, const Eigen::Vector2d& centre_px, const AprilGrid& grid,
+                   const std::shared_ptr<const TagFamily>& family, const CameraIntrinsics& k,
+                   double* depth, std::string* why) {
+  CornerBiasCase flat = c;
+  flat.tilt_deg = flat.roll_deg = 0;
+  *depth = k.fku_px * grid.tag_size_m / c.tag_px;
+  for (int it = 0; it < 6; ++it) {
+    TagView v;
+    if (!MakeView(flat, centre_px, *depth, grid, family, k, &v, why)) return false;
+    double side = 0;
+    for (int i = 0; i < 4; ++i) side += (v.truth[(i + 1) % 4] - v.truth[i]).norm() / 4;
+    if (!(side > 0)) break;
+    *depth *= side / c.tag_px;
+  }
+  return true;
 }
 
 double PolygonArea(const std::array<Eigen::Vector2d, 4>& q) {
@@ -126,36 +154,83 @@ double PolygonArea(const std::array<Eigen::Vector2d, 4>& q) {
 
 }  // namespace
 
+const char* CornerBiasLensName(CornerBiasLens lens) {
+  switch (lens) {
+    case CornerBiasLens::kNone:
+      return "none";
+    case CornerBiasLens::kRadTanEuroc:
+      return "radtan_euroc";
+    case CornerBiasLens::kEquidistant:
+      return "equidistant";
+  }
+  return "unknown";
+}
+
+CornerBiasCamera CornerBiasCamera::Of(CornerBiasLens lens) {
+  CornerBiasCamera c;
+  switch (lens) {
+    case CornerBiasLens::kNone:
+      c.intrinsics = CameraIntrinsics{800.0, 800.0, 90.0, 319.5, 239.5};
+      c.default_centre_px = Eigen::Vector2d(319.5, 239.5);
+      break;
+    case CornerBiasLens::kRadTanEuroc:
+      c.intrinsics = CameraIntrinsics{458.0, 457.0, 90.0, 367.0, 248.0, -0.28, 0.074};
+      c.width = 752;
+      c.default_centre_px = Eigen::Vector2d(150, 120);
+      break;
+    case CornerBiasLens::kEquidistant:
+      c.intrinsics = CameraIntrinsics{300.0, 300.0, 90.0, 375.5, 239.5, 0.01, -0.002};
+      c.intrinsics.family = LensFamily::kEquidistant;
+      c.width = 752;
+      c.default_centre_px = Eigen::Vector2d(150, 120);
+      break;
+  }
+  return c;
+}
+
+const char* CornerStageName(CornerStage stage, bool corner_squares) {
+  switch (stage) {
+    case CornerStage::kRaw:
+      return "raw";
+    case CornerStage::kEdgeFit:
+      return corner_squares ? "saddle" : "edge_fit";
+    case CornerStage::kPhotometric:
+      return "photometric";
+    case CornerStage::kLensAware:
+      return "lens_aware";
+  }
+  return "unknown";
+}
+
 bool CornerBiasOptions::Check(std::string* why) const {
   std::string msg;
   if (draws < 1) msg = "draws must be >= 1";
   if (views < 1) msg = "views must be >= 1";
   if (!(noise_sigma_gray >= 0)) msg = "noise_sigma_gray must be >= 0";
-  if (msg.empty()) return camera.Check(why);
+  if (supersample < 1) msg = "supersample must be >= 1";
+  if (!(quad_decimate >= 1)) msg = "quad_decimate must be >= 1";
+  if (msg.empty()) return true;
   if (why) *why = msg;
   return false;
 }
 
-CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
-                                   const CornerBiasOptions& options) {
-  CornerBiasResult result;
-  if (!options.Check(&result.message)) return result;
-  AprilGrid grid;
-  grid.tag_rows = grid.tag_cols = 1;
-  grid.tag_size_m = 0.1;
-  auto family = TagFamily::Create(grid.family, grid.black_tag_border, &result.message);
-  if (!family) return result;
-  const CameraIntrinsics& k = options.camera;
-  TagView view0;
-  if (!MakeView(c, c.centre_px, grid, family, k, &view0, &result.message)) return result;
-  result.view_angle_deg = view0.view_angle_deg;
-  // The exact black area of view 0: every black cell of tag 0's bitmap, projected.
-  const double cell = grid.tag_size_m / family->width_at_border();
-  const int start = family->border_start();
+namespace {
+
+// The exact black area of view 0 (every black cell of tag 0's bitmap, projected) and the one
+// rendered without noise, over the pixels whose centre sees the board within 0.7 of the white
+// margin around the black square (the margin is tag_spacing * size wide; blur spreads the black
+// < 3 sigma px into it). Pinhole cameras without corner squares only.
+void MeasureBlackArea(const TagView& view0, const TagFamily& family, const CameraIntrinsics& k,
+                      const FrameRenderer& renderer, const RenderOptions& render,
+                      CornerBiasResult* result) {
+  const AprilGrid& grid = view0.board.grid;
+  const double cell = grid.tag_size_m / family.width_at_border();
+  const int start = family.border_start();
   const Rigid3& cam_from_board = view0.board.cam_from_board;
-  for (int row = 0; row < family->total_width(); ++row) {
-    for (int col = 0; col < family->total_width(); ++col) {
-      if (family->IsWhite(0, col, row)) continue;
+  double exact = 0;
+  for (int row = 0; row < family.total_width(); ++row) {
+    for (int col = 0; col < family.total_width(); ++col) {
+      if (family.IsWhite(0, col, row)) continue;
       // Bitmap row 0 is the top: board y grows upward (corner 3 = top-left has y = size).
       const double x0 = (col - start) * cell;
       const double y1 = grid.tag_size_m - (row - start) * cell;
@@ -164,58 +239,138 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
       std::array<Eigen::Vector2d, 4> q;
       for (int v = 0; v < 4; ++v)
         ProjectPoint(k, cam_from_board * Eigen::Vector3d(xs[v], ys[v], 0), &q[v]);
-      result.black_area_px2 += PolygonArea(q);
+      exact += PolygonArea(q);
     }
   }
+  GrayImage image;
+  std::string why;
+  if (!renderer.Render({view0.board}, nullptr, &image, &why)) return;
+  const double margin = 0.7 * grid.tag_spacing * grid.tag_size_m;
+  const Eigen::Matrix3d& r = cam_from_board.rotation;
+  Eigen::Matrix3d h;  // Board (x, y, 1) -> camera ray.
+  h << r.col(0), r.col(1), cam_from_board.translation;
+  const Eigen::Matrix3d board_from_pixel = h.inverse() * k.Matrix().inverse();
+  const double span = render.white_gray - render.black_gray;
+  double rendered = 0;
+  for (int j = 0; j < image.height; ++j) {
+    for (int i = 0; i < image.width; ++i) {
+      const Eigen::Vector3d b = board_from_pixel * Eigen::Vector3d(i, j, 1);
+      const double bx = b.x() / b.z(), by = b.y() / b.z();
+      if (bx < -margin || by < -margin || bx > grid.tag_size_m + margin ||
+          by > grid.tag_size_m + margin)
+        continue;
+      rendered += (render.white_gray - image.at(i, j)) / span;
+    }
+  }
+  result->black_area_px2 = exact;
+  result->rendered_black_area_px2 = rendered;
+}
+
+// One stage's accumulators over the case.
+struct StageSums {
+  CaseSums sums;
+  std::vector<std::array<Eigen::Vector2d, 4>> view_errors;  // This view's draws.
+  double crlb_sum = 0, us_sum = 0;
+  int attempts = 0;
+};
+
+}  // namespace
+
+CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
+                                   const CornerBiasOptions& options) {
+  CornerBiasResult result;
+  if (!options.Check(&result.message)) return result;
+  if (c.black_border_bits != 1 && c.black_border_bits != 2) {
+    result.message = "black_border_bits must be 1 or 2";
+    return result;
+  }
+  const CornerBiasCamera camera = CornerBiasCamera::Of(c.lens);
+  const CameraIntrinsics& k = camera.intrinsics;
+  const Eigen::Vector2d centre_px =
+      c.centre_px.allFinite() ? c.centre_px : camera.default_centre_px;
+  AprilGrid grid;
+  grid.tag_rows = grid.tag_cols = 1;
+  grid.tag_size_m = 0.1;
+  grid.black_tag_border = c.black_border_bits;
+  grid.corner_squares = c.corner_squares;
+  auto family = TagFamily::Create(grid.family, grid.black_tag_border, &result.message);
+  if (!family) return result;
+  double depth = 0;
+  TagView view0;
+  if (!DepthForTagPx(c, centre_px, grid, family, k, &depth, &result.message) ||
+      !MakeView(c, centre_px, depth, grid, family, k, &view0, &result.message))
+    return result;
+  result.view_angle_deg = view0.view_angle_deg;
+  result.centre_px = centre_px;
+  for (int i = 0; i < 4; ++i)
+    result.tag_edge_px += (view0.truth[(i + 1) % 4] - view0.truth[i]).norm() / 4;
 
   RenderOptions render;
-  render.width = options.width;
-  render.height = options.height;
+  render.width = camera.width;
+  render.height = camera.height;
   render.supersample = options.supersample;
   render.blur_sigma_px = c.blur_sigma_px;
   auto renderer = FrameRenderer::Create(k, render, &result.message);
   if (!renderer) return result;
-  // The renderer alone: the noise-free black area of view 0 over the pixels whose centre sees the
-  // board within 0.7 of the white margin around the black square (the margin is tag_spacing *
-  // size wide; blur spreads the black < 3 sigma px into it).
-  GrayImage image;
-  if (!renderer->Render({view0.board}, nullptr, &image, &result.message)) return result;
+  if (c.lens == CornerBiasLens::kNone && !c.corner_squares)
+    MeasureBlackArea(view0, *family, k, *renderer, render, &result);
+
+  // Every stage sees the crop around the tag (its white margin, squares and blur, plus 8 px): the
+  // detector's cost is per pixel, and the rest of the frame is a flat white board.
+  int x0 = camera.width, y0 = camera.height, x1 = 0, y1 = 0;
   {
-    const double margin = 0.7 * grid.tag_spacing * grid.tag_size_m;
-    const Eigen::Matrix3d& r = cam_from_board.rotation;
-    Eigen::Matrix3d h;  // Board (x, y, 1) -> camera ray.
-    h << r.col(0), r.col(1), cam_from_board.translation;
-    const Eigen::Matrix3d board_from_pixel = h.inverse() * k.Matrix().inverse();
-    const double span = render.white_gray - render.black_gray;
-    for (int j = 0; j < image.height; ++j) {
-      for (int i = 0; i < image.width; ++i) {
-        const Eigen::Vector3d b = board_from_pixel * Eigen::Vector3d(i, j, 1);
-        const double bx = b.x() / b.z(), by = b.y() / b.z();
-        if (bx < -margin || by < -margin || bx > grid.tag_size_m + margin ||
-            by > grid.tag_size_m + margin)
-          continue;
-        result.rendered_black_area_px2 += (render.white_gray - image.at(i, j)) / span;
+    const double m = (grid.tag_spacing + 0.5) * grid.tag_size_m, s = grid.tag_size_m;
+    const std::array<Eigen::Vector3d, 4> outline = {
+        Eigen::Vector3d(-m, -m, 0), Eigen::Vector3d(s + m, -m, 0), Eigen::Vector3d(s + m, s + m, 0),
+        Eigen::Vector3d(-m, s + m, 0)};
+    const double pad = 8 + 4 * c.blur_sigma_px;
+    for (int i = 0; i < 4; ++i) {
+      for (double t : {0.0, 0.25, 0.5, 0.75}) {  // Along the sides: a lens bends them.
+        const Eigen::Vector3d in_board = outline[i] + t * (outline[(i + 1) % 4] - outline[i]);
+        Eigen::Vector2d q;
+        if (!ProjectPoint(k, view0.board.cam_from_board * in_board, &q)) continue;
+        x0 = std::min(x0, static_cast<int>(std::floor(q.x() - pad)));
+        y0 = std::min(y0, static_cast<int>(std::floor(q.y() - pad)));
+        x1 = std::max(x1, static_cast<int>(std::ceil(q.x() + pad)));
+        y1 = std::max(y1, static_cast<int>(std::ceil(q.y() + pad)));
       }
     }
+    x0 = std::max(0, x0), y0 = std::max(0, y0);
+    x1 = std::min(camera.width - 1, x1), y1 = std::min(camera.height - 1, y1);
+    if (x1 - x0 < 16 || y1 - y0 < 16) {
+      result.message = "the tag is outside the image";
+      return result;
+    }
   }
-
-  AprilTagOptions detector_options;
-  detector_options.quad_decimate = options.quad_decimate;
-  auto detector = AprilTagDetector::Create(detector_options, &result.message);
-  if (!detector) return result;
-  CornerRefineOptions refine;
-  refine.width_at_border = family->width_at_border();
+  const Eigen::Vector2d crop_origin(x0, y0);
+  CameraIntrinsics crop_camera = k;  // The same lens, its principal point in crop pixels.
+  crop_camera.u0_px -= x0;
+  crop_camera.v0_px -= y0;
+  AprilTagOptions raw_options;
+  raw_options.black_border_bits = c.black_border_bits;
+  raw_options.quad_decimate = options.quad_decimate;
+  auto raw_detector = AprilTagDetector::Create(raw_options, &result.message);
+  if (!raw_detector) return result;
+  // The frame detectors of the refining stages (nullptr: the stage does not run).
+  std::array<std::unique_ptr<FrameDetector>, kNumCornerStages> detectors;
+  for (const CornerStage stage :
+       {CornerStage::kEdgeFit, CornerStage::kPhotometric, CornerStage::kLensAware}) {
+    if (stage == CornerStage::kLensAware && c.lens == CornerBiasLens::kNone) continue;
+    FrameDetectorOptions o;
+    o.detector.quad_decimate = options.quad_decimate;
+    o.refinement = stage == CornerStage::kEdgeFit ? CornerRefinement::kEdgeFit
+                                                  : CornerRefinement::kPhotometric;
+    o.refine.curved_edges = c.lens == CornerBiasLens::kEquidistant;
+    if (stage == CornerStage::kLensAware) o.camera = crop_camera;
+    detectors[static_cast<int>(stage)] = FrameDetector::Create({grid}, o, &result.message);
+    if (!detectors[static_cast<int>(stage)]) return result;
+  }
   render.noise_sigma_gray = options.noise_sigma_gray;
   renderer = FrameRenderer::Create(k, render, &result.message);
   if (!renderer) return result;
-  TagPattern pattern;
-  if (!TagPattern::FromFamily(*family, 0, grid.tag_spacing * family->width_at_border(), 0.0,
-                              &pattern, &result.message))
-    return result;
-  const PhotometricFitOptions fit_options;
-  CaseSums raw, refined, photometric;
-  double crlb_sum = 0, blur_sum = 0;
-  int timed = 0;
+
+  std::array<StageSums, kNumCornerStages> sums;
+  GrayImage image;
   using Clock = std::chrono::steady_clock;
   auto micros = [](Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::micro>(b - a).count();
@@ -225,75 +380,74 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
     Rng shift_rng(view_seed);
     const Eigen::Vector2d shift(shift_rng.Uniform(-0.5, 0.5), shift_rng.Uniform(-0.5, 0.5));
     TagView view = view0;  // View 0 is the case's own; the others are shifted.
-    if (v > 0 && !MakeView(c, c.centre_px + shift, grid, family, k, &view, &result.message))
+    if (v > 0 && !MakeView(c, centre_px + shift, depth, grid, family, k, &view, &result.message))
       return result;
-    std::vector<std::array<Eigen::Vector2d, 4>> raw_errors, refined_errors, photometric_errors;
+    for (StageSums& s : sums) s.view_errors.clear();
     for (int d = 0; d < options.draws; ++d) {
       Rng rng(Mix64(view_seed + 1 + d));
       if (!renderer->Render({view.board}, &rng, &image, &result.message)) return result;
-      const Clock::time_point t0 = Clock::now();
-      const std::vector<TagDetection> tags = detector->Detect(image);
-      const Clock::time_point t1 = Clock::now();
-      for (TagDetection tag : tags) {
-        if (tag.id != 0) continue;
-        const std::array<Eigen::Vector2d, 4> raw_corners = tag.corners;
-        std::array<Eigen::Vector2d, 4> e;
-        for (int i = 0; i < 4; ++i) e[i] = tag.corners[i] - view.truth[i];
-        const Clock::time_point t2 = Clock::now();
-        const bool refined_ok = RefineTagCorners(image, refine, &tag);
-        const Clock::time_point t3 = Clock::now();
-        const PhotometricFitResult fit =
-            FitTagPhotometric(image, pattern, raw_corners, fit_options,
-                              options.lens_aware_fit ? &options.camera : nullptr);
-        const Clock::time_point t4 = Clock::now();
-        result.detect_us += micros(t0, t1);
-        result.refine_us += micros(t2, t3);
-        result.photometric_us += micros(t3, t4);
-        ++timed;
-        ++result.photometric_failures[static_cast<int>(fit.failure)];
-        if (fit.ok()) {
-          std::array<Eigen::Vector2d, 4> ep;
-          for (int i = 0; i < 4; ++i) {
-            ep[i] = fit.corners[i] - view.truth[i];
-            crlb_sum += fit.crlb_px[i] / 4;
-          }
-          blur_sum += fit.blur_px;
-          result.photometric_iterations += fit.iterations;
-          photometric_errors.push_back(ep);
+      const uint8_t* crop = image.pixels.data() + static_cast<size_t>(y0) * image.width + x0;
+      const int crop_w = x1 - x0 + 1, crop_h = y1 - y0 + 1;
+      {
+        StageSums& s = sums[static_cast<int>(CornerStage::kRaw)];
+        const Clock::time_point t0 = Clock::now();
+        const std::vector<TagDetection> tags =
+            raw_detector->Detect(crop, crop_w, crop_h, image.width);
+        s.us_sum += micros(t0, Clock::now());
+        ++s.attempts;
+        for (const TagDetection& tag : tags) {
+          if (tag.id != 0) continue;
+          std::array<Eigen::Vector2d, 4> e;
+          for (int i = 0; i < 4; ++i) e[i] = tag.corners[i] + crop_origin - view.truth[i];
+          s.view_errors.push_back(e);
+          break;
         }
-        if (!refined_ok) break;
-        raw_errors.push_back(e);
-        for (int i = 0; i < 4; ++i) e[i] = tag.corners[i] - view.truth[i];
-        refined_errors.push_back(e);
-        break;
+      }
+      for (int st = 1; st < kNumCornerStages; ++st) {
+        if (!detectors[st]) continue;
+        StageSums& s = sums[st];
+        DetectionCounts counts;
+        const Clock::time_point t0 = Clock::now();
+        const std::vector<Observation> obs =
+            detectors[st]->Detect(crop, crop_w, crop_h, image.width, &counts);
+        s.us_sum += micros(t0, Clock::now());
+        ++s.attempts;
+        CornerStageResult& out = result.stages[st];
+        for (int f = 1; f < kNumFitFailures; ++f) out.refused[f] += counts.refused_tags[f];
+        if (obs.size() != 4) continue;  // Points 0..3: the tag's four corners, sorted.
+        std::array<Eigen::Vector2d, 4> e;
+        for (int i = 0; i < 4; ++i) {
+          e[i] = obs[i].pixel + crop_origin - view.truth[obs[i].point_id];
+          if (std::isfinite(obs[i].crlb_px)) s.crlb_sum += obs[i].crlb_px / 4;
+        }
+        s.view_errors.push_back(e);
       }
     }
-    raw.AddView(raw_errors, view.radial);
-    refined.AddView(refined_errors, view.radial);
-    photometric.AddView(photometric_errors, view.radial);
+    for (StageSums& s : sums) s.sums.AddView(s.view_errors, view.radial);
   }
-  if (timed > 0) {
-    result.detect_us /= timed;
-    result.refine_us /= timed;
-    result.photometric_us /= timed;
+  for (int st = 0; st < kNumCornerStages; ++st) {
+    CornerStageResult& out = result.stages[st];
+    const StageSums& s = sums[st];
+    out.run = st == 0 || detectors[st] != nullptr;
+    if (!out.run) continue;
+    out.detections = s.sums.draws;
+    out.failed = s.attempts - s.sums.draws;
+    out.corners = s.sums.Stats();
+    out.rms_px = s.sums.RmsPerAxis();
+    out.us_per_tag = s.attempts > 0 ? s.us_sum / s.attempts : 0;
+    if (st >= static_cast<int>(CornerStage::kPhotometric) && s.sums.draws > 0)
+      out.crlb_px = s.crlb_sum / s.sums.draws;
+    if (out.detections > 0) result.ok = true;
   }
-  result.photometric = photometric.Stats();
-  result.photometric_draws = photometric.draws;
-  if (photometric.draws > 0) {
-    result.photometric_crlb_px = crlb_sum / photometric.draws;
-    result.photometric_blur_px = blur_sum / photometric.draws;
-    result.photometric_iterations /= photometric.draws;
-  }
-  result.detected_draws = refined.draws;
-  result.raw = raw.Stats();
-  result.refined = refined.Stats();
-  result.ok = refined.draws > 0;
-  if (!result.ok) result.message = "the tag was detected in none of the draws";
+  const CornerStageResult& aware = result.stage(CornerStage::kLensAware);
+  result.crlb_px = aware.run ? aware.crlb_px : result.stage(CornerStage::kPhotometric).crlb_px;
+  if (!result.ok) result.message = "the tag was found by no stage in any draw";
   return result;
 }
 
 std::vector<CornerBiasCase> DefaultCornerBiasCases() {
   std::vector<CornerBiasCase> cases;
+  // AprilTag 3's 1-bit tag without a lens: every axis about the default sweeps' view.
   const CornerBiasCase base;
   for (double tilt : {0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0}) {
     for (double roll : {0.0, 22.5}) {
@@ -303,12 +457,12 @@ std::vector<CornerBiasCase> DefaultCornerBiasCases() {
       cases.push_back(c);
     }
   }
-  for (double px : {12.0, 16.0, 24.0, 48.0, 64.0, 96.0}) {
+  for (double px : {15.0, 20.0, 45.0, 60.0}) {
     CornerBiasCase c = base;
     c.tag_px = px;
     cases.push_back(c);
   }
-  for (double blur : {0.0, 0.25, 1.0, 1.5}) {
+  for (double blur : {0.0, 1.0, 1.5}) {
     CornerBiasCase c = base;
     c.blur_sigma_px = blur;
     cases.push_back(c);
@@ -318,6 +472,39 @@ std::vector<CornerBiasCase> DefaultCornerBiasCases() {
     CornerBiasCase c = base;
     c.centre_px = at;
     cases.push_back(c);
+  }
+  // The other (lens, border, squares) families: tilt, size and blur about the same view.
+  struct Family {
+    CornerBiasLens lens;
+    int border;
+    bool squares;
+  };
+  for (const Family& f :
+       {Family{CornerBiasLens::kNone, 2, false}, Family{CornerBiasLens::kNone, 2, true},
+        Family{CornerBiasLens::kRadTanEuroc, 1, false},
+        Family{CornerBiasLens::kRadTanEuroc, 2, true},
+        Family{CornerBiasLens::kEquidistant, 1, false},
+        Family{CornerBiasLens::kEquidistant, 2, true}}) {
+    CornerBiasCase b = base;
+    b.lens = f.lens;
+    b.black_border_bits = f.border;
+    b.corner_squares = f.squares;
+    cases.push_back(b);
+    for (double tilt : {30.0, 60.0}) {
+      CornerBiasCase c = b;
+      c.tilt_deg = tilt;
+      cases.push_back(c);
+    }
+    for (double px : {15.0, 60.0}) {
+      CornerBiasCase c = b;
+      c.tag_px = px;
+      cases.push_back(c);
+    }
+    for (double blur : {0.0, 1.0, 1.5}) {
+      CornerBiasCase c = b;
+      c.blur_sigma_px = blur;
+      cases.push_back(c);
+    }
   }
   return cases;
 }

@@ -1,6 +1,8 @@
 #include "bench/app/corner_bias_cmd.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <thread>
@@ -16,6 +18,7 @@ int CornerBias(const CornerBiasArgs& args) {
   CornerBiasOptions options;
   options.draws = args.draws;
   options.views = args.views;
+  options.supersample = args.supersample;
   std::string why;
   if (!options.Check(&why) || args.threads < 1) {
     std::cerr << "calibench: corner-bias: " << (why.empty() ? "--threads must be >= 1" : why)
@@ -36,7 +39,11 @@ int CornerBias(const CornerBiasArgs& args) {
   for (std::thread& w : workers) w.join();
   auto num = [](double v) { return FormatNumber(v, 10); };
   std::string csv = CsvLine({"case",
+                             "lens",
+                             "black_border_bits",
+                             "corner_squares",
                              "tag_px",
+                             "tag_edge_px",
                              "tilt_deg",
                              "roll_deg",
                              "view_angle_deg",
@@ -51,54 +58,66 @@ int CornerBias(const CornerBiasArgs& args) {
                              "bias_tangent_px",
                              "view_rms_px",
                              "noise_rms_px",
+                             "rms_px",
+                             "crlb_px",
+                             "rms_over_crlb",
                              "detections",
+                             "failed",
+                             "refused",
                              "black_area_px2",
                              "rendered_black_area_px2",
-                             "crlb_px",
-                             "fitted_blur_px",
-                             "refused",
                              "us_per_tag",
                              "status"});
-  double worst_refined = 0, worst_photometric = 0;
+  // The largest |radial bias| of a corner: edge fit, and the photometric fit that fits the case
+  // (lens-aware with a lens).
+  double worst_edge = 0, worst_photometric = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
     const CornerBiasCase& c = cases[i];
     const CornerBiasResult& r = results[i];
-    const std::string refused = FormatFitFailures(r.photometric_failures);
-    for (const std::string stage : {"raw", "refined", "photometric"}) {
-      const bool photometric = stage == "photometric";
-      const auto& stats = stage == "raw" ? r.raw : photometric ? r.photometric : r.refined;
-      const int detections = photometric ? r.photometric_draws : r.detected_draws;
-      const double us = stage == "raw" ? r.detect_us : photometric ? r.photometric_us : r.refine_us;
+    for (int st = 0; st < kNumCornerStages; ++st) {
+      const CornerStage stage = static_cast<CornerStage>(st);
+      const CornerStageResult& s = r.stages[st];
+      if (!s.run && r.ok) continue;
       for (int k = 0; k < 4; ++k) {
-        const CornerStats& s = stats[k];
+        const CornerStats& cs = s.corners[k];
         csv += CsvLine({std::to_string(i),
+                        CornerBiasLensName(c.lens),
+                        std::to_string(c.black_border_bits),
+                        c.corner_squares ? "1" : "0",
                         num(c.tag_px),
+                        num(r.tag_edge_px),
                         num(c.tilt_deg),
                         num(c.roll_deg),
                         num(r.view_angle_deg),
                         num(c.blur_sigma_px),
-                        num(c.centre_px.x()),
-                        num(c.centre_px.y()),
-                        stage,
+                        num(r.centre_px.x()),
+                        num(r.centre_px.y()),
+                        CornerStageName(stage, c.corner_squares),
                         std::to_string(k),
-                        num(s.bias.x()),
-                        num(s.bias.y()),
-                        num(s.radial_px),
-                        num(s.tangent_px),
-                        num(s.view_rms_px),
-                        num(s.noise_rms_px),
-                        std::to_string(detections),
+                        num(cs.bias.x()),
+                        num(cs.bias.y()),
+                        num(cs.radial_px),
+                        num(cs.tangent_px),
+                        num(cs.view_rms_px),
+                        num(cs.noise_rms_px),
+                        num(s.rms_px),
+                        num(r.crlb_px),
+                        num(s.rms_px / r.crlb_px),
+                        std::to_string(s.detections),
+                        std::to_string(s.failed),
+                        FormatFitFailures(s.refused),
                         num(r.black_area_px2),
                         num(r.rendered_black_area_px2),
-                        photometric ? num(r.photometric_crlb_px) : "",
-                        photometric ? num(r.photometric_blur_px) : "",
-                        photometric ? refused : "",
-                        num(us),
+                        num(s.us_per_tag),
                         r.ok ? "ok" : r.message});
-        if (r.ok && stage == "refined")
-          worst_refined = std::max(worst_refined, std::abs(s.radial_px));
-        if (r.ok && photometric)
-          worst_photometric = std::max(worst_photometric, std::abs(s.radial_px));
+        if (!r.ok || !std::isfinite(cs.radial_px)) continue;
+        if (stage == CornerStage::kEdgeFit)
+          worst_edge = std::max(worst_edge, std::abs(cs.radial_px));
+        const bool best_photometric = c.lens == CornerBiasLens::kNone
+                                          ? stage == CornerStage::kPhotometric
+                                          : stage == CornerStage::kLensAware;
+        if (best_photometric)
+          worst_photometric = std::max(worst_photometric, std::abs(cs.radial_px));
       }
     }
   }
@@ -109,8 +128,8 @@ int CornerBias(const CornerBiasArgs& args) {
   std::fprintf(
       stderr,
       "calibench: corner-bias: %zu cases x %d views x %d draws -> %s (largest |radial bias| "
-      "of a corner: edge fit %.4f px, photometric fit %.4f px)\n",
-      cases.size(), options.views, options.draws, args.out_path.c_str(), worst_refined,
+      "of a corner: edge fit %.4f px, photometric fit (lens-aware with a lens) %.4f px)\n",
+      cases.size(), options.views, options.draws, args.out_path.c_str(), worst_edge,
       worst_photometric);
   return 0;
 }

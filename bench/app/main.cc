@@ -412,6 +412,9 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   corner_bias->add_option("--views", bias_args.views,
                           "Sub-pixel shifted views per case (default 8)");
   corner_bias->add_option("--draws", bias_args.draws, "Noise draws per view (default 8)");
+  corner_bias->add_option("--supersample", bias_args.supersample,
+                          "Renderer samples per pixel side (default 16: an axis-aligned edge to "
+                          "1/256 px; the sweeps use 4)");
   corner_bias->add_option("--threads", bias_args.threads, "Worker threads (default 2)");
   calibench::TargetArgs target_args;
   CLI::App* target = app.add_subcommand(

@@ -21,11 +21,12 @@ TEST(CornerBias, FrontoParallelTagIsUnbiasedAndTheRendererExact) {
   options.draws = 2;
   const CornerBiasResult r = MeasureCornerBias(CornerBiasCase(), 0, options);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_EQ(r.detected_draws, options.views * options.draws);
+  const CornerStageResult& edge = r.stage(CornerStage::kEdgeFit);
+  EXPECT_EQ(edge.detections, options.views * options.draws);
   // 32 px tag, 24 black cells of 4 x 4 px: 768 px^2; supersampling resolves edges to 1/16 px.
   EXPECT_NEAR(r.black_area_px2, 768.0, 1e-9);
   EXPECT_NEAR(r.rendered_black_area_px2 / r.black_area_px2, 1.0, 1e-3);
-  for (const CornerStats& s : r.refined) {
+  for (const CornerStats& s : edge.corners) {
     EXPECT_LT(std::abs(s.radial_px), std::max(0.01, Resolution(s, options.views)));
     EXPECT_LT(s.noise_rms_px, 0.05);  // 2 gray levels of noise: ~0.015 px (README).
   }
@@ -40,7 +41,7 @@ TEST(CornerBias, WideBlurPushesTheEdgesOutward) {
   const CornerBiasResult r = MeasureCornerBias(c, 1, options);
   ASSERT_TRUE(r.ok) << r.message;
   double radial = 0;
-  for (const CornerStats& s : r.refined) radial += s.radial_px / 4;
+  for (const CornerStats& s : r.stage(CornerStage::kEdgeFit).corners) radial += s.radial_px / 4;
   EXPECT_GT(radial, 0.05);  // Measured 0.14 px (README); 0.01 px at 0.5 px of blur.
 }
 

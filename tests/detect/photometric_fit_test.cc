@@ -117,22 +117,22 @@ TEST(PhotometricFit, RenderedTagsAreUnbiasedAtTheCramerRaoBound) {
     c.blur_sigma_px = 1.0;
     const CornerBiasResult r = MeasureCornerBias(c, 3, options);
     ASSERT_TRUE(r.ok) << r.message;
-    EXPECT_EQ(r.photometric_draws, options.views * options.draws) << k.tag_px;
-    EXPECT_NEAR(r.photometric_blur_px, 1.0, 0.05);  // The renderer's PSF, fitted.
+    const CornerStageResult& photometric = r.stage(CornerStage::kPhotometric);
+    EXPECT_EQ(photometric.detections, options.views * options.draws) << k.tag_px;
     double radial = 0, noise = 0, edge_noise = 0;
     for (int i = 0; i < 4; ++i) {
-      radial += r.photometric[i].radial_px / 4;
-      noise += r.photometric[i].noise_rms_px / 4;
-      edge_noise += r.refined[i].noise_rms_px / 4;
+      radial += photometric.corners[i].radial_px / 4;
+      noise += photometric.corners[i].noise_rms_px / 4;
+      edge_noise += r.stage(CornerStage::kEdgeFit).corners[i].noise_rms_px / 4;
     }
     const double per_axis = noise / std::sqrt(2.0);
     std::printf(
         "tag %g px, tilt %g: radial %+.4f px, noise per axis %.4f px, CRLB %.4f px, "
         "edge fit noise per axis %.4f px\n",
-        k.tag_px, k.tilt_deg, radial, per_axis, r.photometric_crlb_px, edge_noise / std::sqrt(2.0));
+        k.tag_px, k.tilt_deg, radial, per_axis, r.crlb_px, edge_noise / std::sqrt(2.0));
     EXPECT_LT(std::abs(radial), kBiasTolPx) << k.tag_px;
-    EXPECT_GT(per_axis, kMinSpreadOverCrlb * r.photometric_crlb_px) << k.tag_px;
-    EXPECT_LT(per_axis, kMaxSpreadOverCrlb * r.photometric_crlb_px) << k.tag_px;
+    EXPECT_GT(per_axis, kMinSpreadOverCrlb * r.crlb_px) << k.tag_px;
+    EXPECT_LT(per_axis, kMaxSpreadOverCrlb * r.crlb_px) << k.tag_px;
     EXPECT_LT(noise, edge_noise);  // The whole pattern beats four edge windows.
   }
 }
@@ -142,32 +142,30 @@ TEST(PhotometricFit, RenderedTagsAreUnbiasedAtTheCramerRaoBound) {
 // the fit cannot follow the bend; drawn through the camera it can (same 0.005 px bias bound).
 TEST(PhotometricFit, LensAwareFitFollowsTheBentEdges) {
   CornerBiasOptions options;
-  options.camera = CameraIntrinsics{458.0, 457.0, 90.0, 367.0, 248.0, -0.28, 0.074};
-  options.width = 752;
-  options.height = 480;
   options.views = 8;
   options.draws = 2;
   options.supersample = 16;
   CornerBiasCase c;
+  c.lens = CornerBiasLens::kRadTanEuroc;
   c.tag_px = 60;
   c.tilt_deg = 20;
   c.blur_sigma_px = 1.0;
   c.centre_px = Eigen::Vector2d(130, 110);
-  const CornerBiasResult plain = MeasureCornerBias(c, 5, options);
-  options.lens_aware_fit = true;
-  const CornerBiasResult aware = MeasureCornerBias(c, 5, options);
-  ASSERT_TRUE(plain.ok && aware.ok) << plain.message << aware.message;
-  EXPECT_EQ(aware.photometric_draws, options.views * options.draws);
+  const CornerBiasResult r = MeasureCornerBias(c, 5, options);
+  ASSERT_TRUE(r.ok) << r.message;
+  const CornerStageResult& plain = r.stage(CornerStage::kPhotometric);
+  const CornerStageResult& aware = r.stage(CornerStage::kLensAware);
+  EXPECT_EQ(aware.detections, options.views * options.draws);
   double worst_plain = 0, worst_aware = 0, radial_aware = 0;
   for (int i = 0; i < 4; ++i) {
-    worst_plain = std::max(worst_plain, plain.photometric[i].bias.norm());
-    worst_aware = std::max(worst_aware, aware.photometric[i].bias.norm());
-    radial_aware += aware.photometric[i].radial_px / 4;
+    worst_plain = std::max(worst_plain, plain.corners[i].bias.norm());
+    worst_aware = std::max(worst_aware, aware.corners[i].bias.norm());
+    radial_aware += aware.corners[i].radial_px / 4;
   }
   std::printf(
       "EuRoC-like lens, 60 px tag at (130, 110): worst corner bias %.4f px through a "
       "homography, %.4f px through the lens (radial %+.4f px); CRLB %.4f px\n",
-      worst_plain, worst_aware, radial_aware, aware.photometric_crlb_px);
+      worst_plain, worst_aware, radial_aware, r.crlb_px);
   EXPECT_GT(worst_plain, 10 * kBiasTolPx);  // The bend is visible without the lens (0.38 px)...
   // ... and gone with it: the mean radial bias within the bound, each corner's 2D bias within
   // twice it (one corner's bias over 16 draws has a standard error of ~0.002 px in norm).
