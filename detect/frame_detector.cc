@@ -74,9 +74,12 @@ namespace {
 // its centre: with the squares gone, the tags that touch them stand alone, as on a grid without
 // squares, and AprilTag 3 traces their outlines. Each square's white is the brightest pixel of its
 // neighbourhood. Corners of painted tags lose a margin-sized tip, which changes nothing: the
-// refinement runs on the original image.
+// refinement runs on the original image. With a distorted `camera` each square is mapped
+// through the lens (the homography on the undistorted normalised plane, its sides sampled and
+// projected), so that squares a pitch away land where the lens puts them.
 std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
-                                        const std::vector<SquareToPaint>& squares) {
+                                        const std::vector<SquareToPaint>& squares,
+                                        const CameraIntrinsics* camera) {
   constexpr double kPaintMarginPx = 1.5;
   std::vector<uint8_t> copy(static_cast<size_t>(image.width) * image.height);
   for (int y = 0; y < image.height; ++y) {
@@ -89,17 +92,52 @@ std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
   const cv::Rect frame(0, 0, image.width, image.height);
   const std::vector<cv::Point2f> unit = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   const TagDetection* homography_of = nullptr;
-  cv::Mat to_image;
+  cv::Mat to_image;  // Tag [0, 1]^2 -> pixels, or -> the undistorted normalised plane (camera).
+  bool valid = false;
+  const Eigen::Matrix3d a_inv =
+      camera ? Eigen::Matrix3d(camera->Matrix().inverse()) : Eigen::Matrix3d::Identity();
+  // Tag coordinates -> pixel (through the lens with a camera); false off the lens's valid region.
+  auto to_pixel = [&](const cv::Point2f& in_tag, cv::Point2f* pixel) {
+    std::vector<cv::Point2f> mapped;
+    cv::perspectiveTransform(std::vector<cv::Point2f>{in_tag}, mapped, to_image);
+    if (!camera) {
+      *pixel = mapped[0];
+      return true;
+    }
+    Eigen::Vector2d q;
+    if (!ProjectPoint(*camera, Eigen::Vector3d(mapped[0].x, mapped[0].y, 1), &q)) return false;
+    *pixel = cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y()));
+    return true;
+  };
   for (const SquareToPaint& square : squares) {
     if (square.tag != homography_of) {
       std::vector<cv::Point2f> seen;
-      for (const Eigen::Vector2d& c : square.tag->corners) seen.emplace_back(c.x(), c.y());
-      to_image = cv::getPerspectiveTransform(unit, seen);
+      valid = true;
+      for (const Eigen::Vector2d& c : square.tag->corners) {
+        Eigen::Vector2d p = c;
+        if (camera)
+          valid &= UndistortNormalized(*camera, (a_inv * c.homogeneous()).hnormalized(), &p);
+        seen.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+      }
+      if (valid) to_image = cv::getPerspectiveTransform(unit, seen);
       homography_of = square.tag;
     }
-    std::vector<cv::Point2f> in_image;
-    cv::perspectiveTransform(std::vector<cv::Point2f>(square.in_tag.begin(), square.in_tag.end()),
-                             in_image, to_image);
+    if (!valid) continue;
+    // The square's outline: its corners, and with a lens 4 points a side (its sides bend).
+    const int per_side = camera ? 4 : 1;
+    std::vector<cv::Point2f> in_image, outline;
+    bool mapped = true;
+    for (int e = 0; e < 4 && mapped; ++e) {
+      const cv::Point2f& from = square.in_tag[e];
+      const cv::Point2f& to = square.in_tag[(e + 1) % 4];
+      for (int k = 0; k < per_side && mapped; ++k) {
+        cv::Point2f pixel;
+        mapped = to_pixel(from + (to - from) * (static_cast<float>(k) / per_side), &pixel);
+        outline.push_back(pixel);
+        if (k == 0) in_image.push_back(pixel);
+      }
+    }
+    if (!mapped) continue;
     cv::Point2f centre(0, 0);
     for (const cv::Point2f& p : in_image) centre += 0.25f * p;
     double inradius = std::numeric_limits<double>::infinity();
@@ -113,7 +151,7 @@ std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
     const float grow = static_cast<float>(1.0 + kPaintMarginPx / inradius);
     constexpr int kShift = 4, kOne = 1 << kShift;  // fillConvexPoly's fractional bits.
     std::vector<cv::Point> polygon;
-    for (const cv::Point2f& p : in_image) {
+    for (const cv::Point2f& p : outline) {
       const cv::Point2f g = centre + grow * (p - centre);
       polygon.emplace_back(cvRound(g.x * kOne), cvRound(g.y * kOne));
     }
@@ -124,6 +162,8 @@ std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
     if (around.area() == 0) continue;
     double white = 0;
     cv::minMaxLoc(original(around), nullptr, &white);
+    // With a lens the sampled sides may bow inward by a fraction of a pixel: the convex fill
+    // covers that sliver too, inside the margin.
     cv::fillConvexPoly(painted, polygon, cv::Scalar(white), cv::LINE_8, kShift);
   }
   return copy;
@@ -295,12 +335,15 @@ void FrameDetector::FindTagsAmongSquares(const GrayImageView& view, std::vector<
     }
     return false;
   };
+  // Through a known lens the squares are mapped exactly (PaintCornerSquares).
+  const bool distorted_camera = options_.camera && options_.camera->IsDistorted();
   const std::vector<uint8_t> eroded = MaxFilter3x3(view);
   for (TagDetection& tag : detector_->Detect(eroded.data(), view.width, view.height, view.width)) {
     if (found.count(tag.id) == 0 && UndoErosion(&tag)) add(tag, true);
   }
   for (int pass = 0; pass < kMaxPaintPasses && !tags->empty(); ++pass) {
-    const std::vector<uint8_t> painted = PaintCornerSquares(view, SquaresNear(*tags));
+    const std::vector<uint8_t> painted = PaintCornerSquares(
+        view, SquaresNear(*tags), distorted_camera ? &*options_.camera : nullptr);
     const std::vector<TagDetection> seen =
         detector_->Detect(painted.data(), view.width, view.height, view.width);
     std::map<int, int> times_in_pass;
@@ -330,8 +373,10 @@ std::vector<SquareToPaint> FrameDetector::SquaresNear(const std::vector<TagDetec
     auto distance = [](int i, int c) { return i < c ? c - i : std::max(0, i - c - 1); };
     for (int j = 0; j <= g.tag_rows; ++j) {
       for (int i = 0; i <= g.tag_cols; ++i) {
-        // Through a fisheye's bent edges a homography extrapolates badly: its own squares only.
-        int best = options_.refine.curved_edges ? 1 : 2, r = 0, c = 0;
+        // Through a fisheye's bent edges a homography in pixels extrapolates badly: its own
+        // squares only, unless the squares are mapped through the camera.
+        const bool through_lens = options_.camera && options_.camera->IsDistorted();
+        int best = options_.refine.curved_edges && !through_lens ? 1 : 2, r = 0, c = 0;
         const TagDetection* through = nullptr;
         for (const auto& [index, tag] : found) {
           const int tr = index / g.tag_cols, tc = index % g.tag_cols;

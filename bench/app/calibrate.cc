@@ -318,9 +318,10 @@ CalibrateReport IterateCornersThroughTheLens(const std::string& dir,
     ImageFolderReport next_images;
     std::vector<int> next_index;
     std::string why;
-    const CameraIntrinsics lens = report.camera.intrinsics;
-    if (!LoadImagePoints(dir, target, &next_data, &next_images, &next_index, &why,
-                         FamilyOf(options.model), &lens)) {
+    ImagePointOptions image_options;
+    image_options.lens = FamilyOf(options.model);
+    image_options.camera = report.camera.intrinsics;
+    if (!LoadImagePoints(dir, target, &next_data, &next_images, &next_index, &why, image_options)) {
       log << "corners through the lens: pass " << pass << " failed (" << why
           << "); keeping the previous calibration\n";
       break;

@@ -47,16 +47,17 @@ bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, View* vie
 
 }  // namespace
 
-FrameDetectorOptions ImageDetectorOptions(LensFamily lens, const CameraIntrinsics* camera) {
+FrameDetectorOptions ImageDetectorOptions(const ImagePointOptions& image) {
   FrameDetectorOptions options;
   // The photometric model draws a tag through a homography, which a fisheye's bent edges break:
   // without a camera to draw it through, equidistant lenses keep the curved-edge fit.
-  options.refine.curved_edges = lens == LensFamily::kEquidistant;
-  if (camera) {
-    options.camera = *camera;
+  options.refine.curved_edges = image.lens == LensFamily::kEquidistant;
+  if (image.camera) {
+    options.camera = *image.camera;
   } else if (options.refine.curved_edges) {
     options.refinement = CornerRefinement::kEdgeFit;
   }
+  if (image.refinement) options.refinement = *image.refinement;
   return options;
 }
 
@@ -149,14 +150,14 @@ bool ReadGray8(const std::string& path, GrayImage* image, std::string* why, std:
 
 bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, PointData* data,
                      ImageFolderReport* report, std::vector<int>* used_index, std::string* why,
-                     LensFamily lens, const CameraIntrinsics* camera) {
+                     const ImagePointOptions& options) {
   std::vector<std::string> names;
   if (!ListImageFiles(dir, &names, why)) return false;
   const std::vector<fs::path> files(names.begin(), names.end());
   std::unique_ptr<FrameDetector> detector;
   std::vector<Eigen::Vector3d> grid_corners;
   if (target.type == CalibrationTarget::Type::kAprilGrid) {
-    detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(lens, camera), why);
+    detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(options), why);
     if (!detector) return false;
     grid_corners = target.grid.CornersInBoard();
   }

@@ -12,6 +12,7 @@
 // and skipped, never fatal; no usable image at all is an error.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,12 +23,19 @@
 
 namespace calibench {
 
+// How the corners of a folder of images are found.
+struct ImagePointOptions {
+  LensFamily lens = LensFamily::kRadTan;  // The family the images will be calibrated with.
+  // A calibration of these images: the photometric fit is drawn through its lens (lens-aware).
+  std::optional<CameraIntrinsics> camera;
+  // nullopt: the photometric fit (the edge fit with curved edges for a fisheye without camera).
+  std::optional<CornerRefinement> refinement;
+};
+
 // The detector options for images of an aprilgrid: the defaults (the corner squares of Kalibr's
 // printed grids are the grid's: AprilGrid::corner_squares). For a fisheye lens
 // (`lens` equidistant) the edge fit takes curved edges (corner_refinement.h, curved_edges).
-// With `camera` (a calibration of these images) the photometric fit is drawn through its lens.
-FrameDetectorOptions ImageDetectorOptions(LensFamily lens = LensFamily::kRadTan,
-                                          const CameraIntrinsics* camera = nullptr);
+FrameDetectorOptions ImageDetectorOptions(const ImagePointOptions& options = {});
 
 // The image files of `dir` (extensions above, any case), sorted by name. False with *why naming
 // the folder when it cannot be listed or holds no image.
@@ -70,11 +78,9 @@ constexpr double kLowDetectionRate = 0.5;
 // Views (target points in the board frame, their pixels) of every usable image; data->views[i]
 // comes from report->images[used_index[i]]. Returns false with *why naming the folder or target
 // when the folder cannot be listed, holds no image, or no image shows the target.
-// `lens`: the family the images will be calibrated with; `camera`: a calibration of them, whose
-// lens the corner fit is drawn through (ImageDetectorOptions).
+// `options`: how the corners are found (ImageDetectorOptions).
 bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, PointData* data,
                      ImageFolderReport* report, std::vector<int>* used_index, std::string* why,
-                     LensFamily lens = LensFamily::kRadTan,
-                     const CameraIntrinsics* camera = nullptr);
+                     const ImagePointOptions& options = {});
 
 }  // namespace calibench

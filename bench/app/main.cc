@@ -132,7 +132,8 @@ struct CalibrateArgs {
   std::string points_path, images_dir, target_path, init_path, format;
   std::string out_path = "camera.yaml", model = "pinhole-k2";
   bool skew = false, model_given = false, evaluate = false;
-  int corner_iterations = 4;  // Re-fits of the corners through the estimate (aprilgrid, lens).
+  int corner_iterations = 4;      // Re-fits of the corners through the estimate (aprilgrid, lens).
+  std::string corner_refinement;  // Empty: the default (photometric; see ImagePointOptions).
 };
 
 // Writes camera.yaml of a usable calibration (exit 0), or exits 4 (unusable) or 3 (unwritable).
@@ -194,9 +195,20 @@ int Calibrate(const CalibrateArgs& args) {
       return 2;
     }
     // With --init, the given camera's lens draws the corner fit from the first pass.
-    const calibench::CameraIntrinsics* lens = options.init ? &options.init->intrinsics : nullptr;
+    calibench::ImagePointOptions image_options;
+    image_options.lens = calibench::FamilyOf(options.model);
+    if (options.init) image_options.camera = options.init->intrinsics;
+    if (!args.corner_refinement.empty()) {
+      calibench::CornerRefinement refinement;
+      if (!calibench::ParseCornerRefinement(args.corner_refinement, &refinement)) {
+        std::cerr << "calibench: --corner-refinement: '" << args.corner_refinement
+                  << "' is not one of none, edge_fit, photometric\n";
+        return 2;
+      }
+      image_options.refinement = refinement;
+    }
     if (!calibench::LoadImagePoints(args.images_dir, target, &data, &images, &used_index, &why,
-                                    calibench::FamilyOf(options.model), lens)) {
+                                    image_options)) {
       std::cerr << "calibench: --images: " << why << "\n";
       return 2;
     }
@@ -207,7 +219,8 @@ int Calibrate(const CalibrateArgs& args) {
     }
     calibench::CalibrateReport report = calibench::CalibrateFromPoints(data, options);
     if (!args.evaluate && target.type == calibench::CalibrationTarget::Type::kAprilGrid &&
-        options.model != calibench::LensModel::kPinhole && args.corner_iterations > 0) {
+        options.model != calibench::LensModel::kPinhole && args.corner_iterations > 0 &&
+        (args.corner_refinement.empty() || args.corner_refinement == "photometric")) {
       report = calibench::IterateCornersThroughTheLens(args.images_dir, target, options,
                                                        args.corner_iterations, report, &data,
                                                        &images, &used_index, std::cerr);
@@ -378,6 +391,10 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
                    "< 0.1 std (0: detect once)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  calibrate->add_option("--corner-refinement", cal.corner_refinement,
+                        "With --images (aprilgrid): none, edge_fit or photometric (default; the "
+                        "edge fit with curved edges for pinhole-equi without --init). Other than "
+                        "photometric: detect once, no re-fit through the lens");
   calibrate->add_flag("--evaluate", cal.evaluate,
                       "With --init: keep that camera fixed, fit only each image's pose, report "
                       "the reprojection RMS per image and flag outliers");

@@ -59,7 +59,8 @@ testing::AssertionResult LoadTumViPoints(const std::string& name, LensFamily len
   std::string why;
   if (!LoadTargetYaml(kTarget, &target, &why)) return testing::AssertionFailure() << why;
   std::vector<int> used;
-  if (!LoadImagePoints(TumViFolder(name), target, data, report, &used, &why, lens)) {
+  if (!LoadImagePoints(TumViFolder(name), target, data, report, &used, &why,
+                       {lens, std::nullopt, std::nullopt})) {
     return testing::AssertionFailure() << why;
   }
   return testing::AssertionSuccess();

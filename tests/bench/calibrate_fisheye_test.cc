@@ -80,7 +80,8 @@ TEST(Fisheye, CalibrateImagesRecoversARenderedFisheyeAndAgreesWithCvFisheye) {
   PointData data;
   ImageFolderReport images;
   std::vector<int> used;
-  ASSERT_TRUE(LoadImagePoints(dir, target, &data, &images, &used, &why, LensFamily::kEquidistant))
+  ASSERT_TRUE(LoadImagePoints(dir, target, &data, &images, &used, &why,
+                              {LensFamily::kEquidistant, std::nullopt, std::nullopt}))
       << why;
   EXPECT_EQ(images.used, options.views);
   CalibrateOptions calibrate;

@@ -19,12 +19,14 @@ struct RenderedFolderOptions {
   double noise_sigma_gray = 1.0;
   uint64_t seed = 2024;
   double lateral_m = 0.05;  // Board centres spread over +-lateral_m in x, +-0.8 lateral_m in y.
+  double min_distance_m = 0.45, max_distance_m = 0.6;  // Of the board centre.
   int width = 640, height = 480;
   double blur_sigma_px = 0.0;
 };
 
 // Writes DIR/view<k>.png (k < options.views) of `grid` seen by `truth` from random facing
-// viewpoints (tilt up to ~35 degrees, 0.45-0.6 m, every corner > 5 px inside the image).
+// viewpoints (tilt up to ~35 degrees, min_distance_m..max_distance_m, every corner > 5 px inside
+// the image).
 // Returns the number of views written (< options.views only if poses ran out).
 inline int WriteRenderedAprilGridFolder(const std::string& dir, const CameraIntrinsics& truth,
                                         const AprilGrid& grid,
@@ -47,7 +49,7 @@ inline int WriteRenderedAprilGridFolder(const std::string& dir, const CameraIntr
     BoardView view{grid, family, {}};
     const Eigen::Vector3d tilt(rng.Uniform(-0.6, 0.6), rng.Uniform(-0.6, 0.6),
                                rng.Uniform(-0.4, 0.4));
-    const double distance = rng.Uniform(0.45, 0.6);
+    const double distance = rng.Uniform(options.min_distance_m, options.max_distance_m);
     const double lateral = options.lateral_m;
     const Eigen::Vector3d at(rng.Uniform(-lateral, lateral),
                              rng.Uniform(-0.8 * lateral, 0.8 * lateral), distance);

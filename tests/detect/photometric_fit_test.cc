@@ -17,8 +17,10 @@
 #include <cstdio>
 
 #include "core/camera.h"
+#include "core/random.h"
 #include "core/render.h"
 #include "core/tag_family.h"
+#include "core/target.h"
 #include "detect/corner_bias.h"
 
 namespace calibench {
@@ -135,6 +137,58 @@ TEST(PhotometricFit, RenderedTagsAreUnbiasedAtTheCramerRaoBound) {
     EXPECT_LT(per_axis, kMaxSpreadOverCrlb * r.crlb_px) << k.tag_px;
     EXPECT_LT(noise, edge_noise);  // The whole pattern beats four edge windows.
   }
+}
+
+// The PSF is a fitted parameter: on a tag the renderer blurs by sigma = 1 px (16 x 16 samples, 2
+// gray levels of noise), fitted from corners 0.3 px off, sigma comes back within kBlurTolPx (the
+// renderer's sampled kernel against the continuous Gaussian of the model: measured < 0.02 px) and
+// the corners within kCornerTolPx of the exact projections (~3 CRLB of a 40 px tag).
+constexpr double kBlurTolPx = 0.05, kCornerTolPx = 0.02;
+
+TEST(PhotometricFit, FitsTheRenderersBlur) {
+  std::string why;
+  const CameraIntrinsics camera{800.0, 800.0, 90.0, 319.5, 239.5};
+  AprilGrid grid;
+  grid.tag_rows = grid.tag_cols = 1;
+  grid.tag_size_m = 0.1;
+  const auto family = TagFamily::Create(grid.family, grid.black_tag_border, &why);
+  ASSERT_TRUE(family) << why;
+  BoardView view{grid, family, {}};
+  // Board y up in the image, facing the camera, its tag 40 px wide, slightly rotated and tilted.
+  view.cam_from_board.rotation = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()) *
+                                  Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()) *
+                                  Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()))
+                                     .toRotationMatrix();
+  view.cam_from_board.translation =
+      Eigen::Vector3d(0, 0, 2.0) - view.cam_from_board.rotation * Eigen::Vector3d(0.05, 0.05, 0);
+  RenderOptions render;
+  render.supersample = 16;
+  render.blur_sigma_px = 1.0;
+  render.noise_sigma_gray = 2.0;
+  const auto renderer = FrameRenderer::Create(camera, render, &why);
+  ASSERT_TRUE(renderer) << why;
+  GrayImage image;
+  Rng rng(7);
+  ASSERT_TRUE(renderer->Render({view}, &rng, &image, &why)) << why;
+  std::array<Eigen::Vector2d, 4> truth, start;
+  const std::vector<Eigen::Vector3d> corners = grid.CornersInBoard();
+  for (int k = 0; k < 4; ++k) {
+    ASSERT_TRUE(ProjectPoint(camera, view.cam_from_board * corners[k], &truth[k]));
+    start[k] = truth[k] + Eigen::Vector2d(k % 2 ? 0.3 : -0.3, k < 2 ? 0.3 : -0.3);
+  }
+  TagPattern pattern;
+  ASSERT_TRUE(TagPattern::FromFamily(*family, 0, grid.tag_spacing * family->width_at_border(), 0.0,
+                                     &pattern, &why))
+      << why;
+  const PhotometricFitResult fit = FitTagPhotometric(image, pattern, start, {});
+  ASSERT_TRUE(fit.ok()) << fit.message;
+  std::printf("fitted blur %.4f px (rendered 1), corner errors", fit.blur_px);
+  EXPECT_NEAR(fit.blur_px, render.blur_sigma_px, kBlurTolPx);
+  for (int k = 0; k < 4; ++k) {
+    std::printf(" %.4f", (fit.corners[k] - truth[k]).norm());
+    EXPECT_LT((fit.corners[k] - truth[k]).norm(), kCornerTolPx) << "corner " << k;
+  }
+  std::printf(" px\n");
 }
 
 // An EuRoC-like lens (k1 = -0.28, k2 = 0.074, f 458 px, 752 x 480): a 60 px tag near the image
