@@ -16,6 +16,7 @@
 #include "bench/app/corner_bias_cmd.h"
 #include "bench/app/detect_images.h"
 #include "bench/app/frames_io.h"
+#include "bench/app/solver_logging.h"
 #include "bench/app/target_cmd.h"
 #include "bench/config/config_io.h"
 #include "bench/run/csv.h"
@@ -335,6 +336,11 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"calibench: adaptive vs batch camera calibration, on identical data"};
   app.require_subcommand(1);
+  calibench::ConfigureSolverLogging(argv[0], false);
+  bool verbose = false;
+  app.add_flag("--verbose", verbose,
+               "Show the solvers' log: Ceres's per-iteration lines and its step warnings");
+  app.fallthrough();  // --verbose after the subcommand too.
   RunArgs run_args;
   CLI::App* run = app.add_subcommand("run", "Run the scenarios and sweeps of a YAML config");
   run->add_option("config", run_args.config_path, "Scenario file or entry point (YAML)")
@@ -452,6 +458,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   target->add_option("--out", target_args.out_path,
                      "Output PDF; the PNG and YAML are written beside it (default board.pdf)");
   CLI11_PARSE(app, argc, argv);
+  if (verbose) calibench::ConfigureSolverLogging(argv[0], true);
   try {
     if (run->parsed()) return Run(run_args);
     if (merge->parsed()) return Merge(merge_dirs, merge_out);
