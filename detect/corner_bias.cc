@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <memory>
 
 #include "core/pose.h"
@@ -445,28 +446,36 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
   return result;
 }
 
+namespace {
+
+// One case per value: `base` with one field set to it.
+template <typename Set>
+void AddVariations(const CornerBiasCase& base, std::initializer_list<double> values, Set set,
+                   std::vector<CornerBiasCase>* cases) {
+  for (double v : values) {
+    CornerBiasCase c = base;
+    set(&c, v);
+    cases->push_back(c);
+  }
+}
+
+}  // namespace
+
 std::vector<CornerBiasCase> DefaultCornerBiasCases() {
   std::vector<CornerBiasCase> cases;
+  const auto tilt = [](CornerBiasCase* c, double v) { c->tilt_deg = v; };
+  const auto size = [](CornerBiasCase* c, double v) { c->tag_px = v; };
+  const auto blur = [](CornerBiasCase* c, double v) { c->blur_sigma_px = v; };
   // AprilTag 3's 1-bit tag without a lens: every axis about the default sweeps' view.
   const CornerBiasCase base;
-  for (double tilt : {0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0}) {
-    for (double roll : {0.0, 22.5}) {
-      CornerBiasCase c = base;
-      c.tilt_deg = tilt;
-      c.roll_deg = roll;
-      cases.push_back(c);
-    }
+  for (double t : {0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0}) {
+    CornerBiasCase tilted = base;
+    tilted.tilt_deg = t;
+    AddVariations(
+        tilted, {0, 22.5}, [](CornerBiasCase* c, double v) { c->roll_deg = v; }, &cases);
   }
-  for (double px : {15.0, 20.0, 45.0, 60.0}) {
-    CornerBiasCase c = base;
-    c.tag_px = px;
-    cases.push_back(c);
-  }
-  for (double blur : {0.0, 1.0, 1.5}) {
-    CornerBiasCase c = base;
-    c.blur_sigma_px = blur;
-    cases.push_back(c);
-  }
+  AddVariations(base, {15, 20, 45, 60}, size, &cases);
+  AddVariations(base, {0, 1, 1.5}, blur, &cases);
   for (const Eigen::Vector2d& at : {Eigen::Vector2d(80, 60), Eigen::Vector2d(560, 60),
                                     Eigen::Vector2d(80, 420), Eigen::Vector2d(200, 300)}) {
     CornerBiasCase c = base;
@@ -490,21 +499,9 @@ std::vector<CornerBiasCase> DefaultCornerBiasCases() {
     b.black_border_bits = f.border;
     b.corner_squares = f.squares;
     cases.push_back(b);
-    for (double tilt : {30.0, 60.0}) {
-      CornerBiasCase c = b;
-      c.tilt_deg = tilt;
-      cases.push_back(c);
-    }
-    for (double px : {15.0, 60.0}) {
-      CornerBiasCase c = b;
-      c.tag_px = px;
-      cases.push_back(c);
-    }
-    for (double blur : {0.0, 1.0, 1.5}) {
-      CornerBiasCase c = b;
-      c.blur_sigma_px = blur;
-      cases.push_back(c);
-    }
+    AddVariations(b, {30, 60}, tilt, &cases);
+    AddVariations(b, {15, 60}, size, &cases);
+    AddVariations(b, {0, 1, 1.5}, blur, &cases);
   }
   return cases;
 }
