@@ -114,6 +114,7 @@ const std::vector<Column>& Columns() {
       Int("n_frames_used", &RunRow::n_frames_used),
       Int("n_obs_used", &RunRow::n_obs_used),
       Num("corner_radial_bias_px", &RunRow::corner_radial_bias_px),
+      Num("corner_crlb_px", &RunRow::corner_crlb_px),
   };
   return columns;
 }

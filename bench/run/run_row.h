@@ -56,6 +56,10 @@ struct RunRow {
   // detections: rendered: the mean corner error along the tags' diagonals, outward (> 0: tags
   // look larger; detect/rendered_source.h). NaN for oracle. Appended after n_obs_used.
   double corner_radial_bias_px = kUnset;
+  // detections: rendered: the RMS of the corners' Cramer-Rao std per axis (the photometric fit's,
+  // Observation::crlb_px): the floor corner_rms_px / sqrt(2) is measured against. NaN for oracle
+  // and for refinements that report none. Appended after corner_radial_bias_px.
+  double corner_crlb_px = kUnset;
   // Not in runs.csv (they vary from run to run): timings.csv and curves.csv.
   double wall_ms = kUnset;     // The method's own wall time; 0 when copied (reused).
   double measure_ms = kUnset;  // Producing the group's measurements (render + detect).

@@ -24,6 +24,7 @@ std::unique_ptr<MeasurementSource> MakeSource(const ScenarioConfig& s, const Sce
       base->detect_rate = stats.DetectionRate();
       base->corner_rms_px = stats.rms_px;
       base->corner_radial_bias_px = stats.bias_radial_px;
+      base->corner_crlb_px = stats.crlb_rms_px;
       base->frames_no_detection = stats.frames_without_detections;
     }
     source = std::move(rendered);
@@ -297,6 +298,7 @@ std::vector<RunRow> RunGroupTrialUnguarded(const std::vector<const ScenarioConfi
     row_base.detect_rate = base.detect_rate;
     row_base.corner_rms_px = base.corner_rms_px;
     row_base.corner_radial_bias_px = base.corner_radial_bias_px;
+    row_base.corner_crlb_px = base.corner_crlb_px;
     row_base.frames_no_detection = base.frames_no_detection;
     row_base.measure_ms = j == 0 ? base.measure_ms : 0.0;
     if (!source) {
