@@ -1,5 +1,7 @@
 #include "core/camera.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <sstream>
 
@@ -111,6 +113,12 @@ bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& poi
                   Eigen::Vector2d* pixel) {
   const std::array<double, 10> params = intrinsics.Params();
   return ProjectLens(intrinsics.family, params.data(), point_in_cam.data(), pixel->data());
+}
+
+bool UnprojectPixel(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& pixel,
+                    Eigen::Vector2d* normalized) {
+  const Eigen::Vector3d distorted = intrinsics.Matrix().inverse() * pixel.homogeneous();
+  return UndistortNormalized(intrinsics, distorted.hnormalized(), normalized);
 }
 
 bool UndistortNormalized(const CameraIntrinsics& k, const Eigen::Vector2d& distorted,

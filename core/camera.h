@@ -195,6 +195,11 @@ bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& poi
 bool UndistortNormalized(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& distorted,
                          Eigen::Vector2d* undistorted);
 
+// The inverse of ProjectPoint up to depth: the undistorted normalised coordinates (X/Z, Y/Z) of
+// the ray through `pixel` (A^-1, then UndistortNormalized). False where UndistortNormalized is.
+bool UnprojectPixel(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& pixel,
+                    Eigen::Vector2d* normalized);
+
 bool operator==(const CameraIntrinsics& a, const CameraIntrinsics& b);
 inline bool operator!=(const CameraIntrinsics& a, const CameraIntrinsics& b) { return !(a == b); }
 

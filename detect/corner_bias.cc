@@ -97,8 +97,7 @@ bool MakeView(const CornerBiasCase& c, const Eigen::Vector2d& centre_px, double 
               const AprilGrid& grid, const std::shared_ptr<const TagFamily>& family,
               const CameraIntrinsics& k, TagView* v, std::string* why) {
   Eigen::Vector2d ray_xy;
-  if (!UndistortNormalized(k, (k.Matrix().inverse() * centre_px.homogeneous()).hnormalized(),
-                           &ray_xy)) {
+  if (!UnprojectPixel(k, centre_px, &ray_xy)) {
     if (why) *why = "the tag centre is outside the lens's valid region";
     return false;
   }

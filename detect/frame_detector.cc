@@ -5,7 +5,9 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "core/tag_family.h"
 
@@ -92,40 +94,38 @@ std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
   const cv::Rect frame(0, 0, image.width, image.height);
   const std::vector<cv::Point2f> unit = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   const TagDetection* homography_of = nullptr;
-  cv::Mat to_image;  // Tag [0, 1]^2 -> pixels, or -> the undistorted normalised plane (camera).
-  bool valid = false;
-  const Eigen::Matrix3d a_inv =
-      camera ? Eigen::Matrix3d(camera->Matrix().inverse()) : Eigen::Matrix3d::Identity();
+  // Tag [0, 1]^2 -> pixels, or -> the undistorted normalised plane (camera); unset when the tag's
+  // corners leave the lens's valid region.
+  std::optional<Eigen::Matrix3d> to_image;
   // Tag coordinates -> pixel (through the lens with a camera); false off the lens's valid region.
   auto to_pixel = [&](const cv::Point2f& in_tag, cv::Point2f* pixel) {
-    std::vector<cv::Point2f> mapped;
-    cv::perspectiveTransform(std::vector<cv::Point2f>{in_tag}, mapped, to_image);
-    if (!camera) {
-      *pixel = mapped[0];
-      return true;
-    }
-    Eigen::Vector2d q;
-    if (!ProjectPoint(*camera, Eigen::Vector3d(mapped[0].x, mapped[0].y, 1), &q)) return false;
+    const Eigen::Vector2d mapped =
+        (*to_image * Eigen::Vector3d(in_tag.x, in_tag.y, 1)).hnormalized();
+    Eigen::Vector2d q = mapped;
+    if (camera && !ProjectPoint(*camera, mapped.homogeneous(), &q)) return false;
     *pixel = cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y()));
     return true;
   };
+  // The square's outline: its corners, and with a lens 4 points a side (its sides bend).
+  const int per_side = camera ? 4 : 1;
   for (const SquareToPaint& square : squares) {
     if (square.tag != homography_of) {
+      homography_of = square.tag;
+      to_image.reset();
       std::vector<cv::Point2f> seen;
-      valid = true;
       for (const Eigen::Vector2d& c : square.tag->corners) {
         Eigen::Vector2d p = c;
-        if (camera)
-          valid &= UndistortNormalized(*camera, (a_inv * c.homogeneous()).hnormalized(), &p);
+        if (camera && !UnprojectPixel(*camera, c, &p)) break;
         seen.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
       }
-      if (valid) to_image = cv::getPerspectiveTransform(unit, seen);
-      homography_of = square.tag;
+      if (seen.size() == 4) {
+        Eigen::Matrix3d h;
+        cv::cv2eigen(cv::getPerspectiveTransform(unit, seen), h);
+        to_image = h;
+      }
     }
-    if (!valid) continue;
-    // The square's outline: its corners, and with a lens 4 points a side (its sides bend).
-    const int per_side = camera ? 4 : 1;
-    std::vector<cv::Point2f> in_image, outline;
+    if (!to_image) continue;
+    std::vector<cv::Point2f> outline;
     bool mapped = true;
     for (int e = 0; e < 4 && mapped; ++e) {
       const cv::Point2f& from = square.in_tag[e];
@@ -134,16 +134,16 @@ std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
         cv::Point2f pixel;
         mapped = to_pixel(from + (to - from) * (static_cast<float>(k) / per_side), &pixel);
         outline.push_back(pixel);
-        if (k == 0) in_image.push_back(pixel);
       }
     }
     if (!mapped) continue;
+    auto corner = [&](int e) { return outline[(e % 4) * per_side]; };
     cv::Point2f centre(0, 0);
-    for (const cv::Point2f& p : in_image) centre += 0.25f * p;
+    for (int e = 0; e < 4; ++e) centre += 0.25f * corner(e);
     double inradius = std::numeric_limits<double>::infinity();
     for (int e = 0; e < 4; ++e) {
-      const cv::Point2f d = in_image[(e + 1) % 4] - in_image[e];
-      const cv::Point2f r = centre - in_image[e];
+      const cv::Point2f d = corner(e + 1) - corner(e);
+      const cv::Point2f r = centre - corner(e);
       const double len = std::hypot(d.x, d.y);
       if (len > 0) inradius = std::min(inradius, std::abs(d.x * r.y - d.y * r.x) / len);
     }
@@ -335,15 +335,12 @@ void FrameDetector::FindTagsAmongSquares(const GrayImageView& view, std::vector<
     }
     return false;
   };
-  // Through a known lens the squares are mapped exactly (PaintCornerSquares).
-  const bool distorted_camera = options_.camera && options_.camera->IsDistorted();
   const std::vector<uint8_t> eroded = MaxFilter3x3(view);
   for (TagDetection& tag : detector_->Detect(eroded.data(), view.width, view.height, view.width)) {
     if (found.count(tag.id) == 0 && UndoErosion(&tag)) add(tag, true);
   }
   for (int pass = 0; pass < kMaxPaintPasses && !tags->empty(); ++pass) {
-    const std::vector<uint8_t> painted = PaintCornerSquares(
-        view, SquaresNear(*tags), distorted_camera ? &*options_.camera : nullptr);
+    const std::vector<uint8_t> painted = PaintCornerSquares(view, SquaresNear(*tags), SquareLens());
     const std::vector<TagDetection> seen =
         detector_->Detect(painted.data(), view.width, view.height, view.width);
     std::map<int, int> times_in_pass;
@@ -358,10 +355,16 @@ void FrameDetector::FindTagsAmongSquares(const GrayImageView& view, std::vector<
 
 // Square (i, j) spans [i p - g, i p] x [j p - g, j p] on the board (core/target.h), i.e.
 // [(i - c)(1 + q) - q, (i - c)(1 + q)] x (the same in j, r) in the coordinates of tag (r, c) (its
-// black square [0, 1]^2, q = g / s = tag_spacing). Each square within one tag of a found tag
-// (Chebyshev distance in tags: 0 for the tag's own four) is mapped through the nearest such tag:
-// exact for its own squares, extrapolated over a pitch for the next ring.
+// black square [0, 1]^2, q = g / s = tag_spacing). Each square within one tag of a found tag (two
+// through a known lens; Chebyshev distance in tags: 0 for the tag's own four) is mapped through
+// the nearest such tag: exact for its own squares, extrapolated for the next rings.
 std::vector<SquareToPaint> FrameDetector::SquaresNear(const std::vector<TagDetection>& tags) const {
+  // Through a fisheye's bent edges a homography in pixels extrapolates badly: its own squares
+  // only. Through a known lens the board plane is mapped exactly, and squares up to two tags away
+  // are painted (the detector's raw corners, pulled in by painted tips, make the mapping drift by
+  // a fraction of a pixel a pitch; measured on the EuRoC-like Kalibr views of
+  // calibrate_images_test: 846 -> 850 of 864 tags sharp, 839 -> 855 at 1 px blur).
+  const int reach = SquareLens() ? 3 : options_.refine.curved_edges ? 1 : 2;  // Distance + 1.
   std::vector<SquareToPaint> squares;
   for (const GridIds& g : grids_) {
     std::map<int, const TagDetection*> found;  // Tag index on the grid -> detection.
@@ -373,15 +376,7 @@ std::vector<SquareToPaint> FrameDetector::SquaresNear(const std::vector<TagDetec
     auto distance = [](int i, int c) { return i < c ? c - i : std::max(0, i - c - 1); };
     for (int j = 0; j <= g.tag_rows; ++j) {
       for (int i = 0; i <= g.tag_cols; ++i) {
-        // Through a fisheye's bent edges a homography in pixels extrapolates badly: its own
-        // squares only. Through a known lens the board plane is mapped exactly, and squares up
-        // to two tags away are painted (the detector's raw corners, pulled in by painted tips,
-        // make the mapping drift by a fraction of a pixel a pitch; measured on the EuRoC-like
-        // Kalibr views of calibrate_images_test: 846 -> 850 of 864 tags sharp, 839 -> 855 at 1 px
-        // blur).
-        const bool through_lens = options_.camera && options_.camera->IsDistorted();
-        int best = through_lens ? 3 : options_.refine.curved_edges ? 1 : 2;
-        int r = 0, c = 0;
+        int best = reach, r = 0, c = 0;
         const TagDetection* through = nullptr;
         for (const auto& [index, tag] : found) {
           const int tr = index / g.tag_cols, tc = index % g.tag_cols;
@@ -399,6 +394,10 @@ std::vector<SquareToPaint> FrameDetector::SquaresNear(const std::vector<TagDetec
   std::stable_sort(squares.begin(), squares.end(),
                    [](const SquareToPaint& a, const SquareToPaint& b) { return a.tag < b.tag; });
   return squares;
+}
+
+const CameraIntrinsics* FrameDetector::SquareLens() const {
+  return options_.camera && options_.camera->IsDistorted() ? &*options_.camera : nullptr;
 }
 
 const FrameDetector::GridIds* FrameDetector::GridOf(int id) const {

@@ -21,7 +21,9 @@
 //      tag appears: the tags they joined stand alone (measured on rendered Kalibr grids: 81-84%
 //      of tags found before, 99.4-100% after; tests/detect/kalibr_grid_test.cc). A fisheye without
 //      a camera paints only the squares touching found tags (a homography extrapolates badly
-//      through its bent edges). Tags found only in such copies keep no unrefined corners.
+//      through its bent edges); with a distorted `camera` the squares are mapped through its lens
+//      (the homography on the undistorted plane), up to two tags from a found tag. Tags found
+//      only in such copies keep no unrefined corners.
 //   2. Refining corners. kPhotometric fits the tag's pattern with its four squares. kEdgeFit
 //      follows the edge fit by the saddle point of each X-junction (cv::cornerSubPix, window
 //      (2 w + 1)^2 px, w = min(3, 0.4 x the square's edge in px), kept if it moves < 1 px):
@@ -127,6 +129,9 @@ class FrameDetector {
     double tag_spacing;  // The corner squares' edge / the tag's.
   };
   const GridIds* GridOf(int id) const;  // The grid holding tag `id`, or nullptr.
+  // The lens the corner squares are painted through: options_.camera when it distorts, else
+  // nullptr (a homography in pixels).
+  const CameraIntrinsics* SquareLens() const;
   // Adds the tags that corner squares hide (header comment): *from_copy grows with *tags.
   void FindTagsAmongSquares(const GrayImageView& view, std::vector<TagDetection>* tags,
                             std::vector<bool>* from_copy) const;

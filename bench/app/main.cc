@@ -203,11 +203,15 @@ int Calibrate(const CalibrateArgs& args) {
       calibench::CornerRefinement refinement;
       if (!calibench::ParseCornerRefinement(args.corner_refinement, &refinement)) {
         std::cerr << "calibench: --corner-refinement: '" << args.corner_refinement
-                  << "' is not one of none, edge_fit, photometric\n";
+                  << "' is not a refinement\n";
         return 2;
       }
       image_options.refinement = refinement;
     }
+    // The re-fit through the lens is the photometric fit's.
+    const bool photometric =
+        image_options.refinement.value_or(calibench::CornerRefinement::kPhotometric) ==
+        calibench::CornerRefinement::kPhotometric;
     if (!calibench::LoadImagePoints(args.images_dir, target, &data, &images, &used_index, &why,
                                     image_options)) {
       std::cerr << "calibench: --images: " << why << "\n";
@@ -221,7 +225,7 @@ int Calibrate(const CalibrateArgs& args) {
     calibench::CalibrateReport report = calibench::CalibrateFromPoints(data, options);
     if (!args.evaluate && target.type == calibench::CalibrationTarget::Type::kAprilGrid &&
         options.model != calibench::LensModel::kPinhole && args.corner_iterations > 0 &&
-        (args.corner_refinement.empty() || args.corner_refinement == "photometric")) {
+        photometric) {
       report = calibench::IterateCornersThroughTheLens(args.images_dir, target, options,
                                                        args.corner_iterations, report, &data,
                                                        &images, &used_index, std::cerr);
@@ -397,10 +401,15 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
                    "< 0.1 std (0: detect once)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  calibrate->add_option("--corner-refinement", cal.corner_refinement,
-                        "With --images (aprilgrid): none, edge_fit or photometric (default; the "
-                        "edge fit with curved edges for pinhole-equi without --init). Other than "
-                        "photometric: detect once, no re-fit through the lens");
+  calibrate
+      ->add_option("--corner-refinement", cal.corner_refinement,
+                   "With --images (aprilgrid): none, edge_fit or photometric (default; the "
+                   "edge fit with curved edges for pinhole-equi without --init). Other than "
+                   "photometric: detect once, no re-fit through the lens")
+      ->check(CLI::IsMember(
+          {calibench::CornerRefinementName(calibench::CornerRefinement::kNone),
+           calibench::CornerRefinementName(calibench::CornerRefinement::kEdgeFit),
+           calibench::CornerRefinementName(calibench::CornerRefinement::kPhotometric)}));
   calibrate->add_flag("--evaluate", cal.evaluate,
                       "With --init: keep that camera fixed, fit only each image's pose, report "
                       "the reprojection RMS per image and flag outliers");

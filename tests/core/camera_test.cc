@@ -232,6 +232,22 @@ TEST(UndistortNormalized, InvertsTheEquidistantLensToEightyDegrees) {
   }
 }
 
+// UnprojectPixel is ProjectPoint's inverse up to depth, for both families (radtan with skew and
+// tangential terms, equidistant to 80 degrees): to 1e-9 in normalised coordinates.
+TEST(UnprojectPixel, InvertsProjectPoint) {
+  CameraIntrinsics radtan{800.0, 790.0, 89.0, 330.0, 235.0, -0.2, 0.05, 1e-3, -5e-4, 0.01};
+  for (const CameraIntrinsics& k : {radtan, EquidistantCamera()}) {
+    for (const Eigen::Vector3d& point :
+         {Eigen::Vector3d(0.1, -0.2, 1.0), Eigen::Vector3d(-0.4, 0.3, 1.5),
+          Eigen::Vector3d(0.0, 0.0, 2.0), Eigen::Vector3d(0.5, 0.35, 1.2)}) {
+      Eigen::Vector2d pixel, normalized;
+      ASSERT_TRUE(ProjectPoint(k, point, &pixel));
+      ASSERT_TRUE(UnprojectPixel(k, pixel, &normalized)) << ToString(k.family);
+      EXPECT_LT((normalized - point.hnormalized()).norm(), 1e-9) << ToString(k.family);
+    }
+  }
+}
+
 // Every lens model of the table: parses back from its name, its family's slot names cover its free
 // parameters, Params() and FromParams() round-trip in its layout, and Check() refuses the
 // coefficients the family lacks.
