@@ -1,7 +1,6 @@
 #include "core/camera.h"
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <sstream>
 
