@@ -8,6 +8,8 @@ namespace calibench {
 namespace {
 
 constexpr int kOffBoard = -1;
+constexpr int kMaxBlurGrid = 8;  // Sub-pixels per side of the automatic blur grid.
+constexpr double kMaxFinePixels = 16e6;
 
 // floor() without a library call (x86-64 baseline has no SSE4.1 rounding); |x| < 2^31.
 inline int FastFloor(double x) {
@@ -311,6 +313,34 @@ void GaussianBlur(double sigma, int width, int height, int x0, int x1, int y0, i
   }
 }
 
+// Blurs the pixels within the kernel's reach of the boards' box (x0, x1, y0, y1): the background
+// elsewhere is one gray, which the blur keeps.
+void BlurNearBoards(double sigma, int width, int height, const std::array<int, 4>& box,
+                    std::vector<float>* image) {
+  if (box[0] > box[1] || box[2] > box[3]) return;  // No board in view.
+  const int margin = 2 * static_cast<int>(std::ceil(3 * sigma)) + 2;
+  GaussianBlur(sigma, width, height, box[0] - margin, box[1] + margin, box[2] - margin,
+               box[3] + margin, image);
+}
+
+// The mean of each m x m block of a (width m) x (height m) image: the pixels of a finer grid.
+void SumBlocks(const std::vector<float>& fine, int width, int height, int m,
+               std::vector<float>* pixels) {
+  pixels->assign(static_cast<size_t>(width) * height, 0.0f);
+  const size_t fine_width = static_cast<size_t>(width) * m;
+  const float inv = 1.0f / static_cast<float>(m * m);
+  for (int j = 0; j < height; ++j) {
+    float* row = pixels->data() + static_cast<size_t>(j) * width;
+    for (int b = 0; b < m; ++b) {
+      const float* fine_row = fine.data() + (static_cast<size_t>(j) * m + b) * fine_width;
+      for (int i = 0; i < width; ++i) {
+        for (int a = 0; a < m; ++a) row[i] += fine_row[i * m + a];
+      }
+    }
+    for (int i = 0; i < width; ++i) row[i] *= inv;
+  }
+}
+
 }  // namespace
 
 bool RenderOptions::Check(std::string* why) const {
@@ -324,6 +354,7 @@ bool RenderOptions::Check(std::string* why) const {
   }
   if (supersample < 1 || supersample > 64) msg = "supersample must lie in [1, 64]";
   if (!(blur_sigma_px >= 0)) msg = "blur_sigma_px must be >= 0";
+  if (blur_grid < 0 || blur_grid > 16) msg = "blur_grid must lie in [0, 16] (0: automatic)";
   if (!(noise_sigma_gray >= 0)) msg = "noise_sigma_gray must be >= 0";
   for (double g : {background_gray, black_gray, white_gray}) {
     if (!(g >= 0 && g <= 255)) msg = "gray levels must lie in [0, 255]";
@@ -341,13 +372,33 @@ std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& int
   r->intrinsics_ = intrinsics;
   r->options_ = options;
   const int w = options.width, h = options.height;
-  r->corner_rays_.resize(static_cast<size_t>(w + 1) * (h + 1));
+  if (options.blur_sigma_px > 0) {
+    int m = options.blur_grid > 0
+                ? options.blur_grid
+                : std::min(kMaxBlurGrid, static_cast<int>(std::ceil(3 / options.blur_sigma_px)));
+    // The finer grid's ray table and buffers take ~30 bytes a sub-pixel: at most kMaxFinePixels.
+    while (m > 1 && static_cast<double>(w) * m * h * m > kMaxFinePixels) --m;
+    if (m > 1) {
+      RenderOptions fine = options;
+      fine.width = w * m;
+      fine.height = h * m;
+      fine.blur_sigma_px = 0;
+      fine.noise_sigma_gray = 0;
+
+      r->fine_ = Create(FinerCamera(intrinsics, m), fine, why);
+      if (!r->fine_) return nullptr;
+      r->fine_grid_ = m;
+      return r;  // The pixels' own ray table is not used.
+    }
+  }
   const Eigen::Matrix3d a_inv = intrinsics.Matrix().inverse();
   const bool distorted = intrinsics.IsDistorted();
+  if (!distorted) return r;  // Rays are affine in the pixel: CornerRay() computes them.
+  r->corner_rays_.resize(static_cast<size_t>(w + 1) * (h + 1));
   for (int j = 0; j <= h; ++j) {
     for (int i = 0; i <= w; ++i) {
       Eigen::Vector2d xy = (a_inv * Eigen::Vector3d(i - 0.5, j - 0.5, 1.0)).head<2>();
-      if (distorted && !UndistortNormalized(intrinsics, Eigen::Vector2d(xy), &xy)) {
+      if (!UndistortNormalized(intrinsics, Eigen::Vector2d(xy), &xy)) {
         xy.setConstant(std::numeric_limits<double>::quiet_NaN());
       }
       r->corner_rays_[static_cast<size_t>(j) * (w + 1) + i] = xy;
@@ -366,12 +417,43 @@ bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, 
       const auto renderer = Create(*camera_now, options_, why);
       return renderer && renderer->Render(views, noise_rng, image, why);
     }
+    // The same map for a finer grid: (S A_now)^-1 (S A) = A_now^-1 A.
     ray_map = camera_now->Matrix().inverse() * intrinsics_.Matrix();
   }
   if (o.noise_sigma_gray > 0 && noise_rng == nullptr) {
     if (why) *why = "noise_sigma_gray > 0 needs a random generator";
     return false;
   }
+  const int w = o.width, h = o.height;
+  thread_local std::vector<float> values;
+  std::array<int, 4> box;  // x0, x1, y0, y1 of the boards.
+  if (fine_) {
+    const int m = fine_grid_;
+    thread_local std::vector<float> fine_values;
+    if (!fine_->ShadePixels(views, ray_map, FinerCamera(camera, m), &fine_values, &box, why)) {
+      return false;
+    }
+    BlurNearBoards(o.blur_sigma_px * m, w * m, h * m, box, &fine_values);
+    SumBlocks(fine_values, w, h, m, &values);
+  } else {
+    if (!ShadePixels(views, ray_map, camera, &values, &box, why)) return false;
+    if (o.blur_sigma_px > 0) BlurNearBoards(o.blur_sigma_px, w, h, box, &values);
+  }
+  image->width = w;
+  image->height = h;
+  image->pixels.resize(values.size());
+  if (o.noise_sigma_gray > 0) AddImageNoise(o.noise_sigma_gray, w, h, noise_rng, &values);
+  for (size_t k = 0; k < values.size(); ++k) {  // Round half up (the values are >= 0).
+    image->pixels[k] =                          // NOLINTNEXTLINE(bugprone-incorrect-roundings)
+        static_cast<uint8_t>(std::clamp(values[k], 0.0f, 255.0f) + 0.5f);
+  }
+  return true;
+}
+
+bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen::Matrix3d& ray_map,
+                                const CameraIntrinsics& camera, std::vector<float>* values_out,
+                                std::array<int, 4>* boards_box, std::string* why) const {
+  const RenderOptions& o = options_;
   std::vector<BoardShader> boards(views.size());
   for (size_t b = 0; b < views.size(); ++b) {
     if (!views[b].family) {
@@ -397,10 +479,18 @@ bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, 
   thread_local std::vector<int16_t> corners;
   thread_local std::vector<Eigen::Vector2f> corner_in_board;  // Float: 1e-7 m on a 1 m board.
   thread_local std::vector<double> depths;
-  thread_local std::vector<float> values;
-  corners.assign(corner_rays_.size(), kOffBoard);
-  corner_in_board.resize(corner_rays_.size());
+  const size_t num_corners = static_cast<size_t>(w + 1) * (h + 1);
+  corners.assign(num_corners, kOffBoard);
+  corner_in_board.resize(num_corners);
+  // Without distortion the ray of corner (i, j) is A^-1 (i - 0.5, j - 0.5, 1), as in the table.
+  const Eigen::Matrix3d a_inv = intrinsics_.Matrix().inverse();
+  const bool table = !corner_rays_.empty();
+  const auto corner_ray = [&](int i, int j) -> Eigen::Vector2d {
+    return table ? corner_rays_[static_cast<size_t>(j) * stride + i]
+                 : Eigen::Vector2d((a_inv * Eigen::Vector3d(i - 0.5, j - 0.5, 1.0)).head<2>());
+  };
   depths.resize(stride);
+  std::vector<float>& values = *values_out;
   values.resize(static_cast<size_t>(w) * h);
   for (int j = 0; j <= h; ++j) {
     std::fill(depths.begin(), depths.end(), std::numeric_limits<double>::infinity());
@@ -409,7 +499,7 @@ bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, 
       if (j < board.j0() || j > board.j1()) continue;
       for (int i = board.i0(); i <= board.i1(); ++i) {
         const size_t k = j * stride + i;
-        const Eigen::Vector2d& ray = corner_rays_[k];
+        const Eigen::Vector2d ray = corner_ray(i, j);
         double bx = 0, by = 0, depth = 0;
         if (!board.ToBoard(ray.x(), ray.y(), &bx, &by, &depth) || !(depth < depths[i])) continue;
         depths[i] = depth;
@@ -421,7 +511,6 @@ bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, 
   // Pass 2, pixels: one shade if the four corners agree, else n x n samples. When the four corners
   // see the same board and no other board may be in the pixel, the samples' board coordinates are
   // interpolated between the corners' (a homography is affine to 1e-6 px over one pixel).
-  const Eigen::Matrix3d a_inv = intrinsics_.Matrix().inverse();
   std::vector<Eigen::Vector2d> offsets(static_cast<size_t>(n) * n);
   for (int b = 0; b < n; ++b) {
     for (int a = 0; a < n; ++a) offsets[b * n + a] = SampleOffset(a, b, n);
@@ -481,8 +570,8 @@ bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, 
         values[j * w + i] = sum / static_cast<float>(n * n);
         continue;
       }
-      const Eigen::Vector2d &r00 = corner_rays_[k00], &r10 = corner_rays_[k00 + 1];
-      const Eigen::Vector2d &r01 = corner_rays_[k01], &r11 = corner_rays_[k01 + 1];
+      const Eigen::Vector2d r00 = corner_ray(i, j), r10 = corner_ray(i + 1, j);
+      const Eigen::Vector2d r01 = corner_ray(i, j + 1), r11 = corner_ray(i + 1, j + 1);
       const bool exact = std::isnan(r00.x() + r10.x() + r01.x() + r11.x());
       for (int b = 0; b < n; ++b) {
         for (int a = 0; a < n; ++a) {
@@ -503,26 +592,23 @@ bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, 
       values[j * w + i] = sum / static_cast<float>(n * n);
     }
   }
-  if (o.blur_sigma_px > 0) {
-    // Only near the boards: the background elsewhere is one gray, which the blur keeps.
-    const int margin = 2 * static_cast<int>(std::ceil(3 * o.blur_sigma_px)) + 2;
-    int x0 = w, x1 = 0, y0 = h, y1 = 0;
-    for (const BoardShader& board : boards) {
-      if (board.i0() > board.i1() || board.j0() > board.j1()) continue;  // Not visible.
-      x0 = std::min(x0, board.i0() - margin), x1 = std::max(x1, board.i1() + margin);
-      y0 = std::min(y0, board.j0() - margin), y1 = std::max(y1, board.j1() + margin);
-    }
-    GaussianBlur(o.blur_sigma_px, w, h, x0, x1, y0, y1, &values);
+  int x0 = w, x1 = 0, y0 = h, y1 = 0;
+  for (const BoardShader& board : boards) {
+    if (board.i0() > board.i1() || board.j0() > board.j1()) continue;  // Not visible.
+    x0 = std::min(x0, board.i0()), x1 = std::max(x1, board.i1());
+    y0 = std::min(y0, board.j0()), y1 = std::max(y1, board.j1());
   }
-  image->width = w;
-  image->height = h;
-  image->pixels.resize(values.size());
-  if (o.noise_sigma_gray > 0) AddImageNoise(o.noise_sigma_gray, w, h, noise_rng, &values);
-  for (size_t k = 0; k < values.size(); ++k) {  // Round half up (the values are >= 0).
-    image->pixels[k] =                          // NOLINTNEXTLINE(bugprone-incorrect-roundings)
-        static_cast<uint8_t>(std::clamp(values[k], 0.0f, 255.0f) + 0.5f);
-  }
+  *boards_box = {x0, x1, y0, y1};
   return true;
+}
+
+CameraIntrinsics FinerCamera(const CameraIntrinsics& camera, int m) {
+  CameraIntrinsics fine = camera;
+  fine.fku_px *= m;
+  fine.fkv_px *= m;
+  fine.u0_px = m * (camera.u0_px + 0.5) - 0.5;
+  fine.v0_px = m * (camera.v0_px + 0.5) - 0.5;
+  return fine;
 }
 
 bool RenderFrame(const CameraIntrinsics& intrinsics, const std::vector<BoardView>& boards,

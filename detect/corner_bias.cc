@@ -305,16 +305,6 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
   for (int i = 0; i < 4; ++i)
     result.tag_edge_px += (view0.truth[(i + 1) % 4] - view0.truth[i]).norm() / 4;
 
-  RenderOptions render;
-  render.width = camera.width;
-  render.height = camera.height;
-  render.supersample = options.supersample;
-  render.blur_sigma_px = c.blur_sigma_px;
-  auto renderer = FrameRenderer::Create(k, render, &result.message);
-  if (!renderer) return result;
-  if (c.lens == CornerBiasLens::kNone && !c.corner_squares)
-    MeasureBlackArea(view0, *family, k, *renderer, render, &result);
-
   // Every stage sees the crop around the tag (its white margin, squares and blur, plus 8 px): the
   // detector's cost is per pixel, and the rest of the frame is a flat white board.
   int x0 = camera.width, y0 = camera.height, x1 = 0, y1 = 0;
@@ -346,6 +336,16 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
   CameraIntrinsics crop_camera = k;  // The same lens, its principal point in crop pixels.
   crop_camera.u0_px -= x0;
   crop_camera.v0_px -= y0;
+  // The renderer draws the crop only (the same pixels as the frame's, at a fraction of the cost).
+  RenderOptions render;
+  render.width = x1 - x0 + 1;
+  render.height = y1 - y0 + 1;
+  render.supersample = options.supersample;
+  render.blur_sigma_px = c.blur_sigma_px;
+  auto renderer = FrameRenderer::Create(crop_camera, render, &result.message);
+  if (!renderer) return result;
+  if (c.lens == CornerBiasLens::kNone && !c.corner_squares)
+    MeasureBlackArea(view0, *family, crop_camera, *renderer, render, &result);
   AprilTagOptions raw_options;
   raw_options.black_border_bits = c.black_border_bits;
   raw_options.quad_decimate = options.quad_decimate;
@@ -366,7 +366,7 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
     if (!detectors[static_cast<int>(stage)]) return result;
   }
   render.noise_sigma_gray = options.noise_sigma_gray;
-  renderer = FrameRenderer::Create(k, render, &result.message);
+  renderer = FrameRenderer::Create(crop_camera, render, &result.message);
   if (!renderer) return result;
 
   std::array<StageSums, kNumCornerStages> sums;
@@ -386,8 +386,8 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
     for (int d = 0; d < options.draws; ++d) {
       Rng rng(Mix64(view_seed + 1 + d));
       if (!renderer->Render({view.board}, &rng, &image, &result.message)) return result;
-      const uint8_t* crop = image.pixels.data() + static_cast<size_t>(y0) * image.width + x0;
-      const int crop_w = x1 - x0 + 1, crop_h = y1 - y0 + 1;
+      const uint8_t* crop = image.pixels.data();
+      const int crop_w = image.width, crop_h = image.height;
       {
         StageSums& s = sums[static_cast<int>(CornerStage::kRaw)];
         const Clock::time_point t0 = Clock::now();

@@ -11,6 +11,10 @@
 namespace calibench {
 namespace photometric_internal {
 
+// The PSF's std has settled when a step moves it less than this (px); it matters to the corners
+// only through the edges' shape.
+constexpr double kSigmaSettledPx = 5e-3;
+
 PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) {
   PhotometricFitResult result;
   result.corners = initial;
@@ -77,6 +81,7 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
   std::array<Eigen::Vector2d, 4> corners;
   CornersOf(HomographyOf(x), &corners);
   int it = 0;
+  double last_moved = 0;  // Corner movement of the last accepted step (px); 0 before the first.
   for (; it < options_.max_iterations && !converged; ++it) {
     ParamMatrix a = jtj;
     for (int i = 0; i < kNumParams; ++i) a(i, i) = a(i, i) * (1 + lambda) + 1e-12;
@@ -102,10 +107,17 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
       since_classified = std::max(
           since_classified, px_per_unit_ * (trial_corners[k] - classified_corners_[k]).norm());
     }
-    const bool sigma_settled = std::abs(trial[kSigma] - x[kSigma]) < 1e-3;
-    if (valid && moved < options_.convergence_px && sigma_settled && lambda < 1e-2) {
-      // Gauss-Newton's next step is below the tolerance: x is the minimum to within it (the
-      // information J^T J and the cost at x are those of the solution).
+    const bool sigma_settled = std::abs(trial[kSigma] - x[kSigma]) < kSigmaSettledPx;
+    // The corners' error left after this step: the steps still to come, which shrink by
+    // q = moved / last_moved each where Gauss-Newton converges at least linearly, sum to
+    // moved q / (1 - q); where q is not small, no better bound than the step itself.
+    const double q = last_moved > 0 ? moved / last_moved : 1.0;
+    const double remaining = q < 0.5 ? moved * q / (1 - q) : moved;
+    if (valid && remaining < options_.convergence_px && sigma_settled && lambda < 1e-2) {
+      // The step is taken without another evaluation (the information J^T J and the cost at x are
+      // those of the solution to within it).
+      x = trial;
+      corners = trial_corners;
       converged = true;
       break;
     }
@@ -118,6 +130,7 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
     }
     x = trial;
     corners = trial_corners;
+    last_moved = moved;
     cost = trial_cost;
     jtj = trial_jtj;
     jtr = trial_jtr;

@@ -44,9 +44,12 @@ struct PhotometricFitOptions {
   // The fitted contrast over the residual RMS below this: the pattern does not explain the pixels
   // (no tag, occluded, or another pattern).
   double min_contrast_to_residual = 5.0;
-  double convergence_px = 5e-4;  // Converged when no corner moves more than this in a step.
-  bool fit_shading = true;       // The linear shading g (vignetting, uneven light).
-  int min_pixels = 64;           // Fewer pixels in the region: refused.
+  // Converged when the corners' error left after the next Gauss-Newton step is below this (px):
+  // that step is taken without another evaluation, and what remains is estimated from the ratio
+  // q of its size to the previous step's (moved q / (1 - q)), or is the step itself when q > 1/2.
+  double convergence_px = 5e-4;
+  bool fit_shading = true;  // The linear shading g (vignetting, uneven light).
+  int min_pixels = 64;      // Fewer pixels in the region: refused.
   // Fraction of the region's pixels that may fall outside the image before the tag is refused.
   double max_outside_fraction = 0.25;
   bool Check(std::string* why) const;

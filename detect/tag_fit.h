@@ -22,6 +22,10 @@ constexpr double kMinSigmaPx = 0.02;
 constexpr double kReclassifyPx = 0.5;
 constexpr double kReclassifySigmaPx = 0.1;  // Sigma may grow this much before (reach + 0.35 px).
 constexpr int kMaxLinesPerPixel = 32;       // Cells of >= 1 px: a pixel is near far fewer.
+// Slots of a rectangle's line that lies beyond the pixel's reach when it is classified: its profile
+// is the constant 0 (the pixel is on the line's lower side) or 1 until the next classification.
+constexpr uint8_t kSlotZero = kMaxLinesPerPixel, kSlotOne = kMaxLinesPerPixel + 1;
+constexpr int kNumSlots = kMaxLinesPerPixel + 2;
 
 // A line of the pattern in normalised tag coordinates: m . (x^, y^, 1) = 0, > 0 on the side of
 // larger x (vertical lines) or y (horizontal lines).
@@ -54,11 +58,12 @@ bool CornersOf(const Eigen::Matrix3d& g, std::array<Eigen::Vector2d, 4>* corners
 struct FitPixel {
   Eigen::Vector2d p;  // Normalised pixel coordinates.
   double gray;
-  int first_line, num_lines;  // The lines of its near rectangles (pixel_lines_).
+  int first_line, num_lines;  // The lines within reach of it (pixel_lines_).
   int first_rect, num_rects;  // Its near rectangles as 4 slots of its lines (pixel_rects_).
   int deep;                   // Rectangles that contain it beyond the profile's reach.
 };
-using RectSlots = std::array<uint8_t, 4>;  // x0, x1, y0, y1 among the pixel's lines.
+// x0, x1, y0, y1 among the pixel's lines (its lines within reach), or kSlotZero / kSlotOne.
+using RectSlots = std::array<uint8_t, 4>;
 
 class TagFit {
  public:

@@ -175,7 +175,7 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   const int i0 = static_cast<int>(std::floor(u0)), i1 = static_cast<int>(std::ceil(u1));
   const int j0 = static_cast<int>(std::floor(v0)), j1 = static_cast<int>(std::ceil(v1));
   const std::array<double, 4> limit_sign = {1, -1, 1, -1};
-  std::vector<double> line_values(lines.size());
+  std::vector<double> line_values(lines.size()), line_steps(lines.size());
   for (int j = j0; j <= j1; ++j) {
     // The row's span inside the region: each limit line is linear in i along the row.
     double lo = i0, hi = i1;
@@ -195,7 +195,18 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
       }
     }
     const int row_lo = static_cast<int>(std::floor(lo)), row_hi = static_cast<int>(std::ceil(hi));
-    for (int i = std::max(i0, row_lo); i <= std::min(i1, row_hi); ++i) {
+    const int first_i = std::max(i0, row_lo);
+    if (!camera_) {  // Along the row each line's distance grows by a constant: l.x / S a pixel.
+      for (size_t l = 0; l < lines.size(); ++l) {
+        line_values[l] = lines[l].dot(
+            Eigen::Vector3d((first_i - 1 - centre_.x()) / scale_, (j - centre_.y()) / scale_, 1));
+        line_steps[l] = lines[l].x() / scale_;
+      }
+    }
+    for (int i = first_i; i <= std::min(i1, row_hi); ++i) {
+      if (!camera_) {
+        for (size_t l = 0; l < lines.size(); ++l) line_values[l] += line_steps[l];
+      }
       Eigen::Vector3d p((i - centre_.x()) / scale_, (j - centre_.y()) / scale_, 1);
       Eigen::Matrix2d m = Eigen::Matrix2d::Identity() / scale_;
       if (camera_) {
@@ -227,6 +238,10 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
                   0,
                   0};
       auto slot = [&](int line) {
+        // A line farther than the margin keeps its profile's constant until reclassification.
+        if (!(std::abs(line_values[line]) < near_px)) {
+          return line_values[line] > 0 ? kSlotOne : kSlotZero;
+        }
         for (int k = 0; k < px.num_lines; ++k) {
           if (pixel_lines_[px.first_line + k] == line) return static_cast<uint8_t>(k);
         }
@@ -234,7 +249,9 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
         return static_cast<uint8_t>(px.num_lines++);
       };
       bool include = false;
-      for (size_t l = 0; l < lines.size(); ++l) line_values[l] = distance(l);
+      if (camera_) {
+        for (size_t l = 0; l < lines.size(); ++l) line_values[l] = distance(l);
+      }
       for (size_t r = 0; r < layout_.rects.size(); ++r) {
         const Layout::Rect& rect = layout_.rects[r];
         const double inside_min = std::min({line_values[rect.x0], -line_values[rect.x1],
@@ -306,12 +323,19 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
   // Per pixel, per line of its rectangles: P (f), P' (f), dP/dsigma (f), and d b / d f. The profile
   // is odd about one half: the far edge of a rectangle contributes 1 - P(f), so that
   // [P(d_0) + P(d_1) - 1] = P(f_0) - P(f_1) with f the signed distance towards larger x (or y).
-  std::array<EdgeProfileValue, kMaxLinesPerPixel> profile;
-  std::array<double, kMaxLinesPerPixel> weight;
+  std::array<EdgeProfileValue, kNumSlots> profile;
+  std::array<double, kNumSlots> weight{};  // The constant slots collect unread weight.
+  profile[kSlotZero] = {0, 0, 0};
+  profile[kSlotOne] = {1, 0, 0};
   // With a camera, per line: 1 / N and r = M M^T l_xy / N, N = |M^T l_xy| (f = l . p^~ / N,
   // d f / d l = (p^~ - f (r, 0)) / N).
   std::array<double, kMaxLinesPerPixel> lens_inv_n;
   std::array<Eigen::Vector2d, kMaxLinesPerPixel> lens_r;
+  // Per line: its signed distance f (px) and its image normal (unit, towards larger f), for the
+  // quadrant correction at the rectangles' vertices (tag_model.h).
+  std::array<double, kMaxLinesPerPixel> distance;
+  std::array<Eigen::Vector2d, kMaxLinesPerPixel> normal;
+  const double s2 = sigma * sigma + 1.0 / 12, inv_s = 1 / std::sqrt(s2);
   Eigen::Matrix<double, kNumParams, 1> jac;
   for (size_t index = 0; index < pixels_.size(); ++index) {
     const FitPixel& px = pixels_[index];
@@ -328,9 +352,12 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
         lens_inv_n[k] = 1 / mt_l.norm();
         lens_r[k] = m * mt_l * lens_inv_n[k];
         f = raw[line].dot(p) * lens_inv_n[k];
+        normal[k] = mt_l * lens_inv_n[k];
       } else {
         f = scale_ * unit[line].dot(p);
+        normal[k] = unit[line].head<2>();
       }
+      distance[k] = f;
       profile[k] = layout_.lines[line].vertical ? vertical(f) : horizontal(f);
     }
     double b = px.deep, db_dsigma = 0;
@@ -345,6 +372,27 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
       weight[r[1]] -= a1.dp_dd * fy;
       weight[r[2]] += c0.dp_dd * fx;
       weight[r[3]] -= c1.dp_dd * fx;
+      // The vertices whose two edges are within reach and not orthogonal in the image: the
+      // quadrant {x > x_i, y > y_j} enters the rectangle with the sign (-1)^(i + j).
+      for (int i = 0; i < 2; ++i) {
+        for (int j = 2; j < 4; ++j) {
+          const int sx = r[i], sy = r[j];
+          if (sx >= kMaxLinesPerPixel || sy >= kMaxLinesPerPixel) continue;
+          const double rho = normal[sx].dot(normal[sy]);
+          const double qa = distance[sx] * inv_s, qb = distance[sy] * inv_s;
+          if (std::abs(rho) < 1e-4 || std::abs(qa) > kQuadrantCorrectionReach ||
+              std::abs(qb) > kQuadrantCorrectionReach) {
+            continue;
+          }
+          const QuadrantCorrection c = QuadrantCorrectionAt(qa, qb, rho);
+          const double sign = (i + j) % 2 == 0 ? 1.0 : -1.0;
+          b += sign * c.c;
+          weight[sx] += sign * c.dc_da * inv_s;
+          weight[sy] += sign * c.dc_db * inv_s;
+          // a = d / s, ds/dsigma = sigma / s: da/dsigma = -a sigma / s^2.
+          db_dsigma -= sign * (qa * c.dc_da + qb * c.dc_db) * sigma / s2;
+        }
+      }
     }
     const double base = white + contrast * b;
     const double shade = 1 + shading.dot(px.p);

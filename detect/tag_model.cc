@@ -41,6 +41,27 @@ EdgeProfileValue EdgeProfile(double d, double sigma, double nx, double ny) {
           sigma * (t1.phi - t2.phi - t3.phi + t4.phi) * inv};
 }
 
+QuadrantCorrection QuadrantCorrectionAt(double a, double b, double rho) {
+  // Gauss-Legendre, 8 nodes on [0, asin(rho)]: the integrand is smooth for |rho| < 0.9 (the
+  // fit's vertices; error < 1e-7 there, tests/detect/photometric_fit_test.cc).
+  static constexpr double kNodes[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                       0.9602898564975363};
+  static constexpr double kWeights[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
+                                         0.1012285362903763};
+  const double half = 0.5 * std::asin(std::clamp(rho, -0.99, 0.99));
+  const double q = a * a + b * b, ab2 = 2 * a * b;
+  double sum = 0;
+  for (int i = 0; i < 4; ++i) {
+    for (const double t : {half * (1 - kNodes[i]), half * (1 + kNodes[i])}) {
+      const double c = std::cos(t);
+      sum += kWeights[i] * std::exp(-(q - ab2 * std::sin(t)) / (2 * c * c));
+    }
+  }
+  const double r = std::clamp(rho, -0.99, 0.99), root = std::sqrt(1 - r * r);
+  return {sum * half / (2 * M_PI), PhiDensity(a) * (Phi((b - r * a) / root) - Phi(b)),
+          PhiDensity(b) * (Phi((a - r * b) / root) - Phi(a))};
+}
+
 bool TagPattern::FromFamily(const TagFamily& family, int id, double white_margin_cells,
                             double corner_square_cells, TagPattern* pattern, std::string* why) {
   if (id < 0 || id >= family.num_codes()) {

@@ -20,8 +20,9 @@
 //   Q(x) = (x^2 + sigma^2)/2 Phi(x/sigma) + x sigma/2 phi(x/sigma)   (Q'' = Phi(x / sigma)),
 //   dQ/dsigma = sigma Phi(x/sigma).
 // The product form is exact for a rectangle that maps to a rectangle (orthogonal edges) and for
-// every straight edge and parallel strip; under strong shear it is approximate within ~sigma of a
-// vertex. Collinear edges of adjacent rectangles are one image line, so the sum has no seams.
+// every straight edge and parallel strip; at a vertex whose edges are not orthogonal in the image
+// it is completed by the quadrant correction below. Collinear edges of adjacent rectangles are one
+// image line, so the sum has no seams.
 #pragma once
 
 #include <Eigen/Core>
@@ -53,6 +54,22 @@ struct EdgeProfileValue {
   double p, dp_dd, dp_dsigma;
 };
 EdgeProfileValue EdgeProfile(double d, double sigma, double nx, double ny);
+
+// Two edges that cross at angle other than 90 deg (a sheared rectangle's vertex: perspective, or a
+// lens's anisotropic scale). The blurred quadrant on the positive side of both, with normals n1, n2
+// (unit, towards the quadrant) and signed distances d1, d2, is the bivariate normal CDF
+// Phi2(d1 / s, d2 / s; rho), rho = n1 . n2, s = sqrt(sigma^2 + 1/12) (the pixel box taken as a
+// Gaussian of its variance). The product of the two edges' profiles is its rho = 0 value; the
+// correction C = Phi2(a, b; rho) - Phi(a) Phi(b) = (1 / 2 pi) int_0^asin(rho) exp(-(a^2 + b^2 -
+// 2 a b sin t) / (2 cos^2 t)) dt (Plackett's identity) completes it, and
+//   dC/da = phi(a) [Phi((b - rho a) / sqrt(1 - rho^2)) - Phi(b)]   (and symmetrically in b).
+// A rectangle is then the signed sum of the quadrants at its four vertices.
+struct QuadrantCorrection {
+  double c, dc_da, dc_db;
+};
+QuadrantCorrection QuadrantCorrectionAt(double a, double b, double rho);
+// Beyond this |a| or |b| the correction is below 2e-7: it is not computed.
+constexpr double kQuadrantCorrectionReach = 5.0;
 
 // Reach of the profile: beyond it, P is 0 or 1 to < 3e-4 of the contrast (3.5 sigma of the PSF plus
 // the pixel box's half diagonal).

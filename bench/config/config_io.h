@@ -24,7 +24,8 @@
 //     measurements: {detections: oracle | rendered, sample_rate_hz: 0, eval_rate_hz: 10,
 //                    outside_image: fail | keep}   (oracle: a projection outside image_size)
 //     noise: {point_sigma_m, pixel_sigma_px, hold_s, hold_frames, tag_radial_bias_px}
-//     rendering: {supersample, blur_sigma_px, noise_sigma_gray, ..., corner_refinement,
+//     rendering: {supersample, blur_sigma_px, blur_grid (sub-pixels a side the blur is computed
+//                 on; 0: automatic, core/render.h), noise_sigma_gray, ..., corner_refinement,
 //                 min_border_distance_px, corner_error_clip_px, corner_error_part,
 //                 corner_error_grid (diagnostics: detect/rendered_source.h), detector: {...}}
 //     methods:                                   # named instances (methods/registry.h), in row

@@ -35,7 +35,7 @@ void CheckSweptMethod(const Reader& r, const YAML::Node& at, const std::string& 
 // *rpy_deg gets the angles as written (0 when absent).
 void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& field,
                     AprilGrid* grid, Eigen::Vector3d* rpy_deg);
-// rendering: {supersample, blur_sigma_px, noise_sigma_gray, background_gray, black_gray,
+// rendering: {supersample, blur_sigma_px, blur_grid, noise_sigma_gray, background_gray, black_gray,
 //             white_gray, threads, corner_refinement,
 //             detector: {quad_decimate, quad_sigma, refine_edges, decode_sharpening, threads,
 //                        max_hamming}}

@@ -37,12 +37,13 @@ void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& 
 void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& field,
                     RenderedSourceOptions* o) {
   r.CheckKeys(node, field,
-              {"supersample", "blur_sigma_px", "noise_sigma_gray", "background_gray", "black_gray",
-               "white_gray", "threads", "corner_refinement", "min_border_distance_px",
+              {"supersample", "blur_sigma_px", "blur_grid", "noise_sigma_gray", "background_gray",
+               "black_gray", "white_gray", "threads", "corner_refinement", "min_border_distance_px",
                "corner_error_clip_px", "corner_error_part", "corner_error_grid", "detector"});
   RenderOptions& ro = o->render;
   r.Set(node, "supersample", field, &ro.supersample);
   r.Set(node, "blur_sigma_px", field, &ro.blur_sigma_px);
+  r.Set(node, "blur_grid", field, &ro.blur_grid);
   r.Set(node, "noise_sigma_gray", field, &ro.noise_sigma_gray);
   r.Set(node, "background_gray", field, &ro.background_gray);
   r.Set(node, "black_gray", field, &ro.black_gray);

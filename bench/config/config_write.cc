@@ -32,11 +32,12 @@ void EmitRendering(YAML::Emitter& out, const RenderedSourceOptions& o) {
   const RenderOptions& ro = o.render;
   const AprilTagOptions& a = o.detection.detector;
   out << YAML::BeginMap << YAML::Key << "supersample" << YAML::Value << ro.supersample << YAML::Key
-      << "blur_sigma_px" << YAML::Value << ro.blur_sigma_px << YAML::Key << "noise_sigma_gray"
-      << YAML::Value << ro.noise_sigma_gray << YAML::Key << "background_gray" << YAML::Value
-      << ro.background_gray << YAML::Key << "black_gray" << YAML::Value << ro.black_gray
-      << YAML::Key << "white_gray" << YAML::Value << ro.white_gray << YAML::Key << "threads"
-      << YAML::Value << o.threads << YAML::Key << "corner_refinement" << YAML::Value
+      << "blur_sigma_px" << YAML::Value << ro.blur_sigma_px << YAML::Key << "blur_grid"
+      << YAML::Value << ro.blur_grid << YAML::Key << "noise_sigma_gray" << YAML::Value
+      << ro.noise_sigma_gray << YAML::Key << "background_gray" << YAML::Value << ro.background_gray
+      << YAML::Key << "black_gray" << YAML::Value << ro.black_gray << YAML::Key << "white_gray"
+      << YAML::Value << ro.white_gray << YAML::Key << "threads" << YAML::Value << o.threads
+      << YAML::Key << "corner_refinement" << YAML::Value
       << CornerRefinementName(o.detection.refinement) << YAML::Key << "min_border_distance_px"
       << YAML::Value << o.detection.min_border_distance_px << YAML::Key << "corner_error_clip_px"
       << YAML::Value << o.corner_error_clip_px << YAML::Key << "corner_error_part" << YAML::Value

@@ -239,10 +239,10 @@ bool SameRendering(const RenderedSourceOptions& a, const RenderedSourceOptions& 
   const CornerRefineOptions &c = d.refine, &f = e.refine;
   return a.frame_rate_hz == b.frame_rate_hz && a.threads == b.threads && r.width == s.width &&
          r.height == s.height && r.supersample == s.supersample &&
-         r.blur_sigma_px == s.blur_sigma_px && r.noise_sigma_gray == s.noise_sigma_gray &&
-         r.background_gray == s.background_gray && r.black_gray == s.black_gray &&
-         r.white_gray == s.white_gray && d.refinement == e.refinement &&
-         d.min_border_distance_px == e.min_border_distance_px &&
+         r.blur_sigma_px == s.blur_sigma_px && r.blur_grid == s.blur_grid &&
+         r.noise_sigma_gray == s.noise_sigma_gray && r.background_gray == s.background_gray &&
+         r.black_gray == s.black_gray && r.white_gray == s.white_gray &&
+         d.refinement == e.refinement && d.min_border_distance_px == e.min_border_distance_px &&
          a.corner_error_clip_px == b.corner_error_clip_px &&
          a.corner_error_part == b.corner_error_part && a.corner_error_grid == b.corner_error_grid &&
          t.family == u.family && t.quad_decimate == u.quad_decimate &&
