@@ -234,11 +234,29 @@ bool PerViewIntrinsicsCovariance(ceres::Problem* problem, Parameters* params,
   return true;
 }
 
+// The lens families refined here. The ceres::Jet residual projects every family, but the
+// omnidirectional ones need bounds (xi >= 0, alpha in [0, 1], beta > 0) and a start: not yet.
+bool RefinesFamily(LensFamily family) {
+  switch (family) {
+    case LensFamily::kRadTan:
+    case LensFamily::kEquidistant:
+      return true;
+    case LensFamily::kUnified:
+    case LensFamily::kEucm:
+    case LensFamily::kDoubleSphere:
+      return false;
+  }
+  return false;
+}
+
 }  // namespace
 
 bool RefineOptions::Check(std::string* why) const {
   std::string msg;
-  if (loss != "none" && loss != "huber" && loss != "cauchy") {
+  if (!RefinesFamily(FamilyOf(model))) {
+    msg = std::string("model ") + ToString(model) + ": the ceres refinement does not support the " +
+          ToString(FamilyOf(model)) + " lens family yet (radtan and equidistant models only)";
+  } else if (loss != "none" && loss != "huber" && loss != "cauchy") {
     msg = "loss must be none, huber or cauchy, got '" + loss + "'";
   } else if (!(loss_scale_px > 0)) {
     msg = "loss_scale_px must be > 0";

@@ -151,6 +151,13 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
     case LensModel::kPinholeRadTan5:
     case LensModel::kPinholeEqui:  // Equidistant: handled above (cv::fisheye).
       break;
+    case LensModel::kUnified:
+    case LensModel::kEucm:
+    case LensModel::kDoubleSphere: {
+      const std::string model = ToString(options.model);
+      return finish(MethodStatus::kFailed, "zhang: no OpenCV initialisation for the " + model +
+                                               " lens model yet (radtan and equidistant only)");
+    }
   }
   // LM's normal equations by LU, not OpenCV's default SVD: the SVD of the (6 views + intrinsics)^2
   // matrix at every iteration was 90% of a call (0.4 s on 30 views); the system is positive

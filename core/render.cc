@@ -364,10 +364,35 @@ bool RenderOptions::Check(std::string* why) const {
   return false;
 }
 
+namespace {
+
+// The lens families the renderer draws: it casts rays through the plane z = 1, so it cannot draw
+// what an omnidirectional lens sees past 90 degrees (not supported yet).
+bool RendersFamily(LensFamily family, std::string* why) {
+  switch (family) {
+    case LensFamily::kRadTan:
+    case LensFamily::kEquidistant:
+      return true;
+    case LensFamily::kUnified:
+    case LensFamily::kEucm:
+    case LensFamily::kDoubleSphere:
+      break;
+  }
+  if (why) {
+    *why = std::string("the renderer does not support the ") + ToString(family) +
+           " lens family yet (it casts rays through the plane z = 1; radtan and equidistant only)";
+  }
+  return false;
+}
+
+}  // namespace
+
 std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& intrinsics,
                                                      const RenderOptions& options,
                                                      std::string* why) {
-  if (!options.Check(why) || !intrinsics.Check(why)) return nullptr;
+  if (!options.Check(why) || !intrinsics.Check(why) || !RendersFamily(intrinsics.family, why)) {
+    return nullptr;
+  }
   std::unique_ptr<FrameRenderer> r(new FrameRenderer());
   r->intrinsics_ = intrinsics;
   r->options_ = options;

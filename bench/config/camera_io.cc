@@ -464,6 +464,17 @@ bool WriteCameraFile(const std::string& path, CameraFormat format, const CameraF
                      std::string* why) {
   std::string reason;
   if (!camera.intrinsics.Check(&reason)) return Fail(why, path + ": " + reason);
+  switch (camera.intrinsics.family) {
+    case LensFamily::kRadTan:
+    case LensFamily::kEquidistant:
+      break;
+    case LensFamily::kUnified:
+    case LensFamily::kEucm:
+    case LensFamily::kDoubleSphere:
+      return Fail(why, path + ": camera files do not support the " +
+                           ToString(camera.intrinsics.family) +
+                           " lens family yet (radtan and equidistant only)");
+  }
   switch (format) {
     case CameraFormat::kOpenCv:
       return WriteOpenCv(path, camera, why);

@@ -3,6 +3,9 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <iterator>
+
 #include "core/random.h"
 #include "core/synthetic.h"
 
@@ -252,6 +255,34 @@ TEST(UnprojectPixel, InvertsProjectPoint) {
 // parameters, Params() and FromParams() round-trip in its layout, and Check() refuses the
 // coefficients the family lacks.
 TEST(LensModels, TableRoundTripsAndFamiliesKeepTheirCoefficients) {
+  const struct {
+    const char* name;
+    LensFamily family;
+    std::vector<int> free;
+    std::vector<const char*> slot_names;  // Of the free slots.
+  } rows[] = {
+      {"pinhole", LensFamily::kRadTan, {}, {}},
+      {"pinhole-k2", LensFamily::kRadTan, {5, 6}, {"k1", "k2"}},
+      {"pinhole-radtan4", LensFamily::kRadTan, {5, 6, 7, 8}, {"k1", "k2", "p1", "p2"}},
+      {"pinhole-radtan5", LensFamily::kRadTan, {5, 6, 7, 8, 9}, {"k1", "k2", "p1", "p2", "k3"}},
+      {"pinhole-equi", LensFamily::kEquidistant, {5, 6, 7, 8}, {"k1", "k2", "k3", "k4"}},
+      {"unified", LensFamily::kUnified, {5, 6, 7, 8, 9}, {"xi", "k1", "k2", "p1", "p2"}},
+      {"eucm", LensFamily::kEucm, {5, 6}, {"alpha", "beta"}},
+      {"double-sphere", LensFamily::kDoubleSphere, {5, 6}, {"xi", "alpha"}},
+  };
+  ASSERT_EQ(LensModels().size(), std::size(rows));
+  for (const auto& row : rows) {
+    LensModel model;
+    ASSERT_TRUE(ParseLensModel(row.name, &model)) << row.name;
+    EXPECT_EQ(FamilyOf(model), row.family) << row.name;
+    EXPECT_STREQ(ToString(FamilyOf(model)), ToString(row.family));
+    const std::vector<int> fixed = FixedIntrinsics(model, true);
+    for (size_t i = 0; i < row.free.size(); ++i) {
+      EXPECT_STREQ(ParamNames(row.family)[row.free[i]], row.slot_names[i]) << row.name;
+      EXPECT_EQ(std::count(fixed.begin(), fixed.end(), row.free[i]), 0) << row.name;
+    }
+    EXPECT_EQ(fixed.size(), 5 - row.free.size()) << row.name;  // The other lens slots.
+  }
   for (const LensModelInfo& info : LensModels()) {
     LensModel parsed;
     ASSERT_TRUE(ParseLensModel(info.name, &parsed));
@@ -281,6 +312,32 @@ TEST(LensModels, TableRoundTripsAndFamiliesKeepTheirCoefficients) {
   radtan.k4 = 0.01;
   EXPECT_FALSE(radtan.Check(&why));
   EXPECT_NE(why.find("k4 belongs to the equidistant"), std::string::npos) << why;
+  // The omnidirectional families' slots: [xi, k1, k2, p1, p2], [alpha, beta, 0, 0, 0], [xi,
+  // alpha, 0, 0, 0]; FromParams() reads them back, and they are never a pinhole.
+  CameraIntrinsics unified = EquidistantCamera(), eucm = unified, ds = unified;
+  unified.family = LensFamily::kUnified, unified.k3 = unified.k4 = 0;
+  unified.xi = 1.2, unified.k1 = -0.1, unified.k2 = 0.02, unified.p1 = 1e-3, unified.p2 = -1e-3;
+  eucm.family = LensFamily::kEucm, eucm.k1 = eucm.k2 = eucm.k3 = eucm.k4 = 0;
+  eucm.alpha = 0.6, eucm.beta = 1.1;
+  ds.family = LensFamily::kDoubleSphere, ds.k1 = ds.k2 = ds.k3 = ds.k4 = 0;
+  ds.xi = 0.3, ds.alpha = 0.55;
+  const struct {
+    CameraIntrinsics k;
+    std::array<double, 5> slots;
+  } layouts[] = {{unified, {1.2, -0.1, 0.02, 1e-3, -1e-3}},
+                 {eucm, {0.6, 1.1, 0, 0, 0}},
+                 {ds, {0.3, 0.55, 0, 0, 0}}};
+  for (const auto& l : layouts) {
+    ASSERT_TRUE(l.k.Check(&why)) << why;
+    const auto p = l.k.Params();
+    for (int i = 0; i < 5; ++i) EXPECT_EQ(p[5 + i], l.slots[i]) << ToString(l.k.family) << i;
+    const CameraIntrinsics back = CameraIntrinsics::FromParams(p.data(), l.k.family);
+    EXPECT_EQ(back, l.k) << ToString(l.k.family);
+    EXPECT_EQ(back.xi, l.k.xi);
+    EXPECT_EQ(back.alpha, l.k.alpha);
+    EXPECT_EQ(back.beta, l.k.beta);
+    EXPECT_TRUE(l.k.IsDistorted());
+  }
 }
 
 }  // namespace
