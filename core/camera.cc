@@ -162,6 +162,25 @@ bool CameraIntrinsics::DistortionIsMonotoneAt(double r2) const {
   return false;
 }
 
+bool CameraIntrinsics::DistortionIsMonotoneAlong(const Eigen::Vector3d& p) const {
+  const double r2 = p.x() * p.x() + p.y() * p.y();
+  switch (family) {
+    case LensFamily::kRadTan:
+    case LensFamily::kEquidistant:
+      return p.z() > 0 && DistortionIsMonotoneAt(r2 / (p.z() * p.z()));
+    case LensFamily::kUnified:
+    case LensFamily::kEucm:
+    case LensFamily::kDoubleSphere: {
+      Eigen::Vector2d pixel;
+      if (!ProjectPoint(*this, p, &pixel)) return false;
+      if (family != LensFamily::kUnified) return true;
+      const double den = p.z() + xi * p.norm();  // > 0 inside the region; m = |(X, Y)| / den.
+      return RadTanRadialSlope(k1, k2, 0, r2 / (den * den)) > 0;
+    }
+  }
+  return false;
+}
+
 std::array<double, 10> CameraIntrinsics::Params() const {
   const double phi = phi_deg * kDegToRad;
   switch (family) {
