@@ -345,7 +345,9 @@ bool LiftDoubleSphere(double xi, double alpha, const Eigen::Vector2d& m, Eigen::
   return true;
 }
 
-// The unit ray of the normalised image point `distorted` (before A): every family's inverse.
+}  // namespace
+
+// Every family's inverse (camera.h).
 bool RayOfDistorted(const CameraIntrinsics& k, const Eigen::Vector2d& distorted,
                     Eigen::Vector3d* ray) {
   Eigen::Vector2d m;
@@ -376,6 +378,8 @@ bool RayOfDistorted(const CameraIntrinsics& k, const Eigen::Vector2d& distorted,
   ray->normalize();
   return true;
 }
+
+namespace {
 
 Eigen::Vector2d DistortedOfPixel(const CameraIntrinsics& k, const Eigen::Vector2d& pixel) {
   return (k.Matrix().inverse() * pixel.homogeneous()).hnormalized();

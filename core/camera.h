@@ -356,6 +356,10 @@ bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& poi
 // an iteration does not converge; never a ray outside the region.
 bool UnprojectToRay(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& pixel,
                     Eigen::Vector3d* ray_in_cam);
+// UnprojectToRay from the normalised image point `distorted` = A^-1 (u, v, 1), before A: for
+// callers that unproject many pixels with A^-1 at hand (UnprojectToRay inverts A at each call).
+bool RayOfDistorted(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& distorted,
+                    Eigen::Vector3d* ray_in_cam);
 
 // Undistorts normalised coordinates: the (x, y) = (X/Z, Y/Z) whose projection before A is
 // `distorted` (the inverse of the family's lens above, as UnprojectToRay). Returns false where

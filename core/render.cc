@@ -455,7 +455,7 @@ std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& int
         valid = UndistortNormalized(intrinsics, Eigen::Vector2d(xy), &xy);
       } else {
         Eigen::Vector3d ray;
-        valid = UnprojectToRay(intrinsics, Eigen::Vector2d(i - 0.5, j - 0.5), &ray);
+        valid = RayOfDistorted(intrinsics, xy, &ray);  // UnprojectToRay, A^-1 at hand.
         if (valid) xy = Stereographic(ray);
       }
       if (!valid) xy.setConstant(std::numeric_limits<double>::quiet_NaN());
@@ -666,8 +666,8 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
 
 bool FrameRenderer::SampleRay(const Eigen::Matrix3d& a_inv, double u, double v,
                               Eigen::Vector3d* ray) const {
-  if (!IsPlaneFamily(intrinsics_.family)) return UnprojectToRay(intrinsics_, {u, v}, ray);
   Eigen::Vector2d xy = (a_inv * Eigen::Vector3d(u, v, 1.0)).head<2>();
+  if (!IsPlaneFamily(intrinsics_.family)) return RayOfDistorted(intrinsics_, xy, ray);
   if (!UndistortNormalized(intrinsics_, Eigen::Vector2d(xy), &xy)) return false;
   *ray = LiftRay(RaySpace::kPlane, xy);
   return true;
