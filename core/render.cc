@@ -415,6 +415,65 @@ bool RenderOptions::Check(std::string* why) const {
   return false;
 }
 
+namespace {
+
+// The ray of pixel-corner position (u, v) (pixel coordinates) of a distorted camera, in the table's
+// form: (x, y) on the plane z = 1 for the families that see only z > 0, stereographic coordinates
+// for the omnidirectional ones; NaN outside the lens's valid region.
+Eigen::Vector2d TableRay(const CameraIntrinsics& intrinsics, const Eigen::Matrix3d& a_inv, double u,
+                         double v) {
+  Eigen::Vector2d xy = (a_inv * Eigen::Vector3d(u, v, 1.0)).head<2>();
+  bool valid = false;
+  if (IsPlaneFamily(intrinsics.family)) {
+    valid = UndistortNormalized(intrinsics, Eigen::Vector2d(xy), &xy);
+  } else {
+    Eigen::Vector3d ray;
+    valid = RayOfDistorted(intrinsics, xy, &ray);  // UnprojectToRay, A^-1 at hand.
+    if (valid) xy = Stereographic(ray);
+  }
+  if (!valid) xy.setConstant(std::numeric_limits<double>::quiet_NaN());
+  return xy;
+}
+
+// The rays of the (w + 1) x (h + 1) pixel corners, row-major.
+std::vector<Eigen::Vector2d> RayTable(const CameraIntrinsics& intrinsics, int w, int h) {
+  const Eigen::Matrix3d a_inv = intrinsics.Matrix().inverse();
+  std::vector<Eigen::Vector2d> table(static_cast<size_t>(w + 1) * (h + 1));
+  for (int j = 0; j <= h; ++j) {
+    for (int i = 0; i <= w; ++i) {
+      table[static_cast<size_t>(j) * (w + 1) + i] = TableRay(intrinsics, a_inv, i - 0.5, j - 0.5);
+    }
+  }
+  return table;
+}
+
+// The corner rays of a grid m times finer, interpolated bilinearly between the pixel corners'
+// (as the renderer's samples inside a pixel are: below 1e-3 px with |k1| <= 0.3), and computed
+// exactly (`finer`: the finer grid's camera) where a pixel corner has no valid ray. m^2 times
+// fewer inversions of the lens than a table built for the finer grid.
+std::vector<Eigen::Vector2d> FinerRayTable(const std::vector<Eigen::Vector2d>& coarse,
+                                           const CameraIntrinsics& finer, int w, int h, int m) {
+  const Eigen::Matrix3d a_inv = finer.Matrix().inverse();
+  const size_t stride = static_cast<size_t>(w) * m + 1;
+  std::vector<Eigen::Vector2d> table(stride * (static_cast<size_t>(h) * m + 1));
+  for (int jj = 0; jj <= h * m; ++jj) {
+    const int j = std::min(jj / m, h - 1);
+    const double fb = static_cast<double>(jj - j * m) / m;
+    for (int ii = 0; ii <= w * m; ++ii) {
+      const int i = std::min(ii / m, w - 1);
+      const double fa = static_cast<double>(ii - i * m) / m;
+      const size_t k00 = static_cast<size_t>(j) * (w + 1) + i, k01 = k00 + w + 1;
+      const Eigen::Vector2d ray = (1 - fb) * ((1 - fa) * coarse[k00] + fa * coarse[k00 + 1]) +
+                                  fb * ((1 - fa) * coarse[k01] + fa * coarse[k01 + 1]);
+      table[static_cast<size_t>(jj) * stride + ii] =
+          ray.allFinite() ? ray : TableRay(finer, a_inv, ii - 0.5, jj - 0.5);
+    }
+  }
+  return table;
+}
+
+}  // namespace
+
 std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& intrinsics,
                                                      const RenderOptions& options,
                                                      std::string* why) {
@@ -436,32 +495,20 @@ std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& int
       fine.blur_sigma_px = 0;
       fine.noise_sigma_gray = 0;
 
-      r->fine_ = Create(FinerCamera(intrinsics, m), fine, why);
-      if (!r->fine_) return nullptr;
+      std::unique_ptr<FrameRenderer> finer(new FrameRenderer());
+      finer->intrinsics_ = FinerCamera(intrinsics, m);
+      finer->options_ = fine;
+      if (intrinsics.IsDistorted()) {
+        finer->corner_rays_ =
+            FinerRayTable(RayTable(intrinsics, w, h), finer->intrinsics_, w, h, m);
+      }
+      r->fine_ = std::move(finer);
       r->fine_grid_ = m;
       return r;  // The pixels' own ray table is not used.
     }
   }
-  const Eigen::Matrix3d a_inv = intrinsics.Matrix().inverse();
-  const bool distorted = intrinsics.IsDistorted();
-  if (!distorted) return r;  // Rays are affine in the pixel: ShadePixels computes them.
-  r->corner_rays_.resize(static_cast<size_t>(w + 1) * (h + 1));
-  const bool plane = IsPlaneFamily(intrinsics.family);
-  for (int j = 0; j <= h; ++j) {
-    for (int i = 0; i <= w; ++i) {
-      Eigen::Vector2d xy = (a_inv * Eigen::Vector3d(i - 0.5, j - 0.5, 1.0)).head<2>();
-      bool valid = false;
-      if (plane) {
-        valid = UndistortNormalized(intrinsics, Eigen::Vector2d(xy), &xy);
-      } else {
-        Eigen::Vector3d ray;
-        valid = RayOfDistorted(intrinsics, xy, &ray);  // UnprojectToRay, A^-1 at hand.
-        if (valid) xy = Stereographic(ray);
-      }
-      if (!valid) xy.setConstant(std::numeric_limits<double>::quiet_NaN());
-      r->corner_rays_[static_cast<size_t>(j) * (w + 1) + i] = xy;
-    }
-  }
+  if (intrinsics.IsDistorted()) r->corner_rays_ = RayTable(intrinsics, w, h);
+  // Without distortion rays are affine in the pixel: ShadePixels computes them.
   return r;
 }
 
