@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
-#include <thread>
 #include <utility>
 
 #include "core/random.h"
+#include "util/parallel_for.h"
 
 namespace calibench {
 namespace {
@@ -273,16 +272,26 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
   std::vector<FrameResult> results(source->breakpoints_.size());
   source->breakpoints_.push_back(scene.duration_s);
 
-  std::atomic<size_t> next{0};
-  auto worker = [&](std::unique_ptr<FrameDetector> detector) {
+  // Per worker: a detector (worker 0 uses the one made above) and scratch buffers.
+  struct WorkerState {
+    std::unique_ptr<FrameDetector> detector;
     GrayImage image;
     std::vector<BoardView> views;
     std::vector<std::pair<size_t, Eigen::Vector2d>> reported_errors;  // (pixel index, error).
-    for (size_t k = next++; k < results.size(); k = next++) {
+  };
+  std::vector<WorkerState> states(ParallelWorkers(options.threads, results.size()));
+  states[0].detector = std::move(first_detector);
+  ParallelFor(results.size(), options.threads, [&](int worker, size_t k) {
+    WorkerState& state = states[worker];
+    if (!state.detector) state.detector = FrameDetector::Create(grids, options.detection, nullptr);
+    GrayImage& image = state.image;
+    std::vector<BoardView>& views = state.views;
+    std::vector<std::pair<size_t, Eigen::Vector2d>>& reported_errors = state.reported_errors;
+    {
       FrameResult& r = results[k];
       reported_errors.clear();
       const double t = source->breakpoints_[k];
-      if (!renderer->Render(t, trial_seed, static_cast<int>(k), &image, &views, &r.error)) continue;
+      if (!renderer->Render(t, trial_seed, static_cast<int>(k), &image, &views, &r.error)) return;
       const CameraIntrinsics intrinsics = scene.IntrinsicsAt(t);
       for (const std::vector<bool>& grid :
            TagsInView(intrinsics, views, image.width, image.height)) {
@@ -291,7 +300,7 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
       const Rigid3 parent_from_points = scene.ParentFromPoints(t);
       const Rigid3 cam_from_points = scene.CamFromParentAt(t) * parent_from_points;
       r.frame.time_s = t;
-      for (const Observation& o : detector->Detect(image, &r.counts)) {
+      for (const Observation& o : state.detector->Detect(image, &r.counts)) {
         r.frame.point_ids.push_back(o.point_id);
         r.frame.points_in_parent.push_back(parent_from_points * scene.points[o.point_id]);
         r.frame.pixels.push_back(o.pixel);
@@ -313,16 +322,7 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
       }
       KeepErrorPart(options, grid_of_point, reported_errors, &r.frame);
     }
-  };
-  int threads =
-      options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
-  threads = std::clamp(threads, 1, static_cast<int>(std::max<size_t>(1, results.size())));
-  std::vector<std::thread> pool;
-  for (int i = 1; i < threads; ++i) {
-    pool.emplace_back(worker, FrameDetector::Create(grids, options.detection, nullptr));
-  }
-  worker(std::move(first_detector));
-  for (std::thread& t : pool) t.join();
+  });
 
   DetectionStatsAccumulator stats;
   for (FrameResult& r : results) {

@@ -1,16 +1,15 @@
 #include "bench/app/corner_bias_cmd.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
-#include <thread>
 #include <vector>
 
 #include "bench/run/csv.h"
 #include "core/format.h"
 #include "detect/corner_bias.h"
+#include "util/parallel_for.h"
 
 namespace calibench {
 
@@ -27,16 +26,9 @@ int CornerBias(const CornerBiasArgs& args) {
   }
   const std::vector<CornerBiasCase> cases = DefaultCornerBiasCases();
   std::vector<CornerBiasResult> results(cases.size());
-  std::atomic<size_t> next{0};
-  std::vector<std::thread> workers;
-  workers.reserve(args.threads);
-  for (int t = 0; t < args.threads; ++t) {
-    workers.emplace_back([&] {
-      for (size_t i = next++; i < cases.size(); i = next++)
-        results[i] = MeasureCornerBias(cases[i], static_cast<int>(i), options);
-    });
-  }
-  for (std::thread& w : workers) w.join();
+  ParallelFor(cases.size(), args.threads, [&](int /*worker*/, size_t i) {
+    results[i] = MeasureCornerBias(cases[i], static_cast<int>(i), options);
+  });
   auto num = [](double v) { return FormatNumber(v, 10); };
   std::string csv = CsvLine({"case",
                              "lens",

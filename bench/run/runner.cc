@@ -9,10 +9,10 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <thread>
 #include <type_traits>
 
 #include "batch/zhang.h"
+#include "util/parallel_for.h"
 
 namespace calibench {
 
@@ -48,53 +48,42 @@ void RunTasksInOrder(
     const std::vector<TrialTask>& tasks, const TaskRunOptions& options,
     const std::function<bool(size_t position, std::vector<RunRow>&& rows)>& commit) {
   if (tasks.empty()) return;
-  int threads =
-      options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
-  threads = std::max(1, std::min<int>(threads, static_cast<int>(tasks.size())));
+  const int threads = ParallelWorkers(options.threads, tasks.size());
+  // Tasks start in order; task k waits until fewer than `window` tasks before it are still
+  // uncommitted (memory stays bounded), and rows are committed in task order.
   const size_t window = options.max_buffered_tasks > 0
                             ? static_cast<size_t>(options.max_buffered_tasks)
                             : 4 * static_cast<size_t>(threads);
   std::vector<ScenarioShared> shared(scenarios.size());
   std::mutex mutex;
   std::condition_variable cv;
-  size_t next_task = 0, next_commit = 0;
+  size_t next_commit = 0;
   std::map<size_t, std::vector<RunRow>> ready;
   bool stop = false;
-  auto worker = [&] {
-    while (true) {
-      size_t k;
-      {
-        std::unique_lock<std::mutex> lock(mutex);
-        cv.wait(lock, [&] {
-          return stop || next_task >= tasks.size() || next_task < next_commit + window;
-        });
-        if (stop || next_task >= tasks.size()) return;
-        k = next_task++;
-      }
-      const TrialTask& task = tasks[k];
-      const std::vector<int>& group = groups[task.group];
-      std::vector<const ScenarioConfig*> members;
-      members.reserve(group.size());
-      for (int i : group) members.push_back(&scenarios[i]);
-      GroupTrialOptions trial_options;
-      trial_options.record_curve = task.trial < options.curve_trials;
-      std::vector<RunRow> rows =
-          RunGroupTrial(members, task.trial, &shared[group[0]], trial_options);
-      std::lock_guard<std::mutex> lock(mutex);
-      ready.emplace(k, std::move(rows));
-      while (!stop && !ready.empty() && ready.begin()->first == next_commit) {
-        stop = !commit(next_commit, std::move(ready.begin()->second));
-        ready.erase(ready.begin());
-        ++next_commit;
-      }
-      cv.notify_all();
-    }
-  };
   UseSequentialOpenCv();  // Before the workers start.
-  std::vector<std::thread> pool;
-  pool.reserve(threads);
-  for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
-  for (std::thread& t : pool) t.join();
+  ParallelFor(tasks.size(), threads, [&](int /*worker*/, size_t k) {
+    {
+      std::unique_lock<std::mutex> lock(mutex);
+      cv.wait(lock, [&] { return stop || k < next_commit + window; });
+      if (stop) return;
+    }
+    const TrialTask& task = tasks[k];
+    const std::vector<int>& group = groups[task.group];
+    std::vector<const ScenarioConfig*> members;
+    members.reserve(group.size());
+    for (int i : group) members.push_back(&scenarios[i]);
+    GroupTrialOptions trial_options;
+    trial_options.record_curve = task.trial < options.curve_trials;
+    std::vector<RunRow> rows = RunGroupTrial(members, task.trial, &shared[group[0]], trial_options);
+    std::lock_guard<std::mutex> lock(mutex);
+    ready.emplace(k, std::move(rows));
+    while (!stop && !ready.empty() && ready.begin()->first == next_commit) {
+      stop = !commit(next_commit, std::move(ready.begin()->second));
+      ready.erase(ready.begin());
+      ++next_commit;
+    }
+    cv.notify_all();
+  });
 }
 
 std::vector<RunRow> RunScenarios(const std::vector<ScenarioConfig>& scenarios,
