@@ -15,10 +15,17 @@ TARGET_STYLE = dict(color="k", ls=":", lw=1)
 
 
 class Palette:
-    """A colour per method, in the order the methods first appear in the run (read-only)."""
+    """A colour per method, in the order the methods first appear in the runs (read-only)."""
 
     def __init__(self, methods):
-        self._colours = {m: f"C{i % 10}" for i, m in enumerate(dict.fromkeys(methods))}
+        methods = list(dict.fromkeys(methods))
+        if len(methods) <= 10:  # matplotlib's default cycle.
+            colours = [f"C{i}" for i in range(len(methods))]
+        else:  # tab20, its dark shades first: up to 20 distinct colours, then they repeat.
+            cmap = matplotlib.colormaps["tab20"]
+            order = list(range(0, 20, 2)) + list(range(1, 20, 2))
+            colours = [cmap(order[i % 20]) for i in range(len(methods))]
+        self._colours = dict(zip(methods, colours))
 
     def __getitem__(self, method):
         return self._colours.get(method, "0.4")
