@@ -85,20 +85,25 @@
 //      ToString(), slots in Params()/FromParams()/ParamNames() (Check() refuses the coefficients
 //      a family lacks from ParamNames()), field ranges in Check(), a camera type with Project<T>
 //      and its case in ProjectLens<T>, its inverse in UnprojectToRay() (UndistortNormalized and
-//      UnprojectPixel follow), its meaning of DistortionIsMonotoneAt(); a model (step 1); a test
-//      file (an independent projection, Jet derivatives, round trips, the region's edge).
+//      UnprojectPixel follow), its meaning of DistortionIsMonotoneAt() and ...Along(); a model
+//      (step 1); a test file (an independent projection, Jet derivatives, round trips, the
+//      region's edge).
 //      -Wswitch warns (the tree has no -Werror) at every switch over LensFamily or LensModel
 //      without the new case; the if-chains below do not warn.
 //   3. Each place outside camera.{h,cc} that supports only some families takes the new one or
-//      refuses it with a message (unified, eucm, double-sphere: refused at the first four):
-//      core/render.cc FrameRenderer::Create (rays through the plane z = 1);
+//      refuses it with a message (unified, eucm, double-sphere: drawn by the renderer, refused by
+//      the next three):
+//      core/render.cc RaySpaceOf (how its ray table holds the family's rays: on the plane z = 1,
+//      or stereographic past 90 deg; the omnidirectional families are drawn);
 //      batch/zhang.cc CalibrateZhang (calibrateCamera flags, or cv::fisheye);
 //      batch/refine.cc RefineOptions::Check (the Jet residual serves any family; bounds do not);
 //      bench/config/camera_io.cc WriteCameraFile and the readers (opencv, kalibr, mrcal names);
 //      bench/config/config_camera.cc (lens_family names; refuses others) and config_write.cc;
 //      bench/app/image_points.cc (curved tag edges) and calibrate.cc (equidistant focal scan).
-//   The three omnidirectional families, refused outside core: 9 files (camera.h, camera.cc, its
-//   test, its CMakeLists, camera_test.cc, and the refusals in render, zhang, refine, camera_io).
+//   The three omnidirectional families took 9 files (camera.h, camera.cc, its test, its CMakeLists,
+//   camera_test.cc, and refusals in render, zhang, refine, camera_io); the renderer then took
+//   them (RaySpaceOf). Code that goes through UnprojectToRay and ProjectPoint only (the
+//   photometric fit's tangent plane, the frame detector's square painting) needs no case.
 #pragma once
 
 #include <Eigen/Core>
@@ -147,6 +152,9 @@ struct CameraIntrinsics {
   // theta; the omnidirectional families: inside the valid region, and unified's radtan does not
   // fold at the sphere image's radius). Beyond the first r where it fails, the image folds over.
   bool DistortionIsMonotoneAt(double r2) const;
+  // The same for any point, past 90 deg too: false outside the family's valid region (radtan and
+  // equidistant: Z <= 0), else DistortionIsMonotoneAt's test at the point's direction.
+  bool DistortionIsMonotoneAlong(const Eigen::Vector3d& point_in_cam) const;
 
   // The 3x3 matrix A above (distortion is not part of it).
   Eigen::Matrix3d Matrix() const;
@@ -347,6 +355,10 @@ bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& poi
 // (header comment). False where no ray projects there (past the valid region or a fold-over) or
 // an iteration does not converge; never a ray outside the region.
 bool UnprojectToRay(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& pixel,
+                    Eigen::Vector3d* ray_in_cam);
+// UnprojectToRay from the normalised image point `distorted` = A^-1 (u, v, 1), before A: for
+// callers that unproject many pixels with A^-1 at hand (UnprojectToRay inverts A at each call).
+bool RayOfDistorted(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& distorted,
                     Eigen::Vector3d* ray_in_cam);
 
 // Undistorts normalised coordinates: the (x, y) = (X/Z, Y/Z) whose projection before A is
