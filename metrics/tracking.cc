@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
+#include "metrics/metric_table.h"
 #include "metrics/metrics.h"
 
 namespace calibench {
@@ -26,16 +28,68 @@ double Nees(const Eigen::VectorXd& e, const Eigen::MatrixXd& p) {
 
 }  // namespace
 
+namespace {
+
+// The tracked entries of the metric table, by their index (a table that does not cover every
+// index once is a programmer error).
+const std::array<const MetricSpec*, kTrackQuantities>& TrackedSpecs() {
+  static const std::array<const MetricSpec*, kTrackQuantities> specs = [] {
+    std::array<const MetricSpec*, kTrackQuantities> s{};
+    for (const MetricSpec& m : MetricTable()) {
+      if (m.track < 0) continue;
+      if (m.track >= kTrackQuantities || s[m.track] != nullptr) {
+        throw std::logic_error(std::string("metric table: bad track index of ") + m.name);
+      }
+      s[m.track] = &m;
+    }
+    for (const MetricSpec* m : s) {
+      if (m == nullptr) throw std::logic_error("metric table: a track index is not covered");
+    }
+    return s;
+  }();
+  return specs;
+}
+
+int TrackIndex(Metric m) { return Spec(m).track; }
+
+}  // namespace
+
 const std::array<const char*, kTrackQuantities>& TrackQuantityNames() {
-  static const std::array<const char*, kTrackQuantities> names = {
-      "roll_deg", "pitch_deg", "yaw_deg", "fku_px", "fkv_px", "u0_px", "v0_px"};
+  static const std::array<const char*, kTrackQuantities> names = [] {
+    std::array<const char*, kTrackQuantities> n{};
+    for (int q = 0; q < kTrackQuantities; ++q) n[q] = TrackedSpecs()[q]->name;
+    return n;
+  }();
   return names;
+}
+
+bool TrackQuantityIsAngle(int q) {
+  static const std::array<bool, kTrackQuantities> angle = [] {
+    std::array<bool, kTrackQuantities> a{};
+    for (int i = 0; i < kTrackQuantities; ++i) a[i] = std::string(TrackedSpecs()[i]->unit) == "deg";
+    return a;
+  }();
+  return angle.at(q);
+}
+
+TrackValues DefaultTrackTolerance() {
+  TrackValues tolerance;
+  for (int q = 0; q < kTrackQuantities; ++q) tolerance[q] = TrackQuantityIsAngle(q) ? 0.1 : 1.0;
+  return tolerance;
 }
 
 TrackValues TrackQuantitiesOf(const CameraIntrinsics& k, const Eigen::Matrix3d& r_c,
                               bool improper) {
   const Eigen::Vector3d rpy = RollPitchYawOfRc(r_c, improper);
-  return {rpy[0], rpy[1], rpy[2], k.fku_px, k.fkv_px, k.u0_px, k.v0_px};
+  TrackValues v;
+  v[TrackIndex(Metric::kRoll)] = rpy[0];
+  v[TrackIndex(Metric::kPitch)] = rpy[1];
+  v[TrackIndex(Metric::kYaw)] = rpy[2];
+  v[TrackIndex(Metric::kFku)] = k.fku_px;
+  v[TrackIndex(Metric::kFkv)] = k.fkv_px;
+  v[TrackIndex(Metric::kU0)] = k.u0_px;
+  v[TrackIndex(Metric::kV0)] = k.v0_px;
+  return v;
 }
 
 bool TrackingOptions::Check(std::string* why) const {
@@ -80,8 +134,8 @@ std::vector<TrackPoint> EstimateTrack::Sample(
     const Entry& e = entries_[next - 1];
     p.estimate = TrackQuantitiesOf(e.intrinsics, e.r_c, e.improper);
     for (int q = 0; q < kTrackQuantities; ++q) {
-      p.error[q] =
-          q < 3 ? AngleDifferenceDeg(p.estimate[q], p.truth[q]) : p.estimate[q] - p.truth[q];
+      p.error[q] = TrackQuantityIsAngle(q) ? AngleDifferenceDeg(p.estimate[q], p.truth[q])
+                                           : p.estimate[q] - p.truth[q];
     }
     if (e.covariance.rows() == CameraEstimate::kCovarianceSize) {
       const Eigen::Vector3d dtheta = LogSO3(truth.r_c * e.r_c.transpose());

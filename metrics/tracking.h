@@ -1,9 +1,10 @@
 // Tracking a calibration that changes over time (spec dynamic-calibration.md, "Measuring
 // tracking"): an estimate's trajectory against the truth at the same times, per change event.
 //
-// Quantities (TrackQuantityNames): roll, pitch, yaw of R_C in degrees (the README's Euler
-// convention, as runs.csv's rc_*; an opted-in improper R_C through -R_C), and f*ku, f*kv, u0, v0 in
-// px. Errors are estimate minus truth, angles wrapped to (-180, 180].
+// Quantities: the tracked entries of the metric table (metric_table.h, MetricSpec::track; their
+// names TrackQuantityNames): roll, pitch, yaw of R_C in degrees (the README's Euler convention, as
+// runs.csv's roll_deg, ...; an opted-in improper R_C through -R_C), and f*ku, f*kv, u0, v0 in px.
+// Errors are estimate minus truth, angles wrapped to (-180, 180].
 //
 // A method's trajectory is what it reported to EstimateSink::OnEstimate: a piecewise-constant
 // function of time (an estimate holds until the next). Sampled at report times, before its first
@@ -35,16 +36,21 @@ namespace calibench {
 
 constexpr int kTrackQuantities = 7;
 using TrackValues = std::array<double, kTrackQuantities>;
+// Their names with units, in TrackValues order, from the metric table (roll_deg, ..., v0_px).
 const std::array<const char*, kTrackQuantities>& TrackQuantityNames();
+// Whether tracked quantity q is an angle (its errors wrap to (-180, 180]).
+bool TrackQuantityIsAngle(int q);
 
 // The quantities of a camera (intrinsics and R_C).
 TrackValues TrackQuantitiesOf(const CameraIntrinsics& intrinsics, const Eigen::Matrix3d& r_c,
                               bool improper);
 
+// 0.1 deg for the angles (seed 001's target), 1 px for the intrinsics.
+TrackValues DefaultTrackTolerance();
+
 struct TrackingOptions {
-  // Re-convergence tolerance per quantity: 0.1 deg for the angles (seed 001's target), 1 px for
-  // the intrinsics.
-  TrackValues tolerance{0.1, 0.1, 0.1, 1.0, 1.0, 1.0, 1.0};
+  // Re-convergence tolerance per quantity (DefaultTrackTolerance).
+  TrackValues tolerance = DefaultTrackTolerance();
   double steady_fraction = 0.2;  // The last part of each segment that the steady error is over.
   bool Check(std::string* why) const;
 };

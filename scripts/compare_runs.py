@@ -1,12 +1,21 @@
 #!/usr/bin/python3
 """Compare the runs.csv and summary.csv of two calibench run directories.
 
-Usage: compare_runs.py REF_DIR NEW_DIR [--approx [SWEEP:]METHOD[=REL] ...] [--rel 1e-5]
+Usage: compare_runs.py REF_DIR NEW_DIR [--rename MAP] [--approx [SWEEP:]METHOD[=REL] ...]
+                       [--rel 1e-5]
 
-Every row of REF must be in NEW, in the same order, with the same bytes in every column REF has;
-NEW may append columns (after REF's last). Rows of an --approx method (or of a method within one
-sweep, SWEEP:METHOD) may differ in their last digits: numbers must agree to |a - b| <= rel *
-max(1, |a|, |b|), text exactly; rel is --rel, or the entry's own after '='. (cv::calibrateCamera is not bit-reproducible: README,
+Every row of REF must be in NEW with the same bytes in every column REF has; NEW may append
+columns (after REF's last).
+  * runs.csv: the same rows in the same order.
+  * summary.csv: each REF row is found in NEW by its (scenario, method, metric); NEW may summarise
+    metrics REF does not have (their rows are not compared), and must have every REF row once.
+--rename MAP: REF was written with older column names. MAP is a CSV file `old,new` (one renamed
+column a line; '#' starts a comment) applied to REF's header and to the values of its `metric`
+column (summary.csv names a metric by its runs.csv column) before comparing; a column not in MAP
+keeps its name.
+Rows of an --approx method (or of a method within one sweep, SWEEP:METHOD) may differ in their
+last digits: numbers must agree to |a - b| <= rel * max(1, |a|, |b|), text exactly; rel is --rel,
+or the entry's own after '='. (cv::calibrateCamera is not bit-reproducible: README,
 "Reproducibility of zhang".) Files may be gzipped (runs.csv.gz). Exit 0 when they agree, 1 with
 the differences listed otherwise.
 """
@@ -28,6 +37,30 @@ def read(directory, name):
     raise SystemExit(f"compare_runs: {directory}: no {name} (or {name}.gz)")
 
 
+def read_rename(path):
+    """{old column name: new column name} from a MAP file (see the module doc)."""
+    renamed = {}
+    with open(path, newline="") as f:
+        for k, row in enumerate(csv.reader(f), start=1):
+            if not row or row[0].lstrip().startswith("#") or row == ["old", "new"]:
+                continue
+            if len(row) != 2 or not row[0] or not row[1]:
+                raise SystemExit(f"compare_runs: {path}:{k}: expected 'old,new'")
+            renamed[row[0].strip()] = row[1].strip()
+    return renamed
+
+
+def renamed_reference(table, rename):
+    """REF's rows with its header renamed and its metric values renamed."""
+    header = [rename.get(c, c) for c in table[0]]
+    rows = [list(r) for r in table[1:]]
+    if "metric" in header:
+        m = header.index("metric")
+        for r in rows:
+            r[m] = rename.get(r[m], r[m])
+    return [header] + rows
+
+
 def number(text):
     try:
         return float(text)
@@ -35,57 +68,101 @@ def number(text):
         return None
 
 
-def compare(name, ref, new, approx, rel, problems):
-    ref_header, new_header = ref[0], new[0]
-    if new_header[: len(ref_header)] != ref_header:
-        problems.append(f"{name}: the header does not start with the reference's columns")
-        return 0
-    if len(ref) != len(new):
-        problems.append(f"{name}: {len(new) - 1} rows, the reference has {len(ref) - 1}")
-    method = ref_header.index("method")
-    sweep = ref_header.index("sweep")
-    loose = 0
-    for k, (a, b) in enumerate(zip(ref[1:], new[1:]), start=2):
-        tol = approx.get(f"{a[sweep]}:{a[method]}", approx.get(a[method]))
+class Comparison:
+    def __init__(self, approx, rel):
+        self.approx, self.rel = approx, rel
+        self.problems, self.loose = [], 0
+
+    def row(self, name, line, ref_header, a, b, columns):
+        """Compares REF row a with NEW row b (b's fields at `columns`, REF's order)."""
+        method, sweep = ref_header.index("method"), ref_header.index("sweep")
+        tol = self.approx.get(f"{a[sweep]}:{a[method]}", self.approx.get(a[method]))
         is_approx = tol is not None
-        tol = rel if tol is None or tol < 0 else tol
+        tol = self.rel if tol is None or tol < 0 else tol
         for c, column in enumerate(ref_header):
-            if a[c] == b[c]:
+            x_text, y_text = a[c], b[columns[c]]
+            if x_text == y_text:
                 continue
-            x, y = number(a[c]), number(b[c])
+            x, y = number(x_text), number(y_text)
             if is_approx and x is not None and y is not None and (
                     abs(x - y) <= tol * max(1.0, abs(x), abs(y)) or
                     (math.isnan(x) and math.isnan(y))):
-                loose += 1
+                self.loose += 1
                 continue
-            problems.append(f"{name}:{k}: {a[sweep]} {a[method]} {column}: {a[c]} -> {b[c]}")
-    return loose
+            self.problems.append(f"{name}:{line}: {a[sweep]} {a[method]} {column}: "
+                                 f"{x_text} -> {y_text}")
+
+    def positional(self, name, ref, new):
+        """runs.csv: the same rows in the same order."""
+        if len(ref) != len(new):
+            self.problems.append(f"{name}: {len(new) - 1} rows, the reference has {len(ref) - 1}")
+        columns = list(range(len(ref[0])))
+        for k, (a, b) in enumerate(zip(ref[1:], new[1:]), start=2):
+            self.row(name, k, ref[0], a, b, columns)
+
+    def keyed(self, name, ref, new, key=("scenario", "method", "metric")):
+        """summary.csv: each REF row found in NEW by its key; NEW's other metrics ignored."""
+        ref_key = [ref[0].index(k) for k in key]
+        new_key = [new[0].index(k) for k in key]
+        found = {}
+        for k, b in enumerate(new[1:], start=2):
+            found.setdefault(tuple(b[i] for i in new_key), []).append((k, b))
+        columns = list(range(len(ref[0])))
+        for a in ref[1:]:
+            rows = found.get(tuple(a[i] for i in ref_key), [])
+            if len(rows) != 1:
+                self.problems.append(f"{name}: {len(rows)} rows for "
+                                     f"{', '.join(a[i] for i in ref_key)} (1 expected)")
+                continue
+            line, b = rows[0]
+            self.row(name, line, ref[0], a, b, columns)
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("ref")
     parser.add_argument("new")
+    parser.add_argument("--rename", help="CSV file old,new of the columns renamed since REF")
     parser.add_argument("--approx", action="append", default=[])
     parser.add_argument("--rel", type=float, default=1e-5)
     args = parser.parse_args()
-    problems = []
     approx = {}  # [SWEEP:]METHOD -> its tolerance, -1: --rel.
     for entry in args.approx:
         key, _, tol = entry.partition("=")
         approx[key] = float(tol) if tol else -1.0
+    rename = read_rename(args.rename) if args.rename else {}
+    comparison = Comparison(approx, args.rel)
     for name in ("runs.csv", "summary.csv"):
-        ref, new = read(args.ref, name), read(args.new, name)
-        loose = compare(name, ref, new, approx, args.rel, problems)
-        print(f"compare_runs: {name}: {len(ref) - 1} reference rows; {loose} fields of "
-              f"{', '.join(args.approx) or 'no method'} within {args.rel:g} relative (or their own), every "
-              f"other "
-              f"field identical" if not problems else f"compare_runs: {name}: checked")
-    for p in problems[:50]:
+        ref = renamed_reference(read(args.ref, name), rename)
+        new = read(args.new, name)
+        before = len(comparison.problems)
+        loose_before = comparison.loose
+        if new[0][: len(ref[0])] != ref[0]:
+            missing = [c for c in ref[0] if c not in new[0]]
+            comparison.problems.append(
+                f"{name}: the header does not start with the reference's columns"
+                + (f" (missing: {', '.join(missing)})" if missing else ""))
+        elif name == "runs.csv":
+            comparison.positional(name, ref, new)
+        else:
+            comparison.keyed(name, ref, new)
+        original = read(args.ref, name)
+        renamed = sum(1 for c in original[0] if c in rename)
+        if "metric" in original[0]:
+            m = original[0].index("metric")
+            renamed += len({r[m] for r in original[1:] if r[m] in rename})
+        if len(comparison.problems) == before:
+            print(f"compare_runs: {name}: {len(ref) - 1} reference rows, {len(ref[0])} columns "
+                  f"({renamed} names renamed); {comparison.loose - loose_before} fields of "
+                  f"{', '.join(args.approx) or 'no method'} within {args.rel:g} relative (or "
+                  "their own), every other field identical")
+        else:
+            print(f"compare_runs: {name}: checked")
+    for p in comparison.problems[:50]:
         print("  " + p)
-    if len(problems) > 50:
-        print(f"  ... {len(problems) - 50} more")
-    return 1 if problems else 0
+    if len(comparison.problems) > 50:
+        print(f"  ... {len(comparison.problems) - 50} more")
+    return 1 if comparison.problems else 0
 
 
 if __name__ == "__main__":

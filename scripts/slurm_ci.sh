@@ -5,9 +5,9 @@
 # slurmctld and slurmd on this host (configuration, state, spool, logs and pid files all under one
 # temporary directory; nothing in /etc is changed except a munge key created if missing), waits for
 # the node to be idle, submits the sweep as a real job array (sbatch --array=1-N --wait), requeues
-# one running task (it must resume), merges the
-# shards with `calibench merge` and compares runs.csv and summary.csv byte for byte with one
-# unsharded `calibench run` of the same config. The daemons are stopped by their own pids on exit,
+# one running task (it must resume), merges the shards with `calibench merge` and compares
+# runs.csv, summary.csv and schema.json byte for byte with one unsharded `calibench run` of the
+# same config. The daemons are stopped by their own pids on exit,
 # failure or interrupt. Every wait is bounded: a daemon that does not come up fails the script with
 # the tail of its log.
 #
@@ -304,9 +304,10 @@ fi
 
 # --- Merge and compare. ---
 "$calibench" merge "$work"/array/shard-*-of-"$tasks" --out "$work/merged"
-for f in runs.csv summary.csv; do
+for f in runs.csv summary.csv schema.json; do
   cmp "$work/whole/$f" "$work/merged/$f" ||
     die "$f of the merged shards differs from the unsharded run"
 done
-say "PASS: $tasks Slurm array tasks merged equal the unsharded run (runs.csv, summary.csv;" \
+say "PASS: $tasks Slurm array tasks merged equal the unsharded run (runs.csv, summary.csv," \
+  "schema.json;" \
   "$(($(wc -l <"$work/merged/runs.csv") - 1)) rows), $((SECONDS - t0)) s in all"

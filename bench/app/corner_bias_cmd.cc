@@ -58,7 +58,7 @@ int CornerBias(const CornerBiasArgs& args) {
                              "refused",
                              "black_area_px2",
                              "rendered_black_area_px2",
-                             "us_per_tag",
+                             "wall_per_tag_us",
                              "status"});
   // The largest |radial bias| of a corner: edge fit, and the photometric fit that fits the case
   // (lens-aware with a lens).

@@ -107,18 +107,24 @@ int Merge(const std::vector<std::string>& dirs, const std::string& out_dir) {
   return 0;
 }
 
-// The report is a Python script (matplotlib, scipy, pandas): found beside the sources, or at
-// $CALIBENCH_REPORT_SCRIPT.
+// The report is a Python package (python/calibench_report: pandas, scipy, statsmodels,
+// matplotlib), run as /usr/bin/python3 -m calibench_report with its directory put first on
+// PYTHONPATH: the one beside the sources, or $CALIBENCH_REPORT_PYTHONPATH.
 int Report(const std::vector<std::string>& dirs, const std::string& out_dir) {
-  const char* env = std::getenv("CALIBENCH_REPORT_SCRIPT");
-  const std::string script =
-      env != nullptr ? env : std::string(CALIBENCH_SOURCE_DIR) + "/scripts/report.py";
-  if (!std::filesystem::exists(script)) {
-    std::cerr << "calibench: report: " << script
-              << ": not found (set CALIBENCH_REPORT_SCRIPT to scripts/report.py)\n";
+  const char* env = std::getenv("CALIBENCH_REPORT_PYTHONPATH");
+  const std::string package_dir =
+      env != nullptr ? env : std::string(CALIBENCH_SOURCE_DIR) + "/python";
+  if (!std::filesystem::exists(package_dir + "/calibench_report/__main__.py")) {
+    std::cerr << "calibench: report: " << package_dir
+              << "/calibench_report: not found (set CALIBENCH_REPORT_PYTHONPATH to the directory "
+                 "that holds calibench_report)\n";
     return 2;
   }
-  std::vector<std::string> argv = {"/usr/bin/python3", script, "--out", out_dir};
+  const char* python_path = std::getenv("PYTHONPATH");
+  const std::string path =
+      package_dir + (python_path != nullptr && *python_path ? ":" + std::string(python_path) : "");
+  ::setenv("PYTHONPATH", path.c_str(), 1);
+  std::vector<std::string> argv = {"/usr/bin/python3", "-m", "calibench_report", "--out", out_dir};
   argv.insert(argv.end(), dirs.begin(), dirs.end());
   std::vector<char*> c_argv;
   for (std::string& a : argv) c_argv.push_back(a.data());

@@ -257,7 +257,7 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
   r.CheckKeys(node, field,
               {"name", "description", "case", "duration_s", "seed", "paired_sweep", "trials",
                "truth", "image_size", "points", "motion", "measurements", "noise", "rendering",
-               "methods", "tracking", "reference", "sweep_point"});
+               "methods", "tracking", "reference", "sweep_point", "report"});
   r.If(node, "image_size", field, [&](auto n, auto f) {
     if (!n.IsSequence() || n.size() != 2) r.Fail(n, f, "expected [width, height]");
     s->image_width = r.Int(n[0], f + "[0]");
@@ -341,6 +341,10 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
        [&](auto n, auto f) { config_internal::ParseRendering(r, n, f, &s->rendering); });
   r.If(node, "methods", field, [&](auto n, auto f) { config_internal::ParseMethods(r, n, f, s); });
   r.If(node, "reference", field, [&](auto n, auto f) { ParseReference(r, n, f, &s->reference); });
+  r.If(node, "report", field, [&](auto n, auto f) {
+    r.CheckKeys(n, f, {"role"});
+    r.If(n, "role", f, [&](auto m, auto g) { s->report.role = r.Choice(m, g, ReportRoles()); });
+  });
   r.If(node, "sweep_point", field, [&](auto n, auto f) {  // Written by ResolvedYaml.
     r.CheckKeys(n, f, {"sweep", "index", "measurement_index", "params"});
     SweepPoint& p = s->sweep_point;

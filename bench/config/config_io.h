@@ -45,6 +45,7 @@
 //                             views (frames: every frame, rig constraint; init: the init's own
 //                             per-view problem, e.g. zhang's views)
 //     reference: {source, method, fku_px, fkv_px, phi_deg, u0_px, v0_px, x_C, theta_err_below}
+//     report: {role: noise | points | gain | dynamic}   # the report's question these rows answer
 //
 // `base:` loads another scenario file first; this file's fields then override it (a `points`,
 // `motion` or `reference` section replaces the base's as a whole; a `methods:` list replaces the

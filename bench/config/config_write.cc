@@ -203,6 +203,10 @@ void EmitScenario(YAML::Emitter& out, const ScenarioConfig& s) {
     }
     out << YAML::EndMap;
   }
+  if (!s.report.role.empty()) {
+    out << YAML::Key << "report" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+        << "role" << YAML::Value << s.report.role << YAML::EndMap;
+  }
   const SweepPoint& p = s.sweep_point;
   if (p.measurement_index >= 0) {
     out << YAML::Key << "sweep_point" << YAML::Value << YAML::BeginMap;

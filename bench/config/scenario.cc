@@ -259,6 +259,11 @@ bool SameValue(double a, double b) { return a == b || (std::isnan(a) && std::isn
 
 }  // namespace
 
+const std::vector<std::string>& ReportRoles() {
+  static const std::vector<std::string> roles = {"noise", "points", "gain", "dynamic"};
+  return roles;
+}
+
 bool operator==(const Reference& a, const Reference& b) {
   bool x_c = true;
   for (int i = 0; i < 3; ++i) x_c = x_c && SameValue(a.x_c[i], b.x_c[i]);
@@ -292,7 +297,8 @@ bool operator==(const ScenarioConfig& a, const ScenarioConfig& b) {
          a.motion_random_phase == b.motion_random_phase && a.detections == b.detections &&
          a.outside_image == b.outside_image && SameOracle(a.measurements, b.measurements) &&
          SameRendering(a.rendering, b.rendering) && a.methods == b.methods &&
-         a.reference == b.reference && a.sweep_point == b.sweep_point;
+         a.reference == b.reference && a.sweep_point == b.sweep_point &&
+         a.report.role == b.report.role;
 }
 
 }  // namespace calibench

@@ -67,6 +67,15 @@ struct TrackingConfig {
   bool Check(std::string* why) const;
 };
 
+// report: {role}: the question of the report a scenario's rows answer (the report finds each
+// sweep's role in schema.json instead of matching its name).
+struct ReportConfig {
+  std::string role;  // One of ReportRoles(), or empty: no question of its own.
+};
+// noise (error against pixel noise), points (against the number of points), gain (against an
+// adaptive gain), dynamic (a calibration that changes).
+const std::vector<std::string>& ReportRoles();
+
 struct ScenarioConfig {
   std::string name;
   std::string description;
@@ -112,6 +121,7 @@ struct ScenarioConfig {
   std::vector<MethodInstance> methods = DefaultMethods();
   Reference reference;
   SweepPoint sweep_point;
+  ReportConfig report;
 
   // paired_sweep: every sweep point runs the same trials (seeds) as the unswept scenario, so
   // its rows pair trial by trial with the other points' (a diagnostic that changes one thing at a

@@ -16,6 +16,7 @@
 
 #include "bench/run/csv.h"
 #include "bench/run/runner.h"
+#include "bench/run/schema.h"
 #include "bench/run/summary.h"
 #include "bench/run/table.h"
 
@@ -222,8 +223,9 @@ bool TruncatePartial(const std::string& partial, const std::string& index_header
   return !ec;
 }
 
-// summary.csv and table.md from the partial runs.csv, then every file moves into `dir` (tasks.idx
-// last). Idempotent: a finalisation cut short by a kill completes on --resume.
+// summary.csv and table.md from the partial runs.csv, schema.json from the configuration, then
+// every file moves into `dir` (tasks.idx last). Idempotent: a finalisation cut short by a kill
+// completes on --resume.
 bool Finalize(const RunConfig& config, const std::string& dir, std::string* why) {
   const std::string partial = dir + "/" + kPartial;
   if (fs::exists(partial + "/runs.csv")) {
@@ -254,6 +256,7 @@ bool Finalize(const RunConfig& config, const std::string& dir, std::string* why)
     }
     const std::string table = scenarios.empty() ? "" : ThesisTable(scenarios, rows);
     if (!WriteFileAtomically(partial + "/table.md", table, why)) return false;
+    if (!WriteFileAtomically(partial + "/schema.json", SchemaJson(config), why)) return false;
     std::string bands;
     if (!SummarizeTrackErrors(partial + "/track_errors.csv", &bands, why) ||
         !WriteFileAtomically(partial + "/track_bands.csv", bands, why)) {
@@ -262,7 +265,7 @@ bool Finalize(const RunConfig& config, const std::string& dir, std::string* why)
   }
   for (const char* name :
        {"runs.csv", "timings.csv", "curves.csv", "events.csv", "tracks.csv", "track_errors.csv",
-        "summary.csv", "track_bands.csv", "table.md", "tasks.idx"}) {
+        "summary.csv", "track_bands.csv", "table.md", "schema.json", "tasks.idx"}) {
     const std::string from = partial + "/" + name;
     if (!fs::exists(from)) continue;
     if (std::rename(from.c_str(), (dir + "/" + name).c_str()) != 0) {

@@ -9,8 +9,10 @@
 //   curves.csv             ||theta~||(t) of the adaptive runs of the first trials;
 //   tasks.idx              "# calibench tasks: shard K/N of T", then per finished task
 //                          "TASK RUNS_END TIMINGS_END CURVES_END" (byte offsets; TASK -1: headers);
+//   events.csv, tracks.csv, track_errors.csv, track_bands.csv   tracking (run_row.h, summary.h);
 //   summary.csv            summary.h, computed from runs.csv;
-//   table.md               the thesis table of the scenarios that are not sweep points.
+//   table.md               the thesis table of the scenarios that are not sweep points;
+//   schema.json            what every file's columns hold and each sweep's role (schema.h).
 // While running, the first four are appended to in DIR/run.partial/, a task's blocks first and its
 // tasks.idx line last, each flushed to the kernel: after a kill, the last complete tasks.idx line
 // says which bytes are whole, and --resume truncates the rest and continues from the next task.

@@ -3,19 +3,24 @@
 #include <algorithm>
 #include <cstdlib>
 #include <functional>
+#include <stdexcept>
 #include <type_traits>
 
 #include "bench/run/csv.h"
 #include "core/format.h"
+#include "metrics/metric_table.h"
 
 namespace calibench {
 namespace {
 
-// One runs.csv column: its name, how to write it and how to read it back.
+// One runs.csv column: its name, unit and doc (the metric table's for a quantity), how to write it
+// and how to read it back; for a quantity's column, which one it is.
 struct Column {
-  std::string name;
+  ColumnInfo info;
   std::function<std::string(const RunRow&)> get;
   std::function<bool(const std::string&, RunRow*)> set;
+  const MetricSpec* metric = nullptr;
+  MetricColumn kind = kValueColumn;
 };
 
 bool ParseDouble(const std::string& text, double* v) {
@@ -40,91 +45,144 @@ bool ParseInt(const std::string& text, Int* v) {
   return end == text.c_str() + text.size();
 }
 
-Column Num(const char* name, double RunRow::*field) {
-  return {name, [field](const RunRow& r) { return FormatNumber(r.*field); },
-          [field](const std::string& t, RunRow* r) { return ParseDouble(t, &(r->*field)); }};
-}
-template <typename Integer>
-Column Int(const char* name, Integer RunRow::*field) {
-  return {name, [field](const RunRow& r) { return std::to_string(r.*field); },
-          [field](const std::string& t, RunRow* r) { return ParseInt(t, &(r->*field)); }};
-}
-Column Text(const char* name, std::string RunRow::*field) {
-  return {name, [field](const RunRow& r) { return r.*field; },
+// A key or text column (not a quantity): its name and doc are given here.
+Column Text(const char* name, const char* doc, std::string RunRow::*field) {
+  return {{name, "", doc},
+          [field](const RunRow& r) { return r.*field; },
           [field](const std::string& t, RunRow* r) {
             r->*field = t;
             return true;
           }};
 }
+template <typename Integer>
+Column Key(const char* name, const char* doc, Integer RunRow::*field) {
+  return {{name, "", doc},
+          [field](const RunRow& r) { return std::to_string(r.*field); },
+          [field](const std::string& t, RunRow* r) { return ParseInt(t, &(r->*field)); }};
+}
 
-// The CSV schema, in order: one entry per column.
+// A column of a quantity of the metric table (its name, unit and doc come from there).
+Column Of(Metric metric, MetricColumn kind, double RunRow::*field) {
+  const MetricSpec& spec = Spec(metric);
+  return {{ColumnName(metric, kind), spec.unit, ColumnDoc(spec, kind)},
+          [field](const RunRow& r) { return FormatNumber(r.*field); },
+          [field](const std::string& t, RunRow* r) { return ParseDouble(t, &(r->*field)); },
+          &spec,
+          kind};
+}
+template <typename Integer>
+Column Count(Metric metric, Integer RunRow::*field) {
+  const MetricSpec& spec = Spec(metric);
+  return {{spec.name, spec.unit, spec.doc},
+          [field](const RunRow& r) { return std::to_string(r.*field); },
+          [field](const std::string& t, RunRow* r) { return ParseInt(t, &(r->*field)); },
+          &spec,
+          kValueColumn};
+}
+
+// Every column of the metric table that runs.csv carries is in the layout once (a programmer
+// error otherwise: the table and the layout disagree).
+void CheckAgainstTheTable(const std::vector<Column>& columns) {
+  for (const MetricSpec& spec : MetricTable()) {
+    for (MetricColumn kind : {kValueColumn, kErrorColumn, kStdColumn, kCrlbColumn}) {
+      const bool declared = (spec.columns & kind) != 0;
+      const long laid_out = std::count_if(columns.begin(), columns.end(), [&](const Column& c) {
+        return c.metric == &spec && c.kind == kind;
+      });
+      if (laid_out != (declared ? 1 : 0)) {
+        throw std::logic_error("runs.csv layout: " + std::string(spec.name) + " (column kind " +
+                               std::to_string(kind) + ") is laid out " + std::to_string(laid_out) +
+                               " times");
+      }
+    }
+  }
+}
+
+// The runs.csv layout, in file order (columns are only ever appended).
 const std::vector<Column>& Columns() {
-  static const std::vector<Column> columns = {
-      Text("scenario", &RunRow::scenario),
-      Text("sweep", &RunRow::sweep),
-      Int("point", &RunRow::point),
-      Text("params", &RunRow::params),
-      Int("n_points", &RunRow::n_points),
-      Int("trial", &RunRow::trial),
-      Int("seed", &RunRow::seed),
-      Text("method", &RunRow::method),
-      Text("status", &RunRow::status),
-      Num("fku", &RunRow::fku),
-      Num("fkv", &RunRow::fkv),
-      Num("phi_deg", &RunRow::phi_deg),
-      Num("u0", &RunRow::u0),
-      Num("v0", &RunRow::v0),
-      Num("rc_roll_deg", &RunRow::rc_roll_deg),
-      Num("rc_pitch_deg", &RunRow::rc_pitch_deg),
-      Num("rc_yaw_deg", &RunRow::rc_yaw_deg),
-      Num("xc_x", &RunRow::xc_x),
-      Num("xc_y", &RunRow::xc_y),
-      Num("xc_z", &RunRow::xc_z),
-      Num("err_fku", &RunRow::err_fku),
-      Num("err_fkv", &RunRow::err_fkv),
-      Num("err_phi_deg", &RunRow::err_phi_deg),
-      Num("err_u0", &RunRow::err_u0),
-      Num("err_v0", &RunRow::err_v0),
-      Num("rot_err_deg", &RunRow::rot_err_deg),
-      Num("err_xc_norm", &RunRow::err_xc_norm),
-      Num("theta_err_norm", &RunRow::theta_err_norm),
-      Num("rms_reproj_px", &RunRow::rms_reproj_px),
-      Num("converge_time_s", &RunRow::converge_time_s),
-      Num("pe_min_eig", &RunRow::pe_min_eig),
-      Num("ortho_defect", &RunRow::ortho_defect),
-      Num("std_fku", &RunRow::std_fku),
-      Num("std_fkv", &RunRow::std_fkv),
-      Num("std_phi_deg", &RunRow::std_phi_deg),
-      Num("std_u0", &RunRow::std_u0),
-      Num("std_v0", &RunRow::std_v0),
-      Num("crlb_fku", &RunRow::crlb_fku),
-      Num("crlb_fkv", &RunRow::crlb_fkv),
-      Num("crlb_phi_deg", &RunRow::crlb_phi_deg),
-      Num("crlb_u0", &RunRow::crlb_u0),
-      Num("crlb_v0", &RunRow::crlb_v0),
-      Int("improper", &RunRow::improper),
-      Int("steps", &RunRow::steps),
-      Num("detect_rate", &RunRow::detect_rate),
-      Num("corner_rms_px", &RunRow::corner_rms_px),
-      Int("frames_no_detection", &RunRow::frames_no_detection),
-      Text("message", &RunRow::message),
-      Num("err_roll_deg", &RunRow::err_roll_deg),
-      Num("err_pitch_deg", &RunRow::err_pitch_deg),
-      Num("err_yaw_deg", &RunRow::err_yaw_deg),
-      Int("n_frames_used", &RunRow::n_frames_used),
-      Int("n_obs_used", &RunRow::n_obs_used),
-      Num("corner_radial_bias_px", &RunRow::corner_radial_bias_px),
-      Num("corner_crlb_px", &RunRow::corner_crlb_px),
-  };
+  using M = Metric;
+  static const std::vector<Column> columns = [] {
+    std::vector<Column> c = {
+        Text("scenario", "scenario name; a sweep point is NAME[field=value,...]",
+             &RunRow::scenario),
+        Text("sweep", "the swept scenario's name (the scenario's own when not swept)",
+             &RunRow::sweep),
+        Key("point", "position of the sweep point in the sweep's product", &RunRow::point),
+        Text("params", "the sweep point's field=value;... (empty when not swept)", &RunRow::params),
+        Key("n_points", "feature points of the scenario (all boards' corners)", &RunRow::n_points),
+        Key("trial", "Monte Carlo trial", &RunRow::trial),
+        Key("seed", "the trial's seed (rows with equal seeds saw the same measurements)",
+            &RunRow::seed),
+        Text("method", "the method instance", &RunRow::method),
+        Text("status", "ok | diverged | failed", &RunRow::status),
+        Of(M::kFku, kValueColumn, &RunRow::fku_px),
+        Of(M::kFkv, kValueColumn, &RunRow::fkv_px),
+        Of(M::kPhi, kValueColumn, &RunRow::phi_deg),
+        Of(M::kU0, kValueColumn, &RunRow::u0_px),
+        Of(M::kV0, kValueColumn, &RunRow::v0_px),
+        Of(M::kRoll, kValueColumn, &RunRow::roll_deg),
+        Of(M::kPitch, kValueColumn, &RunRow::pitch_deg),
+        Of(M::kYaw, kValueColumn, &RunRow::yaw_deg),
+        Of(M::kXcX, kValueColumn, &RunRow::xc_x_m),
+        Of(M::kXcY, kValueColumn, &RunRow::xc_y_m),
+        Of(M::kXcZ, kValueColumn, &RunRow::xc_z_m),
+        Of(M::kFku, kErrorColumn, &RunRow::err_fku_px),
+        Of(M::kFkv, kErrorColumn, &RunRow::err_fkv_px),
+        Of(M::kPhi, kErrorColumn, &RunRow::err_phi_deg),
+        Of(M::kU0, kErrorColumn, &RunRow::err_u0_px),
+        Of(M::kV0, kErrorColumn, &RunRow::err_v0_px),
+        Of(M::kRotErr, kValueColumn, &RunRow::rot_err_deg),
+        Of(M::kXcErr, kValueColumn, &RunRow::xc_err_m),
+        Of(M::kThetaErr, kValueColumn, &RunRow::theta_err_norm),
+        Of(M::kRmsReproj, kValueColumn, &RunRow::rms_reproj_px),
+        Of(M::kConvergeTime, kValueColumn, &RunRow::converge_time_s),
+        Of(M::kPeMinEig, kValueColumn, &RunRow::pe_min_eig),
+        Of(M::kOrthoDefect, kValueColumn, &RunRow::ortho_defect),
+        Of(M::kFku, kStdColumn, &RunRow::std_fku_px),
+        Of(M::kFkv, kStdColumn, &RunRow::std_fkv_px),
+        Of(M::kPhi, kStdColumn, &RunRow::std_phi_deg),
+        Of(M::kU0, kStdColumn, &RunRow::std_u0_px),
+        Of(M::kV0, kStdColumn, &RunRow::std_v0_px),
+        Of(M::kFku, kCrlbColumn, &RunRow::crlb_fku_px),
+        Of(M::kFkv, kCrlbColumn, &RunRow::crlb_fkv_px),
+        Of(M::kPhi, kCrlbColumn, &RunRow::crlb_phi_deg),
+        Of(M::kU0, kCrlbColumn, &RunRow::crlb_u0_px),
+        Of(M::kV0, kCrlbColumn, &RunRow::crlb_v0_px),
+        Count(M::kImproper, &RunRow::improper),
+        Count(M::kSteps, &RunRow::steps),
+        Of(M::kDetectRate, kValueColumn, &RunRow::detect_rate),
+        Of(M::kCornerRms, kValueColumn, &RunRow::corner_rms_px),
+        Count(M::kFramesNoDetection, &RunRow::frames_no_detection),
+        Text("message", "why a row failed, or a warning", &RunRow::message),
+        Of(M::kRoll, kErrorColumn, &RunRow::err_roll_deg),
+        Of(M::kPitch, kErrorColumn, &RunRow::err_pitch_deg),
+        Of(M::kYaw, kErrorColumn, &RunRow::err_yaw_deg),
+        Count(M::kFramesUsed, &RunRow::n_frames_used),
+        Count(M::kObsUsed, &RunRow::n_obs_used),
+        Of(M::kCornerRadialBias, kValueColumn, &RunRow::corner_radial_bias_px),
+        Of(M::kCornerCrlb, kValueColumn, &RunRow::corner_crlb_px),
+    };
+    CheckAgainstTheTable(c);
+    return c;
+  }();
   return columns;
 }
 
 }  // namespace
 
+const std::vector<ColumnInfo>& RunRowColumns() {
+  static const std::vector<ColumnInfo> infos = [] {
+    std::vector<ColumnInfo> out;
+    for (const Column& c : Columns()) out.push_back(c.info);
+    return out;
+  }();
+  return infos;
+}
+
 const std::vector<std::string>& RunRowHeader() {
   static const std::vector<std::string> header = [] {
     std::vector<std::string> names;
-    for (const Column& c : Columns()) names.push_back(c.name);
+    for (const Column& c : Columns()) names.push_back(c.info.name);
     return names;
   }();
   return header;
@@ -147,9 +205,9 @@ bool ParseRunRow(const std::vector<std::string>& header, const std::vector<std::
   }
   for (size_t i = 0; i < header.size(); ++i) {
     for (const Column& c : Columns()) {
-      if (c.name != header[i]) continue;
+      if (c.info.name != header[i]) continue;
       if (!c.set(fields[i], row)) {
-        if (why) *why = "column " + c.name + ": cannot read '" + fields[i] + "'";
+        if (why) *why = "column " + c.info.name + ": cannot read '" + fields[i] + "'";
         return false;
       }
     }
@@ -157,9 +215,48 @@ bool ParseRunRow(const std::vector<std::string>& header, const std::vector<std::
   return true;
 }
 
+namespace {
+
+std::vector<std::string> NamesOf(const std::vector<ColumnInfo>& columns) {
+  std::vector<std::string> names;
+  for (const ColumnInfo& c : columns) names.push_back(c.name);
+  return names;
+}
+
+// The key columns of the tracking files.
+std::vector<ColumnInfo> TrackKeyColumns() {
+  return {{"scenario", "", "scenario name"},
+          {"point", "", "sweep point"},
+          {"trial", "", "Monte Carlo trial"},
+          {"method", "", "the method instance"}};
+}
+
+}  // namespace
+
+const std::vector<ColumnInfo>& TimingColumns() {
+  static const std::vector<ColumnInfo> columns = {
+      {"scenario", "", "scenario name"},
+      {"trial", "", "Monte Carlo trial"},
+      {"method", "", "the method instance"},
+      {"wall_ms", "ms", "the method's own wall time (0 when its row was copied)"},
+      {"measure_ms", "ms", "producing the trial's measurements (render + detect), per task"},
+      {"reused", "", "1: the row was copied from an earlier point with equal settings"},
+      {"wall_per_frame_us", "us", "the method's wall time per frame of the trial"}};
+  return columns;
+}
+
+const std::vector<ColumnInfo>& CurveColumns() {
+  static const std::vector<ColumnInfo> columns = {
+      {"scenario", "", "scenario name"},
+      {"trial", "", "Monte Carlo trial"},
+      {"method", "", "the method instance"},
+      {"t_s", "s", "time"},
+      {"theta_err_norm", "", Spec(Metric::kThetaErr).doc}};
+  return columns;
+}
+
 const std::vector<std::string>& TimingHeader() {
-  static const std::vector<std::string> header = {"scenario",   "trial",  "method",      "wall_ms",
-                                                  "measure_ms", "reused", "us_per_frame"};
+  static const std::vector<std::string> header = NamesOf(TimingColumns());
   return header;
 }
 
@@ -174,28 +271,53 @@ std::vector<std::string> TimingFields(const RunRow& r) {
           FormatNumber(per_frame)};
 }
 
+const std::vector<ColumnInfo>& EventColumns() {
+  static const std::vector<ColumnInfo> columns = [] {
+    std::vector<ColumnInfo> c = TrackKeyColumns();
+    c.insert(c.end(),
+             {{"event", "", "0: the start; k: truth change k - 1"},
+              {"quantity", "",
+               "the tracked quantity, unit included (roll_deg, ..., v0_px): the unit of tol, "
+               "steady_err and peak_err"},
+              {"at_s", "s", "time of the event"},
+              {"tol", "", "re-convergence tolerance, in the quantity's unit"},
+              {"reconverge_s", "s",
+               "first time after the event from which |error| stays within tol until the next "
+               "event (NaN: never)"},
+              {"steady_err", "", "median |error| over the last steady_fraction of the segment"},
+              {"peak_err", "", "max |error| over the segment"}});
+    return c;
+  }();
+  return columns;
+}
+
 const std::vector<std::string>& EventHeader() {
-  static const std::vector<std::string> header = {"scenario",     "point",      "trial",   "method",
-                                                  "event",        "quantity",   "at_s",    "tol",
-                                                  "reconverge_s", "steady_err", "peak_err"};
+  static const std::vector<std::string> header = NamesOf(EventColumns());
   return header;
 }
 
 namespace {
 
-std::vector<std::string> TrackHeaderOf(bool estimates_and_truth) {
-  std::vector<std::string> header = {"scenario", "point", "trial", "method", "t_s"};
-  for (const char* q : TrackQuantityNames()) {
-    if (estimates_and_truth) {
-      header.push_back(std::string("est_") + q);
-      header.push_back(std::string("true_") + q);
-    } else {
-      header.push_back(std::string("err_") + q);
+std::vector<ColumnInfo> TrackColumnsOf(bool estimates_and_truth) {
+  std::vector<ColumnInfo> columns = TrackKeyColumns();
+  columns.push_back({"t_s", "s", "report time"});
+  for (int q = 0; q < kTrackQuantities; ++q) {  // In TrackValues order.
+    for (const MetricSpec& m : MetricTable()) {
+      if (m.track != q) continue;
+      const std::string name = m.name;
+      if (estimates_and_truth) {
+        columns.push_back({"est_" + name, m.unit, std::string(m.label) + ", the estimate"});
+        columns.push_back({"true_" + name, m.unit, std::string(m.label) + ", the truth"});
+      } else {
+        columns.push_back({"err_" + name, m.unit, ColumnDoc(m, kErrorColumn)});
+      }
     }
   }
-  header.push_back("nees");
-  header.push_back("nees_rotation");
-  return header;
+  columns.push_back({"nees", "",
+                     "e^T P^-1 e on [f*ku, f*kv, u0, v0, dtheta] (7 dof; NaN: no "
+                     "covariance)"});
+  columns.push_back({"nees_rotation", "", "e^T P^-1 e on dtheta (3 dof)"});
+  return columns;
 }
 
 std::vector<std::string> RowKey(const RunRow& r) {
@@ -204,13 +326,23 @@ std::vector<std::string> RowKey(const RunRow& r) {
 
 }  // namespace
 
+const std::vector<ColumnInfo>& TrackColumns() {
+  static const std::vector<ColumnInfo> columns = TrackColumnsOf(true);
+  return columns;
+}
+
+const std::vector<ColumnInfo>& TrackErrorColumns() {
+  static const std::vector<ColumnInfo> columns = TrackColumnsOf(false);
+  return columns;
+}
+
 const std::vector<std::string>& TrackHeader() {
-  static const std::vector<std::string> header = TrackHeaderOf(true);
+  static const std::vector<std::string> header = NamesOf(TrackColumns());
   return header;
 }
 
 const std::vector<std::string>& TrackErrorHeader() {
-  static const std::vector<std::string> header = TrackHeaderOf(false);
+  static const std::vector<std::string> header = NamesOf(TrackErrorColumns());
   return header;
 }
 
@@ -262,8 +394,7 @@ std::string TrackErrorLines(const RunRow& r, int band_samples) {
 }
 
 const std::vector<std::string>& CurveHeader() {
-  static const std::vector<std::string> header = {"scenario", "trial", "method", "t_s",
-                                                  "theta_err_norm"};
+  static const std::vector<std::string> header = NamesOf(CurveColumns());
   return header;
 }
 

@@ -1,6 +1,8 @@
 // The rows calibench writes: RunRow (one per scenario, trial and method instance), its runs.csv
-// schema and CSV codec, and the timings.csv and curves.csv columns. The schema is the list of
-// columns in run_row.cc, in file order; every runs.csv byte is deterministic (no timing in it).
+// layout and CSV codec, and the columns of timings.csv, curves.csv and the tracking files. The
+// layout is the list of columns in run_row.cc, in file order (columns are only ever appended); the
+// names, units and docs of the quantities are the metric table's (metrics/metric_table.h, with
+// the naming rule every column follows). Every runs.csv byte is deterministic (no timing in it).
 #pragma once
 
 #include <cstdint>
@@ -13,8 +15,9 @@
 
 namespace calibench {
 
-// One CSV row. Angles in degrees, pixels in px, lengths in the scene's unit (m). err_* are signed
-// (estimate - truth); NaN where a figure does not apply or the method failed.
+// One CSV row. Members are named as their runs.csv columns (metrics/metric_table.h has the naming
+// rule, the units and a doc of each); err_* are signed (estimate - truth); NaN where a figure does
+// not apply or the method failed.
 struct RunRow {
   std::string scenario;
   std::string sweep;  // SweepPoint::sweep, index and params.
@@ -26,11 +29,12 @@ struct RunRow {
   std::string method;
   std::string status;  // ok | diverged | failed
   std::string message;
-  double fku = kUnset, fkv = kUnset, phi_deg = kUnset, u0 = kUnset, v0 = kUnset;
-  double rc_roll_deg = kUnset, rc_pitch_deg = kUnset, rc_yaw_deg = kUnset;
-  double xc_x = kUnset, xc_y = kUnset, xc_z = kUnset;
-  double err_fku = kUnset, err_fkv = kUnset, err_phi_deg = kUnset, err_u0 = kUnset, err_v0 = kUnset;
-  double rot_err_deg = kUnset, err_xc_norm = kUnset;
+  double fku_px = kUnset, fkv_px = kUnset, phi_deg = kUnset, u0_px = kUnset, v0_px = kUnset;
+  double roll_deg = kUnset, pitch_deg = kUnset, yaw_deg = kUnset;  // Of R_C.
+  double xc_x_m = kUnset, xc_y_m = kUnset, xc_z_m = kUnset;
+  double err_fku_px = kUnset, err_fkv_px = kUnset, err_phi_deg = kUnset, err_u0_px = kUnset,
+         err_v0_px = kUnset;
+  double rot_err_deg = kUnset, xc_err_m = kUnset;
   double theta_err_norm = kUnset;
   double rms_reproj_px = kUnset;    // Per-point RMS (Euclidean), over all frames.
   double converge_time_s = kUnset;  // NaN: never stayed below the tolerance.
@@ -38,9 +42,10 @@ struct RunRow {
   double ortho_defect = kUnset;     // ||R^T R - I||_F of the recovered R before projection.
   // Reported standard deviations (ceres covariance) and the Cramer-Rao bound (sigma^2 (J^T J)^-1
   // at the truth; only with pixel noise alone, which is what it models).
-  double std_fku = kUnset, std_fkv = kUnset, std_phi_deg = kUnset, std_u0 = kUnset, std_v0 = kUnset;
-  double crlb_fku = kUnset, crlb_fkv = kUnset, crlb_phi_deg = kUnset, crlb_u0 = kUnset,
-         crlb_v0 = kUnset;
+  double std_fku_px = kUnset, std_fkv_px = kUnset, std_phi_deg = kUnset, std_u0_px = kUnset,
+         std_v0_px = kUnset;
+  double crlb_fku_px = kUnset, crlb_fkv_px = kUnset, crlb_phi_deg = kUnset, crlb_u0_px = kUnset,
+         crlb_v0_px = kUnset;
   int improper = 0;  // 1 when the recovered rotation is a reflection.
   long steps = 0;    // Integrator steps / solver iterations.
   // detections: rendered (the same for every method of a trial; NaN / -1 for oracle).
@@ -73,20 +78,30 @@ struct RunRow {
   std::vector<EventMetrics> events;
 };
 
+// A column of a file: its name, unit ("" when dimensionless) and a one-line doc (schema.json).
+struct ColumnInfo {
+  std::string name, unit, doc;
+};
+
 // runs.csv: header and fields; ParseRunRow is the inverse (false naming the bad column).
 const std::vector<std::string>& RunRowHeader();
+const std::vector<ColumnInfo>& RunRowColumns();
 std::vector<std::string> RunRowFields(const RunRow& row);
 bool ParseRunRow(const std::vector<std::string>& header, const std::vector<std::string>& fields,
                  RunRow* row, std::string* why);
-// timings.csv (scenario, trial, method, wall_ms, measure_ms, reused, us_per_frame: the method's
-// wall time per frame of the trial) and curves.csv (scenario, trial, method, t_s, theta_err_norm).
+// timings.csv (scenario, trial, method, wall_ms, measure_ms, reused, wall_per_frame_us: the
+// method's wall time per frame of the trial) and curves.csv (scenario, trial, method, t_s,
+// theta_err_norm).
 const std::vector<std::string>& TimingHeader();
 std::vector<std::string> TimingFields(const RunRow& row);
 const std::vector<std::string>& CurveHeader();
+const std::vector<ColumnInfo>& TimingColumns();
+const std::vector<ColumnInfo>& CurveColumns();
 
 // The tracking files (a scenario whose truth changes; run_dir.h):
 //   events.csv        one line per (row, event, quantity): scenario, point, trial, method, event,
-//                     quantity, at_s, reconverge_s, tol, steady_err, peak_err;
+//                     quantity, at_s, tol, reconverge_s, steady_err, peak_err (in the
+//                     quantity's unit: metric_table.h, rule 4);
 //   tracks.csv        trial 0's trajectories: scenario, point, trial, method, t_s, then per
 //                     quantity est_Q and true_Q, then nees, nees_rotation;
 //   track_errors.csv  every trial's errors at the band times (at most band_samples per trial):
@@ -95,6 +110,9 @@ const std::vector<std::string>& CurveHeader();
 const std::vector<std::string>& EventHeader();
 const std::vector<std::string>& TrackHeader();
 const std::vector<std::string>& TrackErrorHeader();
+const std::vector<ColumnInfo>& EventColumns();
+const std::vector<ColumnInfo>& TrackColumns();
+const std::vector<ColumnInfo>& TrackErrorColumns();
 std::string EventLines(const RunRow& row);
 std::string TrackLines(const RunRow& row);
 // `band_samples`: the most report times per trial (evenly thinned, always keeping the last).

@@ -8,34 +8,78 @@
 
 #include "bench/run/csv.h"
 #include "bench/run/stats.h"
+#include "metrics/metric_table.h"
 
 namespace calibench {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The crlb_* column of an err_* metric, or "" when it has none.
-std::string CrlbColumn(const std::string& metric) {
-  for (const char* name : {"fku", "fkv", "phi_deg", "u0", "v0"}) {
-    if (metric == std::string("err_") + name) return std::string("crlb_") + name;
-  }
-  return "";
-}
-
 struct Pair {
   std::string scenario, sweep, point, params, method;
   long n = 0, n_failed = 0;
   std::vector<std::vector<double>> values;  // Per metric: the ok rows' values.
   std::vector<std::vector<double>> crlb;    // Per metric: the rows' bounds (finite ones).
+  std::vector<std::vector<double>> stds;    // Per metric: the ok rows' reported stds (finite).
 };
+
+// The summarised quantities of the metric table, in its order.
+const std::vector<const MetricSpec*>& Summarised() {
+  static const std::vector<const MetricSpec*> specs = [] {
+    std::vector<const MetricSpec*> out;
+    for (const MetricSpec& m : MetricTable()) {
+      if (m.summary != Summary::kNone) out.push_back(&m);
+    }
+    return out;
+  }();
+  return specs;
+}
+
+std::vector<double> Absolute(const std::vector<double>& v) {
+  std::vector<double> out;
+  out.reserve(v.size());
+  for (double x : v) out.push_back(std::abs(x));
+  return out;
+}
 
 }  // namespace
 
 const std::vector<std::string>& SummaryMetrics() {
-  static const std::vector<std::string> metrics = {
-      "theta_err_norm", "err_fku",     "err_fkv",     "err_phi_deg",   "err_u0",
-      "err_v0",         "rot_err_deg", "err_xc_norm", "rms_reproj_px", "converge_time_s"};
+  static const std::vector<std::string> metrics = [] {
+    std::vector<std::string> out;
+    for (const MetricSpec* m : Summarised()) out.push_back(SummaryColumn(*m));
+    return out;
+  }();
   return metrics;
+}
+
+const std::vector<ColumnInfo>& SummaryColumns() {
+  static const std::vector<ColumnInfo> columns = {
+      {"scenario", "", "scenario name"},
+      {"sweep", "", "the swept scenario's name"},
+      {"point", "", "sweep point"},
+      {"params", "", "the sweep point's field=value;..."},
+      {"method", "", "the method instance"},
+      {"metric", "",
+       "the runs.csv column summarised, unit included: the unit of every value column below"},
+      {"n", "", "rows (trials) of the (scenario, method)"},
+      {"n_failed", "", "rows whose status is not ok: left out of every statistic"},
+      {"n_used", "", "ok rows with a finite value"},
+      {"median", "", "median of the signed values"},
+      {"mean", "", "mean of the signed values"},
+      {"std", "", "standard deviation of the signed values (n - 1): the Monte Carlo spread"},
+      {"p2_5", "", "2.5th percentile of the signed values (type 7)"},
+      {"p97_5", "", "97.5th percentile of the signed values"},
+      {"rmse", "", "sqrt(mean(value^2)), for the errors against the truth (Summary::kWithRmse)"},
+      {"crlb", "", "median of the rows' Cramer-Rao std (crlb_Q), where the quantity has one"},
+      {"rmse_over_crlb", "", "rmse / crlb: 1 at the bound"},
+      {"median_abs", "", "median of |value|"},
+      {"p2_5_abs", "", "2.5th percentile of |value|"},
+      {"p97_5_abs", "", "97.5th percentile of |value|"},
+      {"std_reported", "",
+       "median of the ok rows' reported std (std_Q), where the quantity has one"},
+  };
+  return columns;
 }
 
 bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::string* why) {
@@ -58,10 +102,11 @@ bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::s
     return -1;
   };
   const std::vector<std::string>& metrics = SummaryMetrics();
-  std::vector<int> metric_col, crlb_col;
-  for (const std::string& m : metrics) {
-    metric_col.push_back(column(m));
-    crlb_col.push_back(CrlbColumn(m).empty() ? -1 : column(CrlbColumn(m)));
+  std::vector<int> metric_col, crlb_col, std_col;
+  for (const MetricSpec* m : Summarised()) {
+    metric_col.push_back(column(SummaryColumn(*m)));
+    crlb_col.push_back(m->columns & kCrlbColumn ? column(ColumnName(m->id, kCrlbColumn)) : -1);
+    std_col.push_back(m->columns & kStdColumn ? column(ColumnName(m->id, kStdColumn)) : -1);
   }
   const int c_scenario = column("scenario"), c_sweep = column("sweep"), c_point = column("point"),
             c_params = column("params"), c_method = column("method"), c_status = column("status");
@@ -94,6 +139,7 @@ bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::s
       p.method = fields[c_method];
       p.values.resize(metrics.size());
       p.crlb.resize(metrics.size());
+      p.stds.resize(metrics.size());
       pairs.push_back(std::move(p));
     }
     Pair& p = pairs[it->second];
@@ -105,7 +151,12 @@ bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::s
         const double b = std::strtod(fields[crlb_col[m]].c_str(), nullptr);
         if (std::isfinite(b)) p.crlb[m].push_back(b);
       }
-      if (!ok || metric_col[m] < 0) continue;
+      if (!ok) continue;
+      if (std_col[m] >= 0) {
+        const double s = std::strtod(fields[std_col[m]].c_str(), nullptr);
+        if (std::isfinite(s)) p.stds[m].push_back(s);
+      }
+      if (metric_col[m] < 0) continue;
       const double v = std::strtod(fields[metric_col[m]].c_str(), nullptr);
       if (std::isfinite(v)) p.values[m].push_back(v);
     }
@@ -114,9 +165,9 @@ bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::s
     if (why) *why = runs_csv + ": " + reason;
     return false;
   }
-  std::string out = CsvLine({"scenario", "sweep", "point", "params", "method", "metric", "n",
-                             "n_failed", "n_used", "median", "mean", "std", "p2_5", "p97_5", "rmse",
-                             "crlb", "rmse_over_crlb"});
+  std::vector<std::string> out_header;
+  for (const ColumnInfo& c : SummaryColumns()) out_header.push_back(c.name);
+  std::string out = CsvLine(out_header);
   for (const Pair& p : pairs) {
     for (size_t m = 0; m < metrics.size(); ++m) {
       const std::vector<double>& v = p.values[m];
@@ -130,25 +181,60 @@ bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::s
           for (double x : v) ss += (x - mean) * (x - mean);
           std = std::sqrt(ss / (v.size() - 1));
         }
-        if (metrics[m].rfind("err_", 0) == 0) rmse = std::sqrt(sum_sq / v.size());
+        if (Summarised()[m]->summary == Summary::kWithRmse) rmse = std::sqrt(sum_sq / v.size());
       }
       const double crlb = Median(p.crlb[m]);
-      out += CsvLine({p.scenario, p.sweep, p.point, p.params, p.method, metrics[m],
-                      std::to_string(p.n), std::to_string(p.n_failed), std::to_string(v.size()),
-                      FormatNumber(Median(v)), FormatNumber(mean), FormatNumber(std),
-                      FormatNumber(Quantile(v, 0.025)), FormatNumber(Quantile(v, 0.975)),
-                      FormatNumber(rmse), FormatNumber(crlb),
-                      FormatNumber(crlb > 0 ? rmse / crlb : kNaN)});
+      const std::vector<double> a = Absolute(v);
+      out += CsvLine({p.scenario,
+                      p.sweep,
+                      p.point,
+                      p.params,
+                      p.method,
+                      metrics[m],
+                      std::to_string(p.n),
+                      std::to_string(p.n_failed),
+                      std::to_string(v.size()),
+                      FormatNumber(Median(v)),
+                      FormatNumber(mean),
+                      FormatNumber(std),
+                      FormatNumber(Quantile(v, 0.025)),
+                      FormatNumber(Quantile(v, 0.975)),
+                      FormatNumber(rmse),
+                      FormatNumber(crlb),
+                      FormatNumber(crlb > 0 ? rmse / crlb : kNaN),
+                      FormatNumber(Median(a)),
+                      FormatNumber(Quantile(a, 0.025)),
+                      FormatNumber(Quantile(a, 0.975)),
+                      FormatNumber(Median(p.stds[m]))});
     }
   }
   *summary_csv = std::move(out);
   return true;
 }
 
+const std::vector<ColumnInfo>& TrackBandColumns() {
+  static const std::vector<ColumnInfo> columns = {
+      {"scenario", "", "scenario name"},
+      {"point", "", "sweep point"},
+      {"method", "", "the method instance"},
+      {"t_s", "s", "report time"},
+      {"quantity", "",
+       "the tracked quantity, unit included (roll_deg, ..., v0_px), or nees, nees_rotation: the "
+       "unit of the value columns"},
+      {"n", "", "trials with a finite value"},
+      {"mean", "", "mean of the signed errors (of NEES: the mean NEES)"},
+      {"median", "", "median of the signed errors"},
+      {"median_abs", "", "median of |error|"},
+      {"p2_5", "", "2.5th percentile of the signed errors"},
+      {"p97_5", "", "97.5th percentile of the signed errors"}};
+  return columns;
+}
+
 bool SummarizeTrackErrors(const std::string& track_errors_csv, std::string* bands_csv,
                           std::string* why) {
-  std::string out = CsvLine({"scenario", "point", "method", "t_s", "quantity", "n", "mean",
-                             "median", "median_abs", "p2_5", "p97_5"});
+  std::vector<std::string> header_out;
+  for (const ColumnInfo& c : TrackBandColumns()) header_out.push_back(c.name);
+  std::string out = CsvLine(header_out);
   std::ifstream in(track_errors_csv, std::ios::binary);
   if (!in) {
     *bands_csv = out;

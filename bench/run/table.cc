@@ -48,10 +48,10 @@ struct Figure {
 
 std::vector<Figure> Figures(const Reference& ref) {
   std::vector<Figure> f = {
-      {"fku", &RunRow::fku, ref.fku_px},      {"fkv", &RunRow::fkv, ref.fkv_px},
-      {"phi", &RunRow::phi_deg, ref.phi_deg}, {"u0", &RunRow::u0, ref.u0_px},
-      {"v0", &RunRow::v0, ref.v0_px},         {"xc_x", &RunRow::xc_x, ref.x_c[0]},
-      {"xc_y", &RunRow::xc_y, ref.x_c[1]},    {"xc_z", &RunRow::xc_z, ref.x_c[2]}};
+      {"fku", &RunRow::fku_px, ref.fku_px},   {"fkv", &RunRow::fkv_px, ref.fkv_px},
+      {"phi", &RunRow::phi_deg, ref.phi_deg}, {"u0", &RunRow::u0_px, ref.u0_px},
+      {"v0", &RunRow::v0_px, ref.v0_px},      {"xc_x", &RunRow::xc_x_m, ref.x_c[0]},
+      {"xc_y", &RunRow::xc_y_m, ref.x_c[1]},  {"xc_z", &RunRow::xc_z_m, ref.x_c[2]}};
   std::vector<Figure> present;
   for (const Figure& x : f) {
     if (std::isfinite(x.reference)) present.push_back(x);
@@ -129,10 +129,10 @@ std::string ThesisTable(const std::vector<ScenarioConfig>& scenarios,
     const std::string status = ok == static_cast<int>(rows.size())
                                    ? "ok"
                                    : std::to_string(ok) + "/" + std::to_string(rows.size()) + " ok";
-    const std::string xc = rows.size() == 1 ? "[" + Num(rows[0].xc_x, "%.4f") + ", " +
-                                                  Num(rows[0].xc_y, "%.4f") + ", " +
-                                                  Num(rows[0].xc_z, "%.4f") + "]"
-                                            : "x " + Cell(rows, &RunRow::xc_x, "%.3f");
+    const std::string xc = rows.size() == 1 ? "[" + Num(rows[0].xc_x_m, "%.4f") + ", " +
+                                                  Num(rows[0].xc_y_m, "%.4f") + ", " +
+                                                  Num(rows[0].xc_z_m, "%.4f") + "]"
+                                            : "x " + Cell(rows, &RunRow::xc_x_m, "%.3f");
     const ReferenceCheck check = CheckAgainstReference(s, all_rows);
     std::string verdict;
     if (check.exact_expected) verdict = check.exact_met ? "exact ✓" : "not exact ✗";
@@ -147,10 +147,10 @@ std::string ThesisTable(const std::vector<ScenarioConfig>& scenarios,
       }
     }
     t << "| " << s.name << " | " << rows.size() << " | " << status << " | "
-      << Cell(rows, &RunRow::fku, "%.1f") << " | " << Cell(rows, &RunRow::fkv, "%.1f") << " | "
-      << Cell(rows, &RunRow::phi_deg, "%.1f") << " | " << Cell(rows, &RunRow::u0, "%.1f") << " | "
-      << Cell(rows, &RunRow::v0, "%.1f") << " | " << xc << " | "
-      << Cell(rows, &RunRow::theta_err_norm, "%.2e") << " | "
+      << Cell(rows, &RunRow::fku_px, "%.1f") << " | " << Cell(rows, &RunRow::fkv_px, "%.1f")
+      << " | " << Cell(rows, &RunRow::phi_deg, "%.1f") << " | "
+      << Cell(rows, &RunRow::u0_px, "%.1f") << " | " << Cell(rows, &RunRow::v0_px, "%.1f") << " | "
+      << xc << " | " << Cell(rows, &RunRow::theta_err_norm, "%.2e") << " | "
       << Cell(rows, &RunRow::converge_time_s, "%.1f") << " | " << ReferenceText(s.reference)
       << " | " << verdict << " |\n";
   }

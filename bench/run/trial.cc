@@ -177,25 +177,25 @@ class ScenarioTrial {
         m.warning.empty() ? r.message : m.warning + (r.message.empty() ? "" : "; " + r.message);
     if (e.has_camera) {
       const CameraIntrinsics& k = e.intrinsics;
-      row.fku = k.fku_px;
-      row.fkv = k.fkv_px;
+      row.fku_px = k.fku_px;
+      row.fkv_px = k.fkv_px;
       row.phi_deg = k.phi_deg;
-      row.u0 = k.u0_px;
-      row.v0 = k.v0_px;
+      row.u0_px = k.u0_px;
+      row.v0_px = k.v0_px;
       const Eigen::Vector3d rpy = RollPitchYawOfRc(e.parent_from_cam.rotation, e.improper);
-      row.rc_roll_deg = rpy[0];
-      row.rc_pitch_deg = rpy[1];
-      row.rc_yaw_deg = rpy[2];
-      row.xc_x = e.parent_from_cam.translation[0];
-      row.xc_y = e.parent_from_cam.translation[1];
-      row.xc_z = e.parent_from_cam.translation[2];
-      row.err_fku = m.errors.fku_px;
-      row.err_fkv = m.errors.fkv_px;
+      row.roll_deg = rpy[0];
+      row.pitch_deg = rpy[1];
+      row.yaw_deg = rpy[2];
+      row.xc_x_m = e.parent_from_cam.translation[0];
+      row.xc_y_m = e.parent_from_cam.translation[1];
+      row.xc_z_m = e.parent_from_cam.translation[2];
+      row.err_fku_px = m.errors.fku_px;
+      row.err_fkv_px = m.errors.fkv_px;
       row.err_phi_deg = m.errors.phi_deg;
-      row.err_u0 = m.errors.u0_px;
-      row.err_v0 = m.errors.v0_px;
+      row.err_u0_px = m.errors.u0_px;
+      row.err_v0_px = m.errors.v0_px;
       row.rot_err_deg = m.errors.rotation_deg;
-      row.err_xc_norm = m.errors.position_m;
+      row.xc_err_m = m.errors.position_m;
       row.err_roll_deg = m.errors.roll_deg;
       row.err_pitch_deg = m.errors.pitch_deg;
       row.err_yaw_deg = m.errors.yaw_deg;
@@ -213,11 +213,11 @@ class ScenarioTrial {
       CountDataUsed(input_.Frames(), &row.n_frames_used, &row.n_obs_used);
     }
     const double deg = 180.0 / M_PI;
-    row.std_fku = e.intrinsics_std[0];
-    row.std_fkv = e.intrinsics_std[1];
+    row.std_fku_px = e.intrinsics_std[0];
+    row.std_fkv_px = e.intrinsics_std[1];
     row.std_phi_deg = e.intrinsics_std[2] * deg;
-    row.std_u0 = e.intrinsics_std[3];
-    row.std_v0 = e.intrinsics_std[4];
+    row.std_u0_px = e.intrinsics_std[3];
+    row.std_v0_px = e.intrinsics_std[4];
     FillCrlb(instance, shared, &row);
     row.curve = outcome.curve;
     row.track = outcome.track;
@@ -253,11 +253,11 @@ class ScenarioTrial {
       bound = compute();
     }
     if (!bound.valid) return;
-    row->crlb_fku = bound.std_px[0];
-    row->crlb_fkv = bound.std_px[1];
+    row->crlb_fku_px = bound.std_px[0];
+    row->crlb_fkv_px = bound.std_px[1];
     row->crlb_phi_deg = bound.std_px[2];
-    row->crlb_u0 = bound.std_px[3];
-    row->crlb_v0 = bound.std_px[4];
+    row->crlb_u0_px = bound.std_px[3];
+    row->crlb_v0_px = bound.std_px[4];
   }
 
   const ScenarioConfig& s_;

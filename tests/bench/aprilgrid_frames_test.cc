@@ -1,7 +1,7 @@
 // Kalibr AprilGrids in real frames (CTest label "data"): ../shared/data/aprilgrid-frames
 // (aprilgrid-rs's test set: EuRoC and TUM VI calibration frames, SOURCE.md), read through
 // detect --images with configs/targets/aprilgrid_6x6.yaml. docs/aprilgrid_frames.md has the study
-// these figures come from (scripts/aprilgrid_frames.py).
+// these figures come from (tools/aprilgrid_frames.py).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -82,7 +82,8 @@ const RunRow& RowOf(const std::vector<RunRow>& rows, const std::string& method, 
 void ExpectFailed(const RunRow& row, const std::string& status, const std::string& reason) {
   EXPECT_EQ(row.status, status) << row.method << ": " << row.message;
   EXPECT_NE(row.message.find(reason), std::string::npos) << row.method << ": " << row.message;
-  EXPECT_TRUE(std::isnan(row.fku) && std::isnan(row.err_fku)) << row.method << ": " << row.fku;
+  EXPECT_TRUE(std::isnan(row.fku_px) && std::isnan(row.err_fku_px))
+      << row.method << ": " << row.fku_px;
 }
 
 TEST(BadTrial, PointBehindTheCameraFailsEveryMethodNamingThePoint) {
@@ -105,7 +106,7 @@ TEST(BadTrial, PointOutsideTheImageFailsUnlessKept) {
   const std::vector<RunRow> kept = RunYaml(
       Scenario(points, "  measurements: {outside_image: keep}\n  image_size: [640, 480]\n"));
   EXPECT_EQ(RowOf(kept, "dlt").status, "ok");
-  EXPECT_NEAR(RowOf(kept, "dlt").fku, 800.0, 1e-6);
+  EXPECT_NEAR(RowOf(kept, "dlt").fku_px, 800.0, 1e-6);
 }
 
 TEST(BadTrial, TooFewPointsFailTheDltAndFlagTheAdaptiveEstimate) {
@@ -145,7 +146,7 @@ TEST(BadTrial, DivergingGainIsReportedAndTheSweepGoesOn) {
   ExpectFailed(RowOf(rows, "adaptive", 1), "diverged", "step size underflow");
   // The batch methods do not depend on alpha: their rows exist at both points, equal and exact.
   EXPECT_EQ(RowOf(rows, "dlt", 1).status, "ok");
-  EXPECT_EQ(RowOf(rows, "dlt", 1).fku, RowOf(rows, "dlt", 0).fku);
+  EXPECT_EQ(RowOf(rows, "dlt", 1).fku_px, RowOf(rows, "dlt", 0).fku_px);
 }
 
 // ---- Image folders (calibrate --images) ----

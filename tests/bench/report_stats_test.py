@@ -1,220 +1,201 @@
 #!/usr/bin/python3
-"""Tests of scripts/report_stats.py (the report's paired tests, bootstrap, Holm, coverage) and a
-smoke test of scripts/report.py on a small synthetic run directory.
+"""Tests of calibench_report.stats against known values: published textbook examples and cases
+with a closed form, each computed here without the functions the code calls. Each test names the
+mutation of the code it was seen to catch.
 
-Run: /usr/bin/python3 tests/bench/report_stats_test.py   (ctest: calibench_bench_report_stats_test)
+Run: PYTHONPATH=python /usr/bin/python3 tests/bench/report_stats_test.py
+(ctest: calibench_bench_report_stats_test, labels bench and report).
 """
-import os
-import subprocess
-import sys
-import tempfile
+import itertools
+import math
 import unittest
 
 import numpy as np
 import pandas as pd
-from scipy import stats
-from statsmodels.stats.multitest import multipletests
 
-SCRIPTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts")
-sys.path.insert(0, SCRIPTS)
-import report_stats as rs  # noqa: E402
-
-EXACT = 1e-12  # The same computation through another route: equal up to rounding.
+from calibench_report import stats as rs
 
 
-class PairedDifferencesTest(unittest.TestCase):
-    def test_pairs_by_seed_and_drops_nan_and_unpaired(self):
-        a = pd.Series([1.0, 2.0, np.nan, 4.0], index=[10, 11, 12, 13])
-        b = pd.Series([0.5, 0.5, 0.5, 0.5], index=[13, 12, 11, 99])
-        # Common seeds 11, 12, 13; seed 12 has a NaN in a.
-        np.testing.assert_allclose(sorted(rs.paired_differences(a, b)), [1.5, 3.5])
+def signed_rank_exact_p(d):
+    """Two-sided exact p of the Wilcoxon signed-rank statistic by enumerating the 2^n equally
+    likely sign assignments of the ranks (no ties, no zeros)."""
+    ranks = np.argsort(np.argsort(np.abs(d))) + 1
+    w = ranks[np.asarray(d) > 0].sum()
+    centre = len(d) * (len(d) + 1) / 4
+    extreme = 0
+    for signs in itertools.product((0, 1), repeat=len(d)):
+        extreme += abs(np.dot(signs, ranks) - centre) >= abs(w - centre) - 1e-9
+    return extreme / 2 ** len(d)
 
-    def test_same_index_fast_path(self):
-        a = pd.Series([1.0, 2.0, 3.0], index=[1, 2, 3])
-        b = pd.Series([1.0, 1.0, np.inf], index=[1, 2, 3])
-        np.testing.assert_allclose(rs.paired_differences(a, b), [0.0, 1.0])
+
+def binomial_cdf(k, n, p):
+    return sum(math.comb(n, i) * p ** i * (1 - p) ** (n - i) for i in range(k + 1))
+
+
+def normal_cdf(x):
+    return 0.5 * (1 + math.erf(x / math.sqrt(2)))
+
+
+def lilliefors_statistic(d):
+    """Lilliefors' D: the largest distance between the empirical CDF and the normal CDF with the
+    sample's mean and standard deviation (n - 1)."""
+    x = np.sort(np.asarray(d, dtype=float))
+    n = x.size
+    z = (x - x.mean()) / x.std(ddof=1)
+    f = np.array([normal_cdf(v) for v in z])
+    return max(np.max(np.arange(1, n + 1) / n - f), np.max(f - np.arange(n) / n))
+
+
+class SignedRankTest(unittest.TestCase):
+    # Hollander & Wolfe, Nonparametric Statistical Methods (1973), p. 29: Hamilton depression scale
+    # of 9 patients before (x) and after (y) a tranquilliser; T+ = 40, exact two-sided p = 0.0391.
+    X = np.array([1.83, 0.50, 1.62, 2.48, 1.68, 1.88, 1.55, 3.06, 1.30])
+    Y = np.array([0.878, 0.647, 0.598, 2.05, 1.06, 1.29, 1.06, 3.14, 1.29])
+
+    def test_textbook_example_exact_p(self):
+        # Mutation tried: stats.wilcoxon(d, method="approx") in signed_rank_p -> p 0.038, fails.
+        d = self.X - self.Y
+        self.assertAlmostEqual(signed_rank_exact_p(d), 20 / 512, delta=1e-15)  # 0.0390625.
+        self.assertAlmostEqual(rs.signed_rank_p(d), 20 / 512, delta=1e-12)
+
+    def test_all_positive_differences_have_p_two_over_two_to_the_n(self):
+        # Every difference positive: only the all-plus and all-minus assignments are as extreme,
+        # p = 2 / 2^n. A skewed sample, so that Lilliefors sends it to the Wilcoxon test.
+        # Mutation tried: choose_and_test returning the t-test's p for "W" -> fails.
+        d = np.array([0.01, 0.02, 0.03, 0.05, 0.04, 0.06, 0.07, 0.08, 5.0, 9.0])
+        self.assertAlmostEqual(signed_rank_exact_p(d), 2 / 2 ** 10, delta=1e-15)
+        c = rs.compare(d)
+        self.assertEqual(c.test, "W")
+        self.assertAlmostEqual(c.p, 2 / 2 ** 10, delta=1e-12)
+
+
+class PairedTTest(unittest.TestCase):
+    def test_students_sleep_data(self):
+        # Student (1908) / Cushny & Peebles: extra sleep of 10 patients under two drugs. R's
+        # t.test(extra ~ group, data = sleep, paired = TRUE): t = -4.0621, df = 9,
+        # p-value = 0.002833. Mutation tried: an unpaired test in paired_t_p
+        # (stats.ttest_ind(d, 0 * d)) -> fails.
+        g1 = np.array([0.7, -1.6, -0.2, -1.2, -0.1, 3.4, 3.7, 0.8, 0.0, 2.0])
+        g2 = np.array([1.9, 0.8, 1.1, 0.1, -0.1, 4.4, 5.5, 1.6, 4.6, 3.4])
+        d = g2 - g1
+        t = d.mean() / (d.std(ddof=1) / math.sqrt(d.size))
+        self.assertAlmostEqual(t, 4.0621, delta=5e-5)
+        self.assertAlmostEqual(rs.paired_t_p(d), 0.002833, delta=5e-7)
+        self.assertAlmostEqual(rs.paired_t_p(-d), 0.002833, delta=5e-7)  # Two-sided.
+
+
+class NormalityChoiceTest(unittest.TestCase):
+    # Lilliefors (1967), table 1, n = 10: D's upper quantiles 0.215 (p = 0.20) and 0.258 (0.05).
+
+    def test_a_sample_below_the_table_keeps_the_t_test(self):
+        # Normal quantiles of 10 points: D far below 0.215, so p >= 0.20 (the table's top).
+        # Mutation tried: lilliefors(d, dist="exp") in normality_p -> fails.
+        d = np.array([-1.645, -1.036, -0.674, -0.385, -0.126, 0.126, 0.385, 0.674, 1.036, 1.645])
+        self.assertLess(lilliefors_statistic(d), 0.215)
+        self.assertGreaterEqual(rs.normality_p(d), 0.2)
+        self.assertEqual(rs.choose_and_test(d)[0], "t")
+
+    def test_a_sample_beyond_the_5_percent_point_goes_to_wilcoxon(self):
+        d = np.array([0.0, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.08, 3.0])
+        self.assertGreater(lilliefors_statistic(d), 0.258)
+        self.assertLess(rs.normality_p(d), 0.05)
+        self.assertEqual(rs.choose_and_test(d)[0], "W")
+
+
+class HolmTest(unittest.TestCase):
+    def test_hand_worked_example(self):
+        # p = 0.01, 0.04, 0.03, 0.005 (m = 4). Sorted: 0.005, 0.01, 0.03, 0.04; times 4, 3, 2, 1:
+        # 0.02, 0.03, 0.06, 0.04; running maximum (the step-down's monotonicity): 0.02, 0.03,
+        # 0.06, 0.06. An untested comparison is not part of the family (m stays 4).
+        # Mutation tried: method="simes-hochberg" (step-up) in holm() -> 0.03, 0.04, 0.04, 0.02,
+        # fails; and the untested comparison counted in the family (m = 5) -> fails.
+        comparisons = [rs.Comparison(p=p, test="t") for p in (0.01, 0.04, 0.03, 0.005)]
+        untested = rs.Comparison(reason="n<5")
+        rs.holm(comparisons + [untested])
+        np.testing.assert_allclose([c.p_adjusted for c in comparisons], [0.03, 0.06, 0.06, 0.02],
+                                   rtol=0, atol=1e-15)
+        self.assertTrue(math.isnan(untested.p_adjusted))
+        self.assertEqual([c.significant for c in comparisons], [True, False, False, True])
+
+    def test_adjusted_p_is_capped_at_one(self):
+        # 0.3 * 3 = 0.9; 0.8 * 2 = 1.6 -> 1; 0.9 * 1, raised to 1 by the running maximum.
+        comparisons = [rs.Comparison(p=p, test="W") for p in (0.3, 0.9, 0.8)]
+        rs.holm(comparisons)
+        np.testing.assert_allclose([c.p_adjusted for c in comparisons], [0.9, 1.0, 1.0],
+                                   rtol=0, atol=1e-15)
+
+
+class BootstrapTest(unittest.TestCase):
+    def exact_percentile_interval(self, x):
+        """The percentile interval of the ideal bootstrap of the median of n (odd) distinct values:
+        P(median* <= x_(k)) = P(Binomial(n, k / n) >= (n + 1) / 2); the 2.5% point is the first
+        x_(k) whose probability reaches 0.025, the 97.5% point the first reaching 0.975."""
+        x = np.sort(x)
+        n = x.size
+        cdf = [1 - binomial_cdf((n + 1) // 2 - 1, n, k / n) for k in range(1, n + 1)]
+        lo = next(k for k in range(n) if cdf[k] >= 0.025)
+        hi = next(k for k in range(n) if cdf[k] >= 0.975)
+        return x[lo], x[hi]
+
+    def test_median_interval_equals_the_exact_bootstrap_distribution(self):
+        # n = 7: P(<= x_(1)) = 0.010, P(<= x_(2)) = 0.108 -> x_(2); P(<= x_(5)) = 0.892,
+        # P(<= x_(6)) = 0.990 -> x_(6). n = 11: x_(3) and x_(9). 2000 resamples sit far from the
+        # boundaries (their Monte Carlo error is ~0.003).
+        # Mutation tried: method="basic" in bootstrap_median_ci -> (2 median - x_(6), ...), fails;
+        # np.mean as the statistic -> fails.
+        x7 = np.array([3.1, -0.4, 2.2, 7.5, 0.9, 1.6, 4.8])
+        self.assertEqual(self.exact_percentile_interval(x7), (0.9, 4.8))  # x_(2), x_(6).
+        self.assertEqual(rs.bootstrap_median_ci(x7), self.exact_percentile_interval(x7))
+        x11 = np.array([0.5, 2.5, 1.0, 9.0, 4.0, 3.5, 6.0, 0.25, 8.0, 7.0, 5.0])
+        self.assertEqual(self.exact_percentile_interval(x11), (1.0, 7.0))  # x_(3), x_(9).
+        self.assertEqual(rs.bootstrap_median_ci(x11), (1.0, 7.0))
+
+    def test_deterministic_and_order_independent(self):
+        d = np.random.default_rng(8).normal(size=20)
+        first = rs.bootstrap_median_ci(d)
+        rs.bootstrap_median_ci(np.random.default_rng(9).normal(size=20))
+        self.assertEqual(first, rs.bootstrap_median_ci(d))
 
 
 class CompareTest(unittest.TestCase):
-    def test_too_few_pairs(self):
-        c = rs.compare([0.1, 0.2, 0.3, 0.4])
-        self.assertFalse(c.tested)
-        self.assertEqual(c.reason, f"n<{rs.MIN_PAIRS}")
-        self.assertEqual(c.n, 4)
+    def test_no_test_and_why(self):
+        self.assertEqual(rs.compare([0.1, 0.2, 0.3, 0.4]).reason, f"n<{rs.MIN_PAIRS}")
+        identical = rs.compare(np.zeros(10))
+        self.assertEqual((identical.reason, identical.effect, identical.tested),
+                         ("identical", 0.0, False))
+        self.assertEqual(rs.compare(np.full(8, 0.25)).reason, "Δ constant")
 
-    def test_identical_series(self):
-        c = rs.compare(np.zeros(10))
-        self.assertFalse(c.tested)
-        self.assertEqual(c.reason, "identical")
-        self.assertEqual(c.effect, 0.0)
-
-    def test_constant_difference_is_not_tested(self):
-        c = rs.compare(np.full(8, 0.25))
-        self.assertFalse(c.tested)
-        self.assertEqual(c.reason, "Δ constant")
-
-    def test_normal_differences_use_the_paired_t_test(self):
-        d = np.random.default_rng(3).normal(0.3, 1.0, size=40)
-        c = rs.compare(d)
-        self.assertEqual(c.test, "t")
-        self.assertGreaterEqual(c.normality_p, rs.NORMALITY_LEVEL)
-        # ttest_1samp on the differences equals ttest_rel on the pairs.
-        b = np.random.default_rng(4).normal(size=40)
-        self.assertAlmostEqual(c.p, stats.ttest_rel(d + b, b).pvalue, delta=1e-9)
-        self.assertAlmostEqual(c.p, stats.ttest_1samp(d, 0).pvalue, delta=EXACT)
-
-    def test_skewed_differences_use_wilcoxon(self):
-        d = np.random.default_rng(5).exponential(1.0, size=40) ** 3
-        c = rs.compare(d)
-        self.assertEqual(c.test, "W")
-        self.assertLess(c.normality_p, rs.NORMALITY_LEVEL)
-        self.assertAlmostEqual(c.p, stats.wilcoxon(d).pvalue, delta=EXACT)
-
-    def test_effect_is_the_median_inside_its_interval(self):
-        d = np.random.default_rng(6).normal(1.0, 0.5, size=30)
-        c = rs.compare(d)
-        self.assertAlmostEqual(c.effect, np.median(d), delta=EXACT)
-        self.assertLessEqual(c.effect_ci[0], c.effect)
-        self.assertGreaterEqual(c.effect_ci[1], c.effect)
+    def test_effect_is_the_median_difference(self):
+        d = np.array([0.3, -0.1, 0.5, 0.2, 0.9, 0.4, 0.1])
+        self.assertEqual(rs.compare(d).effect, 0.3)
 
     def test_results_are_copies(self):
         d = np.random.default_rng(7).normal(size=12)
         first = rs.compare(d)
         first.p_adjusted = 0.5
-        self.assertTrue(np.isnan(rs.compare(d).p_adjusted))
+        self.assertTrue(math.isnan(rs.compare(d).p_adjusted))
+
+    def test_pairs_by_seed_and_drops_nan_and_unpaired(self):
+        a = pd.Series([1.0, 2.0, np.nan, 4.0], index=[10, 11, 12, 13])
+        b = pd.Series([0.5, 0.5, 0.5, 0.5], index=[13, 12, 11, 99])
+        np.testing.assert_allclose(sorted(rs.paired_differences(a, b)), [1.5, 3.5])
 
 
-class BootstrapTest(unittest.TestCase):
-    def test_deterministic_and_order_independent(self):
-        d = np.random.default_rng(8).normal(size=20)
-        other = np.random.default_rng(9).normal(size=20)
-        first = rs.bootstrap_median_ci(d)
-        rs.bootstrap_median_ci(other)
-        self.assertEqual(first, rs.bootstrap_median_ci(d))
-
-    def test_matches_a_plain_loop(self):
-        d = np.random.default_rng(10).normal(size=9)
-        rng = np.random.default_rng(rs.BOOTSTRAP_SEED)
-        idx = rng.integers(0, d.size, size=(rs.BOOTSTRAP_RESAMPLES, d.size))
-        medians = [np.median(d[row]) for row in idx]
-        expected = np.quantile(medians, [0.025, 0.975])
-        np.testing.assert_allclose(rs.bootstrap_median_ci(d), expected, rtol=0, atol=EXACT)
-
-    def test_interval_narrows_with_more_data(self):
-        rng = np.random.default_rng(11)
-        small, large = rng.normal(size=10), rng.normal(size=400)
-        width = lambda ci: ci[1] - ci[0]  # noqa: E731
-        self.assertLess(width(rs.bootstrap_median_ci(large)), width(rs.bootstrap_median_ci(small)))
-
-
-class HolmTest(unittest.TestCase):
-    def test_known_values_and_untested_left_out(self):
-        comparisons = [rs.Comparison(p=p, test="t") for p in (0.01, 0.04, 0.03)]
-        untested = rs.Comparison(reason="n<5")
-        rs.holm(comparisons + [untested])
-        # Holm: sorted 0.01*3, 0.03*2, 0.04*1 -> 0.03, 0.06, max(0.06, 0.04) = 0.06.
-        np.testing.assert_allclose([c.p_adjusted for c in comparisons], [0.03, 0.06, 0.06])
-        self.assertTrue(np.isnan(untested.p_adjusted))
-
-    def test_equals_statsmodels(self):
-        p = np.random.default_rng(12).uniform(0, 0.2, size=15)
-        comparisons = [rs.Comparison(p=x, test="W") for x in p]
-        rs.holm(comparisons)
-        expected = multipletests(p, method="holm")[1]
-        np.testing.assert_allclose([c.p_adjusted for c in comparisons], expected, atol=EXACT)
-
-
-class BandsTest(unittest.TestCase):
-    def test_abs_band(self):
-        med, lo, hi = rs.abs_band([-1.0, 2.0, np.nan, -3.0, 4.0, 5.0])
-        self.assertEqual(med, 3.0)
-        self.assertAlmostEqual(lo, np.quantile([1, 2, 3, 4, 5], 0.025), delta=EXACT)
-        self.assertAlmostEqual(hi, np.quantile([1, 2, 3, 4, 5], 0.975), delta=EXACT)
-        self.assertTrue(all(np.isnan(rs.abs_band([np.nan]))))
-
-    def test_rmse(self):
-        self.assertAlmostEqual(rs.rmse([3.0, -4.0, np.nan]), np.sqrt(12.5), delta=EXACT)
-
-    def test_coverage(self):
+class CoverageTest(unittest.TestCase):
+    def test_coverage_counts_the_trials_inside(self):
         cover, n = rs.coverage([0.5, -1.0, 3.0, np.nan], [1.0, 1.0, 1.0, 1.0])
-        self.assertEqual(n, 3)
-        self.assertAlmostEqual(cover, 2 / 3, delta=EXACT)
+        self.assertEqual((cover, n), (2 / 3, 3))
 
-    def test_coverage_band(self):
-        lo, hi = rs.coverage_band(20)
-        self.assertEqual((lo, hi), (17 / 20, 1.0))
-        lo, hi = rs.coverage_band(1000)
-        self.assertLess(lo, 0.95)
-        self.assertGreater(hi, 0.95)
-        self.assertLess(hi - lo, 0.03)  # ~ 2 * 1.96 * sqrt(0.95 * 0.05 / 1000) = 0.027.
-
-
-def synthetic_runs(n_trials=6):
-    """Two sweeps (noise_oracle; gain_oracle with axis methods.fast.alpha), methods 'slow' and
-    'fast' and 'twin' (= slow's intrinsics), with n_frames_used / n_obs_used."""
-    rng = np.random.default_rng(0)
-    rows = []
-    for sweep, field, values in (("noise_oracle", "noise.pixel_sigma_px", (0.1, 1.0)),
-                                 ("gain_oracle", "methods.fast.alpha", (10.0, 1000.0))):
-        for point, value in enumerate(values):
-            for trial in range(n_trials):
-                seed = 1000 * point + trial
-                slow = rng.normal(0, value, size=12)
-                for method, scale in (("slow", 1.0), ("fast", 3.0), ("twin", 1.0)):
-                    e = slow * scale if method != "fast" else rng.normal(0, 3 * value, size=12)
-                    if method == "twin":
-                        e[5:] = rng.normal(0, 2 * value, size=7)  # Own extrinsics.
-                    rows.append(dict(
-                        scenario=f"{sweep}[{field}={value:g}]", sweep=sweep, point=point,
-                        params=f"{field}={value:g}", n_points=100, trial=trial, seed=seed,
-                        method=method, status="ok", err_fku=e[0], err_fkv=e[1], err_u0=e[2],
-                        err_v0=e[3], err_phi_deg=0.0 if method != "fast" else e[4],
-                        err_roll_deg=e[5], err_pitch_deg=e[6], err_yaw_deg=e[7],
-                        rot_err_deg=abs(e[8]), err_xc_norm=abs(e[9]), rms_reproj_px=abs(e[10]),
-                        converge_time_s=5.0 if method == "fast" and trial % 2 else np.nan,
-                        corner_rms_px=np.nan,
-                        std_fku=value if method != "fast" else np.nan, std_fkv=np.nan,
-                        std_u0=np.nan, std_v0=np.nan, std_phi_deg=np.nan,
-                        crlb_fku=value if method == "slow" else np.nan,
-                        message="", n_frames_used=30 if method != "fast" else 240,
-                        n_obs_used=30 * 100 if method != "fast" else 240 * 100))
-    return pd.DataFrame(rows)
-
-
-class ReportSmokeTest(unittest.TestCase):
-    def run_report(self, runs):
-        with tempfile.TemporaryDirectory() as tmp:
-            run_dir, out = os.path.join(tmp, "run"), os.path.join(tmp, "report")
-            os.makedirs(run_dir)
-            runs.to_csv(os.path.join(run_dir, "runs.csv"), index=False, na_rep="nan")
-            pd.DataFrame(columns=["scenario", "method", "wall_ms"]).to_csv(
-                os.path.join(run_dir, "timings.csv"), index=False)
-            result = subprocess.run(
-                [sys.executable, os.path.join(SCRIPTS, "report.py"), "--out", out, run_dir],
-                capture_output=True, text=True)
-            self.assertEqual(result.returncode, 0, result.stderr)
-            self.assertFalse(os.path.exists(os.path.join(out, "report.md.tmp")))
-            for png in ("error_vs_noise.png", "error_vs_gain.png", "gain_tradeoff.png"):
-                self.assertTrue(os.path.exists(os.path.join(out, png)), png)
-            with open(os.path.join(out, "report.md")) as f:
-                return f.read()
-
-    def test_sections_and_data_used(self):
-        md = self.run_report(synthetic_runs())
-        for heading in ("## noise", "### noise_oracle", "#### noise_oracle: noise.pixel_sigma_px=1",
-                        "## Gain trade-off", "## Reported uncertainty"):
-            self.assertIn(heading, md)
-        self.assertIn("| slow | 6 | 30 | 3000 |", md)  # Trials, median frames and observations.
-        self.assertIn("= slow", md)  # twin's intrinsics repeat slow's.
-        self.assertIn("Holm", md)
-        self.assertIn("fast's rows have no CRLB; the bound is slow's", md)
-        self.assertIn("| 50% |", md)  # fast converged in half of its trials.
-
-    def test_small_n_without_data_used_columns(self):
-        runs = synthetic_runs(n_trials=3).drop(columns=["n_frames_used", "n_obs_used"])
-        md = self.run_report(runs)
-        self.assertIn("| slow | 3 | not recorded | not recorded |", md)
-        self.assertIn(f"n/a (n=3<{rs.MIN_PAIRS})", md)
+    def test_band_is_the_binomial_quantiles(self):
+        # 20 trials at 95%: P(X <= 16) = 0.016 < 0.025 <= P(X <= 17) = 0.075, and the upper
+        # quantile is 20 (P(X <= 19) = 0.64 < 0.975): [17/20, 1].
+        # Mutation tried: stats.binom.interval(level, n, 1 - nominal) -> fails.
+        self.assertLess(binomial_cdf(16, 20, 0.95), 0.025)
+        self.assertGreaterEqual(binomial_cdf(17, 20, 0.95), 0.025)
+        self.assertEqual(rs.coverage_band(20), (17 / 20, 1.0))
+        lo = next(k for k in range(101) if binomial_cdf(k, 100, 0.95) >= 0.025)
+        hi = next(k for k in range(101) if binomial_cdf(k, 100, 0.95) >= 0.975)
+        self.assertEqual(rs.coverage_band(100), (lo / 100, hi / 100))
 
 
 if __name__ == "__main__":

@@ -49,7 +49,7 @@ TEST(Runner, RowsDoNotDependOnTheThreadCount) {
     // Every runs.csv column (timings live in timings.csv).
     EXPECT_EQ(RunRowFields(a[i]), RunRowFields(b[i])) << "row " << i;
   }
-  EXPECT_NE(a[0].fku, a[1].fku);  // Trials really draw different noise.
+  EXPECT_NE(a[0].fku_px, a[1].fku_px);  // Trials really draw different noise.
 }
 
 ScenarioConfig LoadOne(const std::string& relative) {
@@ -68,12 +68,12 @@ TEST(Runner, AllMethodsRecoverTheTruthOnNoiseFreeData) {
   ASSERT_EQ(rows.size(), 3u);
   for (const RunRow& r : rows) {
     ASSERT_EQ(r.status, "ok") << r.method << ": " << r.message;
-    EXPECT_LT(std::abs(r.err_fku) / 822, 1e-6) << r.method;
-    EXPECT_LT(std::abs(r.err_fkv) / 813, 1e-6) << r.method;
+    EXPECT_LT(std::abs(r.err_fku_px) / 822, 1e-6) << r.method;
+    EXPECT_LT(std::abs(r.err_fkv_px) / 813, 1e-6) << r.method;
     EXPECT_LT(std::abs(r.err_phi_deg) / 87, 1e-6) << r.method;
-    EXPECT_LT(std::abs(r.err_u0) / 321, 1e-6) << r.method;
-    EXPECT_LT(std::abs(r.err_v0) / 239, 1e-6) << r.method;
-    EXPECT_LT(r.err_xc_norm, 1e-6) << r.method;
+    EXPECT_LT(std::abs(r.err_u0_px) / 321, 1e-6) << r.method;
+    EXPECT_LT(std::abs(r.err_v0_px) / 239, 1e-6) << r.method;
+    EXPECT_LT(r.xc_err_m, 1e-6) << r.method;
     EXPECT_LT(r.theta_err_norm, 1e-6) << r.method;
   }
   EXPECT_EQ(rows[1].method, "dlt");
@@ -89,11 +89,11 @@ TEST(Runner, CeresRowsCarryStdAndCrlb) {
   ASSERT_EQ(rows.size(), 2u);
   const RunRow& ceres = rows[1];
   ASSERT_EQ(ceres.status, "ok") << ceres.message;
-  EXPECT_GT(ceres.crlb_fku, 0.0);
+  EXPECT_GT(ceres.crlb_fku_px, 0.0);
   // Std at the estimate vs CRLB at the truth, sigma estimated vs known: within 20%.
-  EXPECT_NEAR(ceres.std_fku / ceres.crlb_fku, 1.0, 0.2);
-  EXPECT_NEAR(ceres.std_u0 / ceres.crlb_u0, 1.0, 0.2);
-  EXPECT_TRUE(std::isnan(rows[0].std_fku));  // dlt reports no covariance.
+  EXPECT_NEAR(ceres.std_fku_px / ceres.crlb_fku_px, 1.0, 0.2);
+  EXPECT_NEAR(ceres.std_u0_px / ceres.crlb_u0_px, 1.0, 0.2);
+  EXPECT_TRUE(std::isnan(rows[0].std_fku_px));  // dlt reports no covariance.
 }
 
 // A two-board rig, noise-free: zhang (both extrinsic estimates), dlt and ceres recover the truth,
@@ -120,10 +120,10 @@ TEST_P(RigRecovery, EveryBatchMethodRecoversTheTruth) {
     // (1e-6); cv::calibrateCamera takes float32 points (~1e-7 relative, 4e-5 px here), which
     // leaves ~1e-5 deg in its per-view poses and ~1e-4 deg after Tsai's linear hand-eye solve.
     const bool float32 = r.method.rfind("zhang", 0) == 0;
-    EXPECT_LT(std::abs(r.err_fku) / 822, 1e-6) << r.method;
-    EXPECT_LT(std::abs(r.err_v0) / 239, 1e-6) << r.method;
+    EXPECT_LT(std::abs(r.err_fku_px) / 822, 1e-6) << r.method;
+    EXPECT_LT(std::abs(r.err_v0_px) / 239, 1e-6) << r.method;
     EXPECT_LT(r.rot_err_deg, float32 ? 2e-4 : 1e-6) << r.method;
-    EXPECT_LT(r.err_xc_norm, float32 ? 1e-5 : 1e-6) << r.method;
+    EXPECT_LT(r.xc_err_m, float32 ? 1e-5 : 1e-6) << r.method;
   }
   EXPECT_EQ(rows[1].method, "zhang");
   EXPECT_EQ(rows[2].method, "zhang_handeye");
@@ -165,8 +165,8 @@ TEST(Table, ReferenceCheckComputesWorstDeviation) {
   RunRow row;
   row.scenario = "x";
   row.method = "adaptive";
-  row.fku = 808;  // 1%
-  row.v0 = 190;   // 5%
+  row.fku_px = 808;  // 1%
+  row.v0_px = 190;   // 5%
   const ReferenceCheck check = CheckAgainstReference(s, {row});
   EXPECT_TRUE(check.has_reference);
   EXPECT_NEAR(check.worst_relative_deviation, 0.05, 1e-12);

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs scripts/slurm_sweep.sbatch as a 3-task job array would (Slurm variables set by hand), merges
-# the shards, and compares with one unsharded run: runs.csv and summary.csv must be equal.
+# the shards, and compares with one unsharded run: runs.csv, summary.csv and schema.json must be
+# equal.
 set -euo pipefail
 calibench="$1"
 root="$2"
@@ -15,4 +16,5 @@ done
 "$calibench" merge "$work"/array/shard-*-of-3 --out "$work/merged" 2>/dev/null
 cmp "$work/whole/runs.csv" "$work/merged/runs.csv"
 cmp "$work/whole/summary.csv" "$work/merged/summary.csv"
+cmp "$work/whole/schema.json" "$work/merged/schema.json"
 echo "PASS: 3 Slurm array shards merged equal the unsharded run"

@@ -3,14 +3,15 @@
 // computation from runs.csv.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "bench/config/config_io.h"
 #include "bench/run/csv.h"
 #include "bench/run/run_dir.h"
 #include "bench/run/runner.h"
-#include "bench/run/stats.h"
 #include "bench/run/summary.h"
 #include "core/random.h"
 #include "tests/common/scenario_yaml.h"
@@ -166,7 +167,7 @@ TEST(Sweep, GroupSharesMeasurementsAndBatchRows) {
   EXPECT_TRUE(rows[7].reused);   // ...dlt and ceres once.
   EXPECT_TRUE(rows[8].reused);
   EXPECT_NE(rows[0].theta_err_norm, rows[6].theta_err_norm);
-  EXPECT_EQ(rows[1].fku, rows[7].fku);
+  EXPECT_EQ(rows[1].fku_px, rows[7].fku_px);
 }
 
 // configs/examples/named_instances.yaml: two adaptive gains and two ceres refinements side by side.
@@ -200,10 +201,10 @@ TEST(Sweep, NamedInstancesGiveTheirOwnRowsAndShareTheMeasurements) {
   }
   // Four distinct estimates per point; the swept gain changes only its own instance.
   for (int m = 0; m < 4; ++m) {
-    for (int n = m + 1; n < 4; ++n) EXPECT_NE(rows[m].fku, rows[n].fku) << m << " " << n;
+    for (int n = m + 1; n < 4; ++n) EXPECT_NE(rows[m].fku_px, rows[n].fku_px) << m << " " << n;
   }
-  EXPECT_NE(rows[0].fku, rows[4].fku);
-  for (int m = 1; m < 4; ++m) EXPECT_EQ(rows[m].fku, rows[4 + m].fku);
+  EXPECT_NE(rows[0].fku_px, rows[4].fku_px);
+  for (int m = 1; m < 4; ++m) EXPECT_EQ(rows[m].fku_px, rows[4 + m].fku_px);
   // The copies equal what a standalone run of the last point computes.
   const std::vector<RunRow> alone = RunTrial(config.scenarios[2], 1);
   ASSERT_EQ(alone.size(), 4u);
@@ -339,7 +340,20 @@ TEST(RunDir, FilesDoNotDependOnThreadsShardsOrInterruptions) {
   EXPECT_NE(refused.message.find("config.resolved.yaml"), std::string::npos) << refused.message;
 }
 
-// summary.csv against the statistics computed here from runs.csv's own column.
+// The type-7 percentile written out independently of bench/run/stats.h (Hyndman & Fan's
+// definition, 1-based: h = (n - 1) p + 1, x_floor(h) + (h - floor(h)) (x_floor(h)+1 - x_floor(h))),
+// so that a mistake in Quantile() shows against it.
+double Percentile7(std::vector<double> x, double p) {
+  std::sort(x.begin(), x.end());
+  const double h = (static_cast<double>(x.size()) - 1.0) * p + 1.0;
+  const size_t below = static_cast<size_t>(std::floor(h));  // 1-based.
+  if (below >= x.size()) return x.back();
+  return x[below - 1] + (h - static_cast<double>(below)) * (x[below] - x[below - 1]);
+}
+
+// summary.csv against the statistics computed here, independently of the code's Quantile(), from
+// runs.csv's own column. Mutation tried: Quantile() at position q * n (bench/run/stats.cc) fails
+// the percentiles here and in the test below.
 TEST(Summary, MatchesAnIndependentComputation) {
   const RunConfig config = LoadSmall();
   RunDirOptions o;
@@ -357,30 +371,91 @@ TEST(Summary, MatchesAnIndependentComputation) {
   const std::string scenario = config.scenarios[4].name;
   while (reader.Next(&fields, &why)) {
     if (fields[col("scenario")] != scenario || fields[col("method")] != "ceres") continue;
-    errors.push_back(std::stod(fields[col("err_fku")]));
-    crlb.push_back(std::stod(fields[col("crlb_fku")]));
+    errors.push_back(std::stod(fields[col("err_fku_px")]));
+    crlb.push_back(std::stod(fields[col("crlb_fku_px")]));
   }
   ASSERT_EQ(errors.size(), 4u);
   double sum_sq = 0;
-  for (double e : errors) sum_sq += e * e;
+  std::vector<double> abs_errors;
+  for (double e : errors) sum_sq += e * e, abs_errors.push_back(std::abs(e));
   std::ifstream summary(o.out_dir + "/summary.csv");
   CsvReader s(&summary);
   ASSERT_TRUE(s.Next(&header, &why));
   bool found = false;
+  const auto value = [&](const char* column) { return std::stod(fields[col_of(header, column)]); };
   while (s.Next(&fields, &why)) {
     if (fields[0] != scenario || fields[col_of(header, "method")] != "ceres" ||
-        fields[col_of(header, "metric")] != "err_fku") {
+        fields[col_of(header, "metric")] != "err_fku_px") {
       continue;
     }
     found = true;
     EXPECT_EQ(fields[col_of(header, "n")], "4");
     EXPECT_EQ(fields[col_of(header, "n_failed")], "0");
     // %.10g in the file: 1e-9 relative.
-    EXPECT_NEAR(std::stod(fields[col_of(header, "median")]), Median(errors),
-                1e-9 * std::abs(Median(errors)) + 1e-15);
-    EXPECT_NEAR(std::stod(fields[col_of(header, "p97_5")]), Quantile(errors, 0.975), 1e-9);
-    EXPECT_NEAR(std::stod(fields[col_of(header, "rmse")]), std::sqrt(sum_sq / 4), 1e-9);
-    EXPECT_NEAR(std::stod(fields[col_of(header, "crlb")]), Median(crlb), 1e-9);
+    const auto near = [](double a, double b) {
+      return std::abs(a - b) <= 1e-9 * std::abs(b) + 1e-15;
+    };
+    EXPECT_PRED2(near, value("median"), Percentile7(errors, 0.5));
+    EXPECT_PRED2(near, value("p2_5"), Percentile7(errors, 0.025));
+    EXPECT_PRED2(near, value("p97_5"), Percentile7(errors, 0.975));
+    EXPECT_PRED2(near, value("median_abs"), Percentile7(abs_errors, 0.5));
+    EXPECT_PRED2(near, value("p97_5_abs"), Percentile7(abs_errors, 0.975));
+    EXPECT_PRED2(near, value("rmse"), std::sqrt(sum_sq / 4));
+    EXPECT_PRED2(near, value("crlb"), Percentile7(crlb, 0.5));
+  }
+  EXPECT_TRUE(found);
+}
+
+// summary.csv of a runs.csv written by hand, against values worked out by hand (no code of the
+// project computes them).
+TEST(Summary, KnownValuesOfAHandWrittenRunsCsv) {
+  const std::string dir = TempDir("summary_known");
+  fs::create_directories(dir);
+  const std::string runs = dir + "/runs.csv";
+  // err_fku_px of the ok rows: -3, -1, 0, 2, 5 (and one NaN); a failed row's 100 is left out.
+  std::ofstream(runs) << "scenario,sweep,point,params,method,status,err_fku_px,crlb_fku_px,"
+                         "std_fku_px\n"
+                         "s,s,0,,m,ok,-3,0.5,1\n"
+                         "s,s,0,,m,ok,-1,0.5,2\n"
+                         "s,s,0,,m,ok,0,0.7,3\n"
+                         "s,s,0,,m,ok,2,0.9,4\n"
+                         "s,s,0,,m,ok,5,0.9,5\n"
+                         "s,s,0,,m,ok,nan,nan,6\n"
+                         "s,s,0,,m,failed,100,1.0,100\n";
+  std::string text, why;
+  ASSERT_TRUE(SummarizeRuns(runs, &text, &why)) << why;
+  std::istringstream in(text);
+  CsvReader reader(&in);
+  std::vector<std::string> header, fields;
+  ASSERT_TRUE(reader.Next(&header, &why));
+  bool found = false;
+  while (reader.Next(&fields, &why)) {
+    if (fields[col_of(header, "metric")] != "err_fku_px") continue;
+    found = true;
+    const auto value = [&](const char* column) {
+      return std::stod(fields[col_of(header, column)]);
+    };
+    EXPECT_EQ(fields[col_of(header, "n")], "7");
+    EXPECT_EQ(fields[col_of(header, "n_failed")], "1");
+    EXPECT_EQ(fields[col_of(header, "n_used")], "5");
+    constexpr double kDigits = 1e-9;  // The file's %.10g.
+    EXPECT_NEAR(value("median"), 0.0, kDigits);
+    EXPECT_NEAR(value("mean"), 0.6, kDigits);
+    EXPECT_NEAR(value("std"), std::sqrt(37.2 / 4), kDigits);  // Squared deviations sum to 37.2.
+    // Sorted -3, -1, 0, 2, 5: h = 4 * 0.025 = 0.1 -> -3 + 0.1 * 2; h = 3.9 -> 2 + 0.9 * 3.
+    EXPECT_NEAR(value("p2_5"), -2.8, kDigits);
+    EXPECT_NEAR(value("p97_5"), 4.7, kDigits);
+    EXPECT_NEAR(value("rmse"), std::sqrt(39.0 / 5), kDigits);
+    // The bound's median over every row with a finite one (the failed row's 1.0 included):
+    // 0.5, 0.5, 0.7, 0.9, 0.9, 1.0 -> 0.8.
+    EXPECT_NEAR(value("crlb"), 0.8, kDigits);
+    EXPECT_NEAR(value("rmse_over_crlb"), std::sqrt(39.0 / 5) / 0.8, kDigits);
+    // |value| sorted 0, 1, 2, 3, 5: median 2, 0 + 0.1 * 1, 3 + 0.9 * 2.
+    EXPECT_NEAR(value("median_abs"), 2.0, kDigits);
+    EXPECT_NEAR(value("p2_5_abs"), 0.1, kDigits);
+    EXPECT_NEAR(value("p97_5_abs"), 4.8, kDigits);
+    // The reported std's median over the ok rows (the NaN row's 6 included): 1..6 -> 3.5.
+    EXPECT_NEAR(value("std_reported"), 3.5, kDigits);
   }
   EXPECT_TRUE(found);
 }

@@ -1,18 +1,22 @@
-"""Statistics of the calibench report (imported by report.py; tests/bench/report_stats_test.py).
+"""Statistics of the report that summary.csv does not hold: comparisons of paired trials.
 
-Seed 001's method for comparing two estimators on the same Monte Carlo trials:
+summary.csv (written by `calibench run`) holds every per-(scenario, method, metric) statistic: the
+medians, percentile bands, RMSE and bounds the report shows; this module computes none of them
+again. What needs the trials themselves is here, seed 001's method for comparing two estimators on
+the same Monte Carlo trials:
   * the paired differences d = |error of A| - |error of B| over the seeds both have a finite value
     for (unpaired and NaN trials dropped);
-  * Lilliefors test of the normality of d at the 5% level; not rejected: the paired t-test of d
-    (scipy ttest_1samp(d, 0), equal to ttest_rel); rejected: the Wilcoxon signed-rank test;
-  * effect size: the median of d with a percentile bootstrap 95% interval (resampled trial indices
-    from a fixed seed, a function of the number of pairs alone: the same data give the same
-    interval, whatever the order of the comparisons);
-  * Holm-Bonferroni adjustment of the p-values of a family (one report table).
-Fewer than MIN_PAIRS pairs, d all zero ("identical") or d constant (the trials repeat one another,
-e.g. rendered frames without noise) give no test: a reason instead of a p-value.
-And the helpers of the report's other numbers: percentile bands of |error|, RMSE, the coverage of
-reported standard deviations and the binomial band of a coverage.
+  * Lilliefors test of the normality of d at the 5% level (statsmodels); not rejected: the paired
+    t-test of d (scipy ttest_1samp(d, 0), equal to ttest_rel); rejected: the Wilcoxon signed-rank
+    test (scipy: exact for small samples without ties or zeros);
+  * effect size: the median of d with a percentile bootstrap 95% interval (scipy.stats.bootstrap,
+    BOOTSTRAP_RESAMPLES resamples from a Generator seeded with BOOTSTRAP_SEED for every interval:
+    the same data give the same interval, whatever the order of the comparisons);
+  * Holm-Bonferroni adjustment of the p-values of a family (statsmodels), e.g. one report table;
+  * the coverage of reported standard deviations and the binomial band of a coverage.
+Fewer than MIN_PAIRS pairs (the median of d alone, without an interval), d all zero ("identical")
+or d constant (the trials repeat one another, e.g. rendered frames without noise) give no test: a
+reason instead of a p-value.
 """
 import dataclasses
 import functools
@@ -26,6 +30,7 @@ from statsmodels.stats.multitest import multipletests
 
 NORMALITY_LEVEL = 0.05  # Lilliefors: below it the differences are taken as not normal.
 MIN_PAIRS = 5  # Fewer paired trials: no test.
+SIGNIFICANCE = 0.05  # A difference is called significant below this Holm-adjusted p.
 BOOTSTRAP_RESAMPLES = 2000
 BOOTSTRAP_SEED = 1  # numpy Generator seed of every bootstrap (deterministic intervals).
 Z95 = 1.959963984540054  # Two-sided 95% normal quantile: coverage of mean +- Z95 * std.
@@ -47,6 +52,10 @@ class Comparison:
     def tested(self):
         return math.isfinite(self.p)
 
+    @property
+    def significant(self):
+        return math.isfinite(self.p_adjusted) and self.p_adjusted < SIGNIFICANCE
+
 
 def paired_differences(a, b):
     """a - b over the index values (seeds) both pandas Series have, NaN/inf pairs dropped."""
@@ -58,34 +67,42 @@ def paired_differences(a, b):
     return d[np.isfinite(d)]
 
 
-@functools.lru_cache(maxsize=64)
-def resample_indices(n, resamples=BOOTSTRAP_RESAMPLES, seed=BOOTSTRAP_SEED):
-    """The bootstrap's (resamples, n) trial indices: a function of n alone (fixed seed), so an
-    interval depends on its data only, and is drawn once for all the comparisons of n trials."""
-    indices = np.random.default_rng(seed).integers(0, n, size=(resamples, n))
-    indices.setflags(write=False)
-    return indices
+def normality_p(d):
+    """Lilliefors' p-value for the normality of d (mean and variance estimated)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # The table's bounds (p clipped to [0.001, 0.2]).
+        return float(lilliefors(d, dist="norm", pvalmethod="table")[1])
 
 
-def bootstrap_median_ci(d, level=0.95):
-    """Percentile bootstrap interval of the median of d, all resamples in one array operation."""
-    d = np.asarray(d, dtype=float)
-    if d.size == 0:
-        return math.nan, math.nan
-    medians = np.median(d[resample_indices(d.size)], axis=1)
-    tail = (1 - level) / 2
-    lo, hi = np.quantile(medians, [tail, 1 - tail])
-    return float(lo), float(hi)
+def paired_t_p(d):
+    """Two-sided p of the paired t-test of differences d (H0: mean 0)."""
+    return float(stats.ttest_1samp(d, 0.0).pvalue)
+
+
+def signed_rank_p(d):
+    """Two-sided p of the Wilcoxon signed-rank test of differences d (H0: symmetric about 0)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # Ties and zeros: scipy's normal approximation.
+        return float(stats.wilcoxon(d).pvalue)
 
 
 def choose_and_test(d):
     """(test, normality p, p): Lilliefors on d, then the paired t-test or the Wilcoxon test."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # Lilliefors' table bounds, Wilcoxon's ties and zeros.
-        _, normality_p = lilliefors(d, dist="norm", pvalmethod="table")
-        if normality_p >= NORMALITY_LEVEL:
-            return "t", float(normality_p), float(stats.ttest_1samp(d, 0.0).pvalue)
-        return "W", float(normality_p), float(stats.wilcoxon(d).pvalue)
+    p_normal = normality_p(d)
+    if p_normal >= NORMALITY_LEVEL:
+        return "t", p_normal, paired_t_p(d)
+    return "W", p_normal, signed_rank_p(d)
+
+
+def bootstrap_median_ci(d, level=0.95):
+    """Percentile bootstrap interval of the median of d (seeded: deterministic)."""
+    d = np.asarray(d, dtype=float)
+    if d.size < 2:
+        return math.nan, math.nan
+    result = stats.bootstrap((d,), np.median, n_resamples=BOOTSTRAP_RESAMPLES,
+                             confidence_level=level, method="percentile", vectorized=True,
+                             random_state=np.random.default_rng(BOOTSTRAP_SEED))
+    return float(result.confidence_interval.low), float(result.confidence_interval.high)
 
 
 def compare(d):
@@ -100,10 +117,11 @@ def _compare(d_bytes):
     methods' rows, hence their comparisons, at every gain."""
     d = np.frombuffer(d_bytes, dtype=float)
     out = Comparison(n=int(d.size))
-    if d.size < MIN_PAIRS:
+    if d.size:
+        out.effect = float(np.median(d))
+    if d.size < MIN_PAIRS:  # The median alone: no interval, no test.
         out.reason = f"n<{MIN_PAIRS}"
         return out
-    out.effect = float(np.median(d))
     out.effect_ci = bootstrap_median_ci(d)
     if np.all(d == 0):
         out.reason = "identical"
@@ -116,28 +134,14 @@ def _compare(d_bytes):
 
 
 def holm(comparisons):
-    """Sets p_adjusted of the tested comparisons of one family (Holm-Bonferroni)."""
+    """Sets p_adjusted of the tested comparisons of one family (Holm-Bonferroni); the untested
+    ones are not part of the family."""
     tested = [c for c in comparisons if c.tested]
     if not tested:
         return
     _, adjusted, _, _ = multipletests([c.p for c in tested], method="holm")
     for c, p in zip(tested, adjusted):
         c.p_adjusted = float(p)
-
-
-def abs_band(values):
-    """(median, 2.5th, 97.5th percentile) of |values| over the finite ones; NaNs if none."""
-    v = np.abs(np.asarray(values, dtype=float))
-    v = v[np.isfinite(v)]
-    if v.size == 0:
-        return math.nan, math.nan, math.nan
-    return float(np.median(v)), float(np.quantile(v, 0.025)), float(np.quantile(v, 0.975))
-
-
-def rmse(values):
-    v = np.asarray(values, dtype=float)
-    v = v[np.isfinite(v)]
-    return float(np.sqrt(np.mean(v * v))) if v.size else math.nan
 
 
 def coverage(errors, stds, z=Z95):

@@ -7,6 +7,7 @@ Prints, per scenario, ||theta~|| as median and 2.5-97.5% percentile interval ove
 (seed 001's Monte Carlo percentile method), the detection columns of the rendered run, and where
 the rendered value falls against the oracle twins' intervals.
 """
+import os
 import sys
 
 import pandas as pd
@@ -14,6 +15,12 @@ import pandas as pd
 
 def main(path, method=None):
     runs = pd.read_csv(path)
+    timings = os.path.join(os.path.dirname(path), "timings.csv")  # measure_ms lives there.
+    if os.path.exists(timings):
+        runs = runs.merge(pd.read_csv(timings)[["scenario", "trial", "method", "measure_ms"]],
+                          on=["scenario", "trial", "method"], how="left")
+    else:
+        runs["measure_ms"] = float("nan")
     runs = runs[runs.method == (method or runs.method.iloc[0])]
     print(f"{'scenario':26s} {'n':>3s} {'theta~ median':>14s} {'95% interval':>26s}")
     intervals = {}

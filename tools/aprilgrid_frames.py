@@ -2,7 +2,7 @@
 """The aprilgrid-frames study (docs/aprilgrid_frames.md): our corners vs OpenCV aruco's, and
 which tag spacing fits the frames.
 
-Usage: scripts/aprilgrid_frames.py OUR_CORNERS.csv DATA_DIR/aprilgrid-frames
+Usage: tools/aprilgrid_frames.py OUR_CORNERS.csv DATA_DIR/aprilgrid-frames
 OUR_CORNERS.csv is `calibench detect --images DIR --target T.yaml --out ...` (6x6 tag36h11,
 blackTagBorder 2). Needs numpy and OpenCV's Python bindings with aruco (python3-opencv).
 

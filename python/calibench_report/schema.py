@@ -1,0 +1,143 @@
+"""schema.json of a run directory (bench/run/schema.h): the quantities and the sweeps' roles.
+
+The report knows no quantity, column or sweep by name: it takes them from here. A quantity is one
+entry of calibench's metric table (metrics/metric_table.h); a sweep is one swept scenario of the
+configuration with the role its config gave it (`report: {role: ...}`).
+"""
+import dataclasses
+import json
+import os
+from typing import Optional
+
+SCHEMA_FILE = "schema.json"
+
+
+@dataclasses.dataclass(frozen=True)
+class Quantity:
+    name: str  # Unit included: fku_px.
+    unit: str  # "px", "deg", "m", "s"; "" when dimensionless.
+    label: str  # f·ku
+    doc: str
+    columns: tuple  # ((kind, column), ...): kind value | error | std | crlb.
+    tracked: bool
+    summary: Optional[str]  # None | "statistics" | "with_rmse".
+    summary_metric: Optional[str]  # Its `metric` in summary.csv.
+    ranked: bool  # Methods are compared on it.
+    target: Optional[float]  # Seed 001's bound on the 97.5th percentile of |error|.
+    headline: bool  # The first page answers on it.
+
+    def column(self, kind):
+        """Its runs.csv column of a kind (value, error, std, crlb), or None."""
+        return dict(self.columns).get(kind)
+
+    @property
+    def compared(self):
+        """The column the methods are compared on: its error, or its value (an error already)."""
+        return self.column("error") or self.column("value")
+
+    @property
+    def unit_text(self):
+        return {"deg": "°", "": ""}.get(self.unit, self.unit)
+
+    @property
+    def title(self):
+        return f"{self.label} ({self.unit_text})" if self.unit else self.label
+
+    @property
+    def is_angle(self):
+        return self.unit == "deg"
+
+
+@dataclasses.dataclass(frozen=True)
+class Sweep:
+    name: str
+    role: str  # noise | points | gain | dynamic | "" (none).
+    detections: str  # oracle | rendered.
+    axes: tuple  # The swept fields.
+    points: int
+    trials: int
+    tracks: bool
+
+    @property
+    def swept(self):
+        return bool(self.axes)
+
+
+@dataclasses.dataclass(frozen=True)
+class Schema:
+    quantities: tuple
+    sweeps: tuple
+    files: dict  # file -> ((name, unit, doc), ...)
+
+    def quantity(self, name):
+        return next((q for q in self.quantities if q.name == name), None)
+
+    def ranked(self):
+        return [q for q in self.quantities if q.ranked]
+
+    def tracked(self):
+        return [q for q in self.quantities if q.tracked]
+
+    def headline(self):
+        return [q for q in self.quantities if q.headline]
+
+    def bounded_headline(self):
+        """The first headline quantity with a Cramér–Rao bound (f·ku): every method estimates
+        it, and its efficiency is measured against the bound."""
+        return next((q for q in self.headline() if q.column("crlb")), None)
+
+    def targeted(self):
+        return [q for q in self.quantities if q.target]
+
+    def sweeps_of(self, role):
+        return [s for s in self.sweeps if s.role == role and s.swept]
+
+    def sweep(self, name):
+        return next((s for s in self.sweeps if s.name == name), None)
+
+
+class SchemaError(ValueError):
+    pass
+
+
+def _quantity(q):
+    return Quantity(name=q["name"], unit=q["unit"], label=q["label"], doc=q["doc"],
+                    columns=tuple(q["columns"].items()), tracked=q["tracked"],
+                    summary=q["summary"], summary_metric=q["summary_metric"], ranked=q["ranked"],
+                    target=q["target"], headline=q["headline"])
+
+
+def _sweep(s):
+    return Sweep(name=s["sweep"], role=s["role"], detections=s["detections"],
+                 axes=tuple(s["axes"]), points=s["points"], trials=s["trials"], tracks=s["tracks"])
+
+
+def read(directory):
+    """The Schema of one run directory; SchemaError when it has none or it is malformed."""
+    path = os.path.join(directory, SCHEMA_FILE)
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+        return Schema(quantities=tuple(_quantity(q) for q in data["quantities"]),
+                      sweeps=tuple(_sweep(s) for s in data["sweeps"]),
+                      files={name: tuple((c["name"], c["unit"], c["doc"]) for c in columns)
+                             for name, columns in data["files"].items()})
+    except FileNotFoundError:
+        raise SchemaError(f"{os.path.basename(os.path.normpath(directory))}: no {SCHEMA_FILE} "
+                          "(written by `calibench run`; run the configuration again)") from None
+    except (KeyError, TypeError, json.JSONDecodeError) as e:
+        raise SchemaError(f"{path}: not a calibench schema ({e})") from None
+
+
+def merge(schemas):
+    """One Schema of several run directories: their quantities must agree (one calibench), their
+    sweeps are concatenated."""
+    if not schemas:
+        return Schema(quantities=(), sweeps=(), files={})
+    first = schemas[0]
+    for other in schemas[1:]:
+        if other.quantities != first.quantities:
+            raise SchemaError("the run directories were written by calibench versions with "
+                              "different metric tables; report them separately")
+    sweeps = tuple(s for schema in schemas for s in schema.sweeps)
+    return Schema(quantities=first.quantities, sweeps=sweeps, files=first.files)

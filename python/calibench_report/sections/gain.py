@@ -1,0 +1,191 @@
+"""The gain trade-off: the swept instance of a gain sweep (role gain, axis
+methods.<instance>.<option>) against its gain: RMSE and RMSE/CRLB, the angles' RMSE, convergence
+time and share converged, all from summary.csv."""
+import dataclasses
+import math
+
+from calibench_report import plots
+from calibench_report.sections import Section
+from calibench_report.tables import markdown, num
+
+CONVERGE = "converge_time_s"
+
+
+def gain_axis(sweep):
+    """(instance, option) of a gain sweep's axis methods.<instance>.<option>, or None."""
+    if len(sweep.axes) != 1 or not sweep.axes[0].startswith("methods."):
+        return None
+    instance, _, option = sweep.axes[0][len("methods."):].rpartition(".")
+    return (instance, option) if instance else None
+
+
+@dataclasses.dataclass
+class GainPoint:
+    value: float
+    scenario: str
+    trials: int
+    rmse: dict  # Quantity -> RMSE of the instance.
+    crlb: float
+    crlb_of: str  # The method whose bound it is ("" if none).
+    relation: str  # own | same data | other data | data not recorded
+    converged: float  # Share of the ok trials with a finite convergence time.
+    converge_s: float  # Their median.
+
+
+def bound_of(analysis, point, instance, quantity):
+    """(median CRLB, whose, relation): the instance's own bound if finite, else that of the first
+    method that used the same frames and observations (where recorded), else of the first method
+    with one (its views may differ)."""
+    rows = analysis.point_rows(point)
+    mine = analysis.data_used(rows, instance)
+    others = [m for m in analysis.methods_of(rows) if m != instance]
+    same = [m for m in others if None not in mine and analysis.data_used(rows, m) == mine]
+    for m in [instance] + same + [m for m in others if m not in same]:
+        b = analysis.stat(point.scenario, m, quantity.summary_metric, "crlb")
+        if math.isfinite(b):
+            relation = ("own" if m == instance else "same data" if m in same
+                        else "other data" if None not in mine else "data not recorded")
+            return b, m, relation
+    return math.nan, "", ""
+
+
+def gain_points(analysis, sweep):
+    axis = gain_axis(sweep)
+    if axis is None:
+        return None
+    instance = axis[0]
+    schema = analysis.data.schema
+    fku = schema.bounded_headline()
+    quantities = [q for q in [fku] + schema.targeted() if q is not None]
+    out = []
+    for p in analysis.points(sweep):
+        if not isinstance(p.x, float):
+            continue
+        n_ok, _ = analysis.trials(p.scenario, instance)
+        used = analysis.stat(p.scenario, instance, CONVERGE, "n_used")
+        crlb, whose, relation = (bound_of(analysis, p, instance, fku) if fku
+                                 else (math.nan, "", ""))
+        out.append(GainPoint(
+            value=p.x, scenario=p.scenario, trials=n_ok,
+            rmse={q: analysis.stat(p.scenario, instance, q.summary_metric, "rmse")
+                  for q in quantities},
+            crlb=crlb, crlb_of=whose, relation=relation,
+            converged=used / n_ok if n_ok and math.isfinite(used) else math.nan,
+            converge_s=analysis.stat(p.scenario, instance, CONVERGE, "median")))
+    return instance, axis[1], sorted(out, key=lambda g: g.value), fku
+
+
+def figure(gains, schema, path):
+    fig, axes = plots.figure(1, 4, 4.7, 4.0, sharex=True)
+    axes = axes[0]
+    share = axes[3].twinx()
+    targeted = schema.targeted()
+    for k, (sweep, (instance, option, pts, fku)) in enumerate(gains.items()):
+        x = [g.value for g in pts]
+        style = dict(color=f"C{k}", marker="o", ms=4)
+        if fku:
+            axes[0].plot(x, [g.rmse[fku] for g in pts], label=f"RMSE, {sweep}", **style)
+            whose = next((g.crlb_of for g in pts if g.crlb_of), "")
+            if whose:
+                axes[0].plot(x, [g.crlb for g in pts], ls="--", color=f"C{k}",
+                             label=f"CRLB ({whose}'s rows), {sweep}")
+                axes[1].plot(x, [g.rmse[fku] / g.crlb for g in pts], label=sweep, **style)
+        for q, ls in zip(targeted, ("-", ":", "-.")):
+            axes[2].plot(x, [g.rmse.get(q, math.nan) for g in pts], ls=ls,
+                         label=f"{q.label}, {sweep}", **style)
+        axes[3].plot(x, [g.converge_s for g in pts], label=f"median, {sweep}", **style)
+        share.plot(x, [100 * g.converged for g in pts], ls="--", color=f"C{k}",
+                   label=f"% converged, {sweep}")
+    axes[1].axhline(1, color="k", lw=0.8)
+    if targeted:
+        axes[2].axhline(targeted[0].target, label=f"{targeted[0].target:g}° target",
+                        **plots.TARGET_STYLE)
+    if not any(math.isfinite(g.converge_s) for v in gains.values() for g in v[2]):
+        axes[3].text(0.5, 0.6, "no trial converged", ha="center", transform=axes[3].transAxes,
+                     fontsize=8)
+    share.set_ylim(-5, 105)
+    share.set_ylabel("trials converged (%)", fontsize=8)
+    label = next(iter(gains.values()))[1]
+    titles = ["(a) RMSE of f·ku (px) and its CRLB", "(a) RMSE / CRLB of f·ku",
+              "(a) RMSE of the target angles (°)", "(b) convergence time (s), % converged"]
+    for ax, title in zip(axes, titles):
+        ax.set_xscale("log")
+        if ax is not axes[3]:
+            ax.set_yscale("log")
+        ax.set_title(title, fontsize=9)
+        ax.set_xlabel(label)
+        ax.grid(True, which="both", alpha=0.3)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=6, loc="upper left")
+    share.legend(fontsize=6, loc="upper right")
+    plots.save(fig, path)
+
+
+RELATION_TEXT = {
+    "same data": "it used the same frames and observations as {instance} (median n_frames_used "
+                 "and n_obs_used)",
+    "other data": "no method with {instance}'s frames and observations has one, so its data differ",
+    "data not recorded": "the data each method used is not recorded, so its views may differ",
+}
+
+
+def crlb_sources(gains):
+    out = []
+    for sweep, (instance, _, pts, fku) in gains.items():
+        for whose, relation in dict.fromkeys((g.crlb_of, g.relation) for g in pts):
+            if not whose:
+                out.append(f"{sweep}: no method has a finite CRLB of {fku.label if fku else 'it'} "
+                           "(RMSE alone).")
+            elif whose == instance:
+                out.append(f"{sweep}: the bound of {instance}'s own rows.")
+            else:
+                why = RELATION_TEXT[relation].format(instance=instance)
+                out.append(f"{sweep}: {instance}'s rows have no CRLB; the bound is {whose}'s, in "
+                           f"its parametrisation: {why}.")
+    return out
+
+
+def table(gains, schema):
+    targeted = schema.targeted()
+    head = (["sweep", "instance", "gain", "trials", "RMSE f·ku (px)", "CRLB f·ku (px), from",
+             "RMSE/CRLB"] + [f"RMSE {q.label} (°)" for q in targeted]
+            + ["median converge time (s)", "converged"])
+    body = []
+    for sweep, (instance, option, pts, fku) in gains.items():
+        for g in pts:
+            rmse = g.rmse.get(fku, math.nan) if fku else math.nan
+            body.append([sweep, instance, f"{option} = {g.value:g}", str(g.trials), num(rmse),
+                         f"{num(g.crlb)}, {g.crlb_of or 'none'}", num(rmse / g.crlb)]
+                        + [num(g.rmse.get(q, math.nan)) for q in targeted]
+                        + [num(g.converge_s),
+                           f"{100 * g.converged:.0f}%" if math.isfinite(g.converged) else "–"])
+    return markdown(body, head)
+
+
+def all_gains(analysis):
+    gains = {}
+    for sweep in analysis.data.schema.sweeps_of("gain"):
+        result = gain_points(analysis, sweep)
+        if result and result[2]:
+            gains[sweep.name] = result
+    return gains
+
+
+def section(ctx):
+    gains = all_gains(ctx.analysis)
+    if not gains:
+        return None
+    figure(gains, ctx.data.schema, ctx.path("gain_tradeoff.png"))
+    out = Section()
+    out.md += ["## Gain trade-off", "",
+               "The swept instance (the axis methods.<instance>.<option>) per gain value, from "
+               "summary.csv: the RMSE over the trials of its f·ku error and of its target angles' "
+               "errors (no CRLB of the angles: RMSE alone), the Cramér–Rao bound of f·ku and "
+               "RMSE/CRLB; converge_time_s: the time after which ‖θ̃‖ stays below the instance's "
+               "convergence tolerance, its median over the converged trials and the share of "
+               "trials converged. CRLB used:", ""]
+    out.md += [f"- {s}" for s in crlb_sources(gains)]
+    out.md += ["", "![gain trade-off](gain_tradeoff.png)", "", table(gains, ctx.data.schema), ""]
+    for note in ctx.data.notes:
+        out.md += ["Cost of a method-only sweep: " + note, ""]
+    return out
