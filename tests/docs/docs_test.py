@@ -1,0 +1,257 @@
+#!/usr/bin/env python3
+"""Fails when the user documentation is stale (CTest label `docs`; no build needed).
+
+Checks, from the sources (regular expressions, no compilation):
+  (a) every subcommand and long flag of the CLI (CLI11 add_subcommand / add_option / add_flag in
+      bench/app/*.cc) appears in docs/cli.md;
+  (b) every YAML key the scenario and target parsers accept (the CheckKeys lists and key vectors of
+      bench/config/*.cc, the sweepable fields, and the method options of VisitOptions in
+      methods/*.cc) appears in docs/configuration.md;
+  (c) every CSV column (the metric table's quantities and their err_/std_/crlb_/est_/true_
+      columns, metrics/metric_table.cc; the column declarations of bench/run/*.cc; the CSV headers
+      written by bench/app/*.cc) appears in docs/outputs.md;
+  (d) no issue references ("issue #14", "(#15)") and no development history in README.md or docs/;
+  (e) README.md has at most 220 lines;
+  (f) every relative link of README.md and docs/**/*.md points to an existing file inside the
+      repository.
+
+Run: /usr/bin/python3 tests/docs/docs_test.py [REPO_ROOT]
+"""
+import glob
+import os
+import re
+import sys
+import unittest
+
+ROOT = os.path.abspath(
+    sys.argv[1] if len(sys.argv) > 1 and not sys.argv[1].startswith("-")
+    else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+
+
+def read(path):
+    """A file of the repository (a path relative to ROOT, or absolute)."""
+    with open(os.path.join(ROOT, path), encoding="utf-8") as f:
+        return f.read()
+
+
+def sources(pattern):
+    return sorted(glob.glob(os.path.join(ROOT, pattern)))
+
+
+def strip_comments(text):
+    text = re.sub(r"/\*.*?\*/", "", text, flags=re.S)
+    return re.sub(r"//[^\n]*", "", text)
+
+
+def literals(text):
+    return re.findall(r'"((?:[^"\\]|\\.)*)"', text)
+
+
+def call_arguments(text, start):
+    """The text from `start` (just after an opening parenthesis) to its matching ')'."""
+    depth, i = 1, start
+    while i < len(text) and depth:
+        c = text[i]
+        if c == '"':
+            i += 1
+            while i < len(text) and text[i] != '"':
+                i += 2 if text[i] == "\\" else 1
+        elif c == "(":
+            depth += 1
+        elif c == ")":
+            depth -= 1
+        i += 1
+    return text[start:i - 1]
+
+
+def braced_lists(text):
+    """Every {...} initializer list of string literals in `text` (innermost braces)."""
+    return [literals(m.group(1)) for m in re.finditer(r"\{([^{}]*)\}", text)
+            if literals(m.group(1)) and re.fullmatch(r'[\s,]*("(?:[^"\\]|\\.)*"[\s,]*)+',
+                                                      m.group(1))]
+
+
+def code_tokens(markdown):
+    """The words inside `code spans` and ``` blocks of a markdown text."""
+    spans = re.findall(r"```.*?```", markdown, flags=re.S)
+    rest = re.sub(r"```.*?```", "", markdown, flags=re.S)
+    spans += re.findall(r"`([^`\n]+)`", rest)
+    tokens = set()
+    for span in spans:
+        tokens.update(re.findall(r"[A-Za-z0-9_+.\-]+", span))
+        tokens.update(re.findall(r"[A-Za-z0-9_]+", span))
+    return tokens
+
+
+# ---------------------------------------------------------------------------------------------
+# What the sources declare.
+
+def cli_names():
+    subcommands, flags = set(), set()
+    for path in sources("bench/app/*.cc"):
+        text = strip_comments(read(path))
+        for m in re.finditer(r"add_(subcommand|option|flag)\s*\(", text):
+            args = call_arguments(text, m.end())
+            first = literals(args[:args.find(",")] if "," in args else args)
+            if not first:
+                continue
+            if m.group(1) == "subcommand":
+                subcommands.add(first[0])
+            else:
+                flags.update(n for n in first[0].split(",") if n.startswith("--"))
+    return subcommands, flags
+
+
+def config_keys():
+    keys = set()
+    for path in sources("bench/config/*.cc"):
+        text = strip_comments(read(path))
+        # CheckKeys(node, field, {"a", "b"}), ParseCamera's extra keys, and the vectors / sets
+        # handed to them.
+        for m in re.finditer(r"\b(?:CheckKeys|ParseCamera)\s*\(", text):
+            for lst in braced_lists(call_arguments(text, m.end())):
+                keys.update(lst)
+        for m in re.finditer(
+                r"(?:std::vector<std::string>|std::set<std::string>)\s+(?:const\s+)?"
+                r"(?:keys|times|allowed)\s*=\s*", text):
+            start = text.find("{", m.end())
+            depth, i = 0, start
+            while i < len(text):
+                depth += {"{": 1, "}": -1}.get(text[i], 0)
+                i += 1
+                if depth == 0:
+                    break
+            for lst in braced_lists(text[start:i]):
+                keys.update(lst)
+        for m in re.finditer(r"(?:keys|times|allowed)\.insert\s*\(", text):
+            for lst in braced_lists(call_arguments(text, m.end())):
+                keys.update(lst)
+        # The sweepable top-level fields.
+        m = re.search(r"SweepableKeys\(\)\s*\{(.*?)return", text, flags=re.S)
+        if m:
+            for lst in braced_lists(m.group(1)):
+                keys.update(lst)
+    # Method options: VisitOptions of every method type (and the shared online options).
+    for path in sources("methods/*.cc") + sources("methods/*.h"):
+        text = strip_comments(read(path))
+        keys.update(re.findall(r"\bField(?:OrAll)?\s*\(\s*\"([A-Za-z0-9_]+)\"", text))
+    # Tracked quantities (tracking.tolerance keys) are the metric table's tracked names.
+    keys.update(name for name, _, tracked in metric_entries() if tracked)
+    return keys
+
+
+def metric_entries():
+    """(name, columns, tracked) of every Entry of metrics/metric_table.cc."""
+    text = strip_comments(read("metrics/metric_table.cc"))
+    body = text[text.find("MakeTable()"):]
+    entries = []
+    parts = re.split(r"\bEntry\s*\(", body)[1:]
+    for part in parts:
+        names = literals(part)
+        if not names:
+            continue
+        cols = re.search(r"\.Columns\s*\(\s*(\w+)\s*\)", part)
+        entries.append((names[0], cols.group(1) if cols else "kValueColumn",
+                        ".Track(" in part))
+    return entries
+
+
+def column_names():
+    columns = set()
+    prefixes = {"kIntrinsic": ["", "err_", "std_", "crlb_"], "kParameter": ["", "err_"],
+                "kValueColumn": [""]}
+    for name, cols, tracked in metric_entries():
+        for prefix in prefixes.get(cols, [""]):
+            columns.add(prefix + name)
+        if tracked:
+            columns.update({"est_" + name, "true_" + name, "err_" + name})
+    # Column declarations {"name", "unit", "doc"} of the run directory writers.
+    for path in sources("bench/run/*.cc"):
+        text = strip_comments(read(path))
+        columns.update(re.findall(
+            r'\{\s*"([a-z][a-z0-9_]*)"\s*,\s*"(?:px|deg|m|s|ms|us|px2|)"\s*,', text))
+    # CSV headers written by the commands: CsvLine({"a", "b", ...}) of literals only.
+    for path in sources("bench/app/*.cc") + sources("bench/run/*.cc"):
+        text = strip_comments(read(path))
+        for m in re.finditer(r"CsvLine\s*\(", text):
+            for lst in braced_lists(call_arguments(text, m.end())):
+                columns.update(lst)
+    return columns
+
+
+def markdown_files():
+    files = ["README.md"] + [os.path.relpath(p, ROOT)
+                             for p in sources("docs/**/*.md") + sources("docs/*.md")]
+    return sorted(set(files))
+
+
+# ---------------------------------------------------------------------------------------------
+
+class DocsTest(unittest.TestCase):
+
+    def test_a_cli_reference_lists_every_subcommand_and_flag(self):
+        subcommands, flags = cli_names()
+        self.assertGreaterEqual(len(subcommands), 8, "the CLI parse found too few subcommands")
+        self.assertGreaterEqual(len(flags), 20, "the CLI parse found too few flags")
+        cli = read("docs/cli.md")
+        headings = set(re.findall(r"^#+\s+(\S+)\s*$", cli, flags=re.M))
+        missing = sorted(s for s in subcommands if s not in headings)
+        self.assertEqual(missing, [], "subcommands without a section in docs/cli.md")
+        missing = sorted(f for f in flags if not re.search(re.escape(f) + r"(?![\w-])", cli))
+        self.assertEqual(missing, [], "flags missing from docs/cli.md")
+
+    def test_b_configuration_reference_lists_every_key(self):
+        keys = config_keys()
+        self.assertGreaterEqual(len(keys), 100, "the parser scan found too few keys")
+        for expected in ("changes", "tracking", "window_s", "every_s", "forgetting_beta",
+                         "reset_threshold", "role", "q_focal_px2_s", "blur_grid"):
+            self.assertIn(expected, keys, "the parser scan missed a known key")
+        documented = code_tokens(read("docs/configuration.md"))
+        missing = sorted(k for k in keys if k not in documented)
+        self.assertEqual(missing, [], "keys missing from docs/configuration.md")
+
+    def test_c_outputs_reference_lists_every_column(self):
+        columns = column_names()
+        self.assertGreaterEqual(len(columns), 100, "the column scan found too few columns")
+        for expected in ("fku_px", "err_fku_px", "std_u0_px", "crlb_phi_deg", "est_pitch_deg",
+                         "wall_per_frame_us", "reconverge_s", "wall_per_tag_us", "in_view"):
+            self.assertIn(expected, columns, "the column scan missed a known column")
+        documented = code_tokens(read("docs/outputs.md"))
+        missing = sorted(c for c in columns if c not in documented)
+        self.assertEqual(missing, [], "columns missing from docs/outputs.md")
+
+    def test_d_no_issue_references_or_history(self):
+        history = ["code not kept", "tried, measured", "not landed", "(was "]
+        problems = []
+        for path in markdown_files():
+            for n, line in enumerate(read(path).splitlines(), 1):
+                if re.search(r"issue\s*#\s*\d+", line, flags=re.I) or \
+                        re.search(r"(?<![\w/&#])#\d+\b", line):
+                    problems.append(f"{path}:{n}: issue reference: {line.strip()}")
+                for phrase in history:
+                    if phrase in line.lower():
+                        problems.append(f"{path}:{n}: history ({phrase!r}): {line.strip()}")
+        self.assertEqual(problems, [], "README.md and docs/ must not cite issues or history")
+
+    def test_e_readme_is_short(self):
+        lines = read("README.md").count("\n")
+        self.assertLessEqual(lines, 220, "README.md is a front page: at most 220 lines")
+
+    def test_f_relative_links_resolve_inside_the_repository(self):
+        problems = []
+        for path in markdown_files():
+            text = re.sub(r"```.*?```", "", read(path), flags=re.S)
+            for target in re.findall(r"\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)", text):
+                if re.match(r"^[a-z][a-z0-9+.-]*:", target, flags=re.I) or target.startswith("#"):
+                    continue
+                file_part = target.split("#", 1)[0]
+                resolved = os.path.normpath(os.path.join(ROOT, os.path.dirname(path), file_part))
+                if not (resolved == ROOT or resolved.startswith(ROOT + os.sep)):
+                    problems.append(f"{path}: {target}: outside the repository")
+                elif not os.path.exists(resolved):
+                    problems.append(f"{path}: {target}: no such file")
+        self.assertEqual(problems, [], "broken relative links")
+
+
+if __name__ == "__main__":
+    unittest.main(argv=[sys.argv[0]], verbosity=2)
