@@ -93,15 +93,18 @@
 //      -Wswitch warns (the tree has no -Werror) at every switch over LensFamily or LensModel
 //      without the new case; the if-chains below do not warn.
 //   3. Each place outside camera.{h,cc} that supports only some families takes the new one or
-//      refuses it with a message (unified, eucm, double-sphere: refused at the first four):
-//      core/render.cc FrameRenderer::Create (rays through the plane z = 1);
-//      batch/zhang.cc CalibrateZhang (calibrateCamera flags, or cv::fisheye);
-//      batch/refine.cc RefineOptions::Check (the Jet residual serves any family; bounds do not);
-//      bench/config/camera_io.cc WriteCameraFile and the readers (opencv, kalibr, mrcal names);
+//      refuses it with a message:
+//      core/render.cc FrameRenderer::Create (rays through the plane z = 1; refuses unified, eucm
+//      and double-sphere);
+//      batch/projection_jacobian.cc (the family's lens step with its Jacobians: the refinement's
+//      hot path; tests/batch/refine_test.cc checks it against the Jet);
+//      batch/refine.cc SetLensBounds (the family's ranges as Ceres bounds);
+//      batch/zhang.cc CalibrateZhang (calibrateCamera flags, or cv::fisheye; refuses the others);
+//      batch/wide_init.cc FromProfile (the family from the unified profile);
+//      bench/config/camera_io.cc the writers and readers (opencv, kalibr, mrcal names);
 //      bench/config/config_camera.cc (lens_family names; refuses others) and config_write.cc;
-//      bench/app/image_points.cc (curved tag edges) and calibrate.cc (equidistant focal scan).
-//   The three omnidirectional families, refused outside core: 9 files (camera.h, camera.cc, its
-//   test, its CMakeLists, camera_test.cc, and the refusals in render, zhang, refine, camera_io).
+//      bench/app/image_points.cc (curved tag edges for every family but radtan);
+//      bench/app/model_select.cc AutoCandidates (the models `--model auto` compares).
 #pragma once
 
 #include <Eigen/Core>
