@@ -248,17 +248,29 @@ bool JointCovariance(ceres::Problem* problem, Parameters* params, const std::vec
   ceres::Problem::EvaluateOptions options;
   options.parameter_blocks = {blocks[0], blocks[1], blocks[2]};
   options.apply_loss_function = true;
-  ceres::CRSMatrix jacobian;
-  if (!problem->Evaluate(options, nullptr, nullptr, nullptr, &jacobian)) {
-    if (why) *why = "covariance: the Jacobian could not be evaluated";
-    return false;
-  }
-  const int n = jacobian.num_cols;  // Free intrinsics + 3 + 3.
+  // J^T J in chunks of residual blocks: a growing window's whole Jacobian in CRS form would take
+  // ~20 bytes a residual (200 MB at 1e6 residuals) for a 16 x 16 result.
+  std::vector<ceres::ResidualBlockId> residual_blocks;
+  problem->GetResidualBlocks(&residual_blocks);
+  constexpr size_t kChunk = 4096;
+  const int n = kN - static_cast<int>(fixed.size()) + 6;  // Free intrinsics + 3 + 3.
   Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(n, n);
-  for (int r = 0; r < jacobian.num_rows; ++r) {
-    for (int a = jacobian.rows[r]; a < jacobian.rows[r + 1]; ++a) {
-      for (int b = a; b < jacobian.rows[r + 1]; ++b) {
-        jtj(jacobian.cols[a], jacobian.cols[b]) += jacobian.values[a] * jacobian.values[b];
+  ceres::CRSMatrix jacobian;
+  for (size_t from = 0; from < residual_blocks.size(); from += kChunk) {
+    options.residual_blocks.assign(
+        residual_blocks.begin() + static_cast<long>(from),
+        residual_blocks.begin() +
+            static_cast<long>(std::min(residual_blocks.size(), from + kChunk)));
+    if (!problem->Evaluate(options, nullptr, nullptr, nullptr, &jacobian) ||
+        jacobian.num_cols != n) {
+      if (why) *why = "covariance: the Jacobian could not be evaluated";
+      return false;
+    }
+    for (int r = 0; r < jacobian.num_rows; ++r) {
+      for (int a = jacobian.rows[r]; a < jacobian.rows[r + 1]; ++a) {
+        for (int b = a; b < jacobian.rows[r + 1]; ++b) {
+          jtj(jacobian.cols[a], jacobian.cols[b]) += jacobian.values[a] * jacobian.values[b];
+        }
       }
     }
   }
@@ -342,7 +354,9 @@ bool PerViewIntrinsicsCovariance(ceres::Problem* problem, Parameters* params,
 
 ceres::Solver::Options SolverOptions(const RefineOptions& options) {
   ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = options.shared_pose ? ceres::DENSE_QR : ceres::DENSE_SCHUR;
+  solver_options.linear_solver_type = !options.shared_pose       ? ceres::DENSE_SCHUR
+                                      : options.normal_equations ? ceres::DENSE_NORMAL_CHOLESKY
+                                                                 : ceres::DENSE_QR;
   solver_options.max_num_iterations = options.max_iterations;
   // Relative cost change 1e-10: parameters settle to ~1e-5 of their noise std (noisy data); the
   // parameter tolerance ends noise-free problems, whose cost goes to zero.

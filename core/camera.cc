@@ -167,6 +167,25 @@ bool CameraIntrinsics::DistortionIsMonotoneAt(double r2) const {
   return false;
 }
 
+bool CameraIntrinsics::DistortionIsMonotoneAlong(const Eigen::Vector3d& p) const {
+  const double r2 = p.x() * p.x() + p.y() * p.y();
+  switch (family) {
+    case LensFamily::kRadTan:
+    case LensFamily::kEquidistant:
+      return p.z() > 0 && DistortionIsMonotoneAt(r2 / (p.z() * p.z()));
+    case LensFamily::kUnified:
+    case LensFamily::kEucm:
+    case LensFamily::kDoubleSphere: {
+      Eigen::Vector2d pixel;
+      if (!ProjectPoint(*this, p, &pixel)) return false;
+      if (family != LensFamily::kUnified) return true;
+      const double den = p.z() + xi * p.norm();  // > 0 inside the region; m = |(X, Y)| / den.
+      return RadTanRadialSlope(k1, k2, 0, r2 / (den * den)) > 0;
+    }
+  }
+  return false;
+}
+
 std::array<double, 10> CameraIntrinsics::Params() const {
   const double phi = phi_deg * kDegToRad;
   switch (family) {
@@ -331,7 +350,9 @@ bool LiftDoubleSphere(double xi, double alpha, const Eigen::Vector2d& m, Eigen::
   return true;
 }
 
-// The unit ray of the normalised image point `distorted` (before A): every family's inverse.
+}  // namespace
+
+// Every family's inverse (camera.h).
 bool RayOfDistorted(const CameraIntrinsics& k, const Eigen::Vector2d& distorted,
                     Eigen::Vector3d* ray) {
   Eigen::Vector2d m;
@@ -362,6 +383,8 @@ bool RayOfDistorted(const CameraIntrinsics& k, const Eigen::Vector2d& distorted,
   ray->normalize();
   return true;
 }
+
+namespace {
 
 Eigen::Vector2d DistortedOfPixel(const CameraIntrinsics& k, const Eigen::Vector2d& pixel) {
   return (k.Matrix().inverse() * pixel.homogeneous()).hnormalized();

@@ -88,14 +88,15 @@
 //      ToString(), slots in Params()/FromParams()/ParamNames() (Check() refuses the coefficients
 //      a family lacks from ParamNames()), field ranges in Check(), a camera type with Project<T>
 //      and its case in ProjectLens<T>, its inverse in UnprojectToRay() (UndistortNormalized and
-//      UnprojectPixel follow), its meaning of DistortionIsMonotoneAt(); a model (step 1); a test
-//      file (an independent projection, Jet derivatives, round trips, the region's edge).
+//      UnprojectPixel follow), its meaning of DistortionIsMonotoneAt() and ...Along(); a model
+//      (step 1); a test file (an independent projection, Jet derivatives, round trips, the
+//      region's edge).
 //      -Wswitch warns (the tree has no -Werror) at every switch over LensFamily or LensModel
 //      without the new case; the if-chains below do not warn.
 //   3. Each place outside camera.{h,cc} that supports only some families takes the new one or
 //      refuses it with a message:
-//      core/render.cc FrameRenderer::Create (rays through the plane z = 1; refuses unified, eucm
-//      and double-sphere);
+//      core/render.cc RaySpaceOf (how its ray table holds the family's rays: on the plane z = 1,
+//      or stereographic past 90 deg; every family is drawn);
 //      batch/projection_jacobian.cc (the family's lens step with its Jacobians: the refinement's
 //      hot path; tests/batch/refine_test.cc checks it against the Jet);
 //      batch/refine.cc SetLensBounds (the family's ranges as Ceres bounds);
@@ -105,6 +106,8 @@
 //      bench/config/config_camera.cc (lens_family names; refuses others) and config_write.cc;
 //      bench/app/image_points.cc (curved tag edges for every family but radtan);
 //      bench/app/model_select.cc AutoCandidates (the models `--model auto` compares).
+//   Code that goes through UnprojectToRay and ProjectPoint only (the photometric fit's tangent
+//   plane, the frame detector's square painting) needs no case.
 #pragma once
 
 #include <Eigen/Core>
@@ -154,6 +157,9 @@ struct CameraIntrinsics {
   // theta; the omnidirectional families: inside the valid region, and unified's radtan does not
   // fold at the sphere image's radius). Beyond the first r where it fails, the image folds over.
   bool DistortionIsMonotoneAt(double r2) const;
+  // The same for any point, past 90 deg too: false outside the family's valid region (radtan and
+  // equidistant: Z <= 0), else DistortionIsMonotoneAt's test at the point's direction.
+  bool DistortionIsMonotoneAlong(const Eigen::Vector3d& point_in_cam) const;
 
   // The 3x3 matrix A above (distortion is not part of it).
   Eigen::Matrix3d Matrix() const;
@@ -354,6 +360,10 @@ bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& poi
 // (header comment). False where no ray projects there (past the valid region or a fold-over) or
 // an iteration does not converge; never a ray outside the region.
 bool UnprojectToRay(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& pixel,
+                    Eigen::Vector3d* ray_in_cam);
+// UnprojectToRay from the normalised image point `distorted` = A^-1 (u, v, 1), before A: for
+// callers that unproject many pixels with A^-1 at hand (UnprojectToRay inverts A at each call).
+bool RayOfDistorted(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& distorted,
                     Eigen::Vector3d* ray_in_cam);
 
 // Undistorts normalised coordinates: the (x, y) = (X/Z, Y/Z) whose projection before A is

@@ -23,6 +23,39 @@ inline int FloorSmall(double x) {
   return static_cast<int>(x + kOffset) - kOffset;
 }
 
+// How the ray table holds a ray in two numbers (render.h). kPlane: (x, y) = (X, Y) / Z on the plane
+// z = 1, rays in front only (radtan and equidistant); kStereographic: (x, y) = (X, Y) / (|P| + Z),
+// every ray but the backward axis (the omnidirectional families, whose rays reach past 90 deg).
+enum class RaySpace { kPlane, kStereographic };
+
+RaySpace RaySpaceOf(LensFamily family) {
+  switch (family) {
+    case LensFamily::kRadTan:
+    case LensFamily::kEquidistant:
+      return RaySpace::kPlane;
+    case LensFamily::kUnified:
+    case LensFamily::kEucm:
+    case LensFamily::kDoubleSphere:
+      return RaySpace::kStereographic;
+  }
+  return RaySpace::kStereographic;
+}
+bool IsPlaneFamily(LensFamily family) { return RaySpaceOf(family) == RaySpace::kPlane; }
+
+// The homogeneous ray (a positive multiple of the unit ray) of table coordinates q: (x, y, 1), or
+// the inverse stereographic projection (2x, 2y, 1 - x^2 - y^2) = (2 / (1 + Z)) P for a unit P.
+inline Eigen::Vector3d LiftRay(RaySpace space, const Eigen::Vector2d& q) {
+  if (space == RaySpace::kPlane) return {q.x(), q.y(), 1.0};
+  return {2 * q.x(), 2 * q.y(), 1 - q.squaredNorm()};
+}
+
+// The stereographic coordinates of a unit ray; NaN at the backward axis.
+inline Eigen::Vector2d Stereographic(const Eigen::Vector3d& unit_ray) {
+  const double w = 1 + unit_ray.z();
+  if (!(w > 1e-12)) return Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  return unit_ray.head<2>() / w;
+}
+
 // One board of the frame: its ray -> board homography and a table of its cells' shades.
 class BoardShader {
  public:
@@ -78,16 +111,22 @@ class BoardShader {
     return true;
   }
 
-  // Board point seen along ray (x, y, 1): false if the ray misses the board's plane in front of
-  // the camera or lands outside the board; else *bx, *by (m) and *depth (camera z, m).
-  bool ToBoard(double x, double y, double* bx, double* by, double* depth) const {
+  // Board point seen along the homogeneous ray r (any positive multiple of the unit ray, e.g.
+  // (x, y, 1) in front): h = [r1 r2 t]^-1 r; the hit is in front iff h.z > 0 (r = lambda
+  // [r1 r2 t] (bx, by, 1) with lambda = 1 / h.z > 0, whatever the sign of r.z). False if the ray
+  // misses the board's plane in front of the camera or lands outside the board; else *bx, *by (m)
+  // and *depth = 1 / h.z (the distance along r in units of |r|: comparable between boards on the
+  // same r; the camera z for r = (x, y, 1)).
+  bool ToBoard(const Eigen::Vector3d& r, double* bx, double* by, double* depth) const {
     if (!visible_) return false;
     const Eigen::Matrix3d& m = board_from_ray_;
-    const double hz = m(2, 0) * x + m(2, 1) * y + m(2, 2);
+    // Written out in this order (r.z() = 1 for the plane's rays: their hits are those of the
+    // two-coordinate form bit for bit).
+    const double hz = m(2, 0) * r.x() + m(2, 1) * r.y() + m(2, 2) * r.z();
     if (!(hz > 0)) return false;
     const double inv = 1.0 / hz;
-    *bx = (m(0, 0) * x + m(0, 1) * y + m(0, 2)) * inv;
-    *by = (m(1, 0) * x + m(1, 1) * y + m(1, 2)) * inv;
+    *bx = (m(0, 0) * r.x() + m(0, 1) * r.y() + m(0, 2) * r.z()) * inv;
+    *by = (m(1, 0) * r.x() + m(1, 1) * r.y() + m(1, 2) * r.z()) * inv;
     *depth = inv;
     return *bx >= min_ && *by >= min_ && *bx <= max_x_ && *by <= max_y_;
   }
@@ -123,8 +162,11 @@ class BoardShader {
   }
 
   // Pixel-corner box [i0, i1] x [j0, j1] outside which the board cannot be seen: the projection of
-  // its outline sampled densely, padded by 2 px; the whole image when the outline crosses the
-  // plane z = 0 or the distortion folds over (d r_d / d r <= 0) somewhere on it.
+  // its outline sampled densely, padded by 2 px; the whole image when the board may hold rays the
+  // lens does not map one-to-one: an outline point outside the lens's valid region (radtan,
+  // equidistant: z <= 0) or where the distortion folds over (d r_d / d r <= 0), or, for the
+  // omnidirectional families, a board that holds the backward axis (it could then hold the whole
+  // invalid cap about it, the outline staying valid).
   void ComputeImageBounds(const CameraIntrinsics& k, const Rigid3& cam_from_board, int width,
                           int height) {
     i0_ = 0, j0_ = 0, i1_ = width, j1_ = height;
@@ -134,6 +176,9 @@ class BoardShader {
     }
     constexpr int kSamplesPerEdge = 64;
     constexpr double kPadPx = 2.0;
+    const bool plane = IsPlaneFamily(k.family);
+    double bx = 0, by = 0, depth = 0;
+    if (!plane && ToBoard(Eigen::Vector3d(0, 0, -1), &bx, &by, &depth)) return;
     double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300;
     const double xs[2] = {min_, max_x_}, ys[2] = {min_, max_y_};
     for (int e = 0; e < 4; ++e) {
@@ -143,20 +188,26 @@ class BoardShader {
             e < 2 ? Eigen::Vector3d(xs[0] + f * (xs[1] - xs[0]), ys[e], 0)
                   : Eigen::Vector3d(xs[e - 2], ys[0] + f * (ys[1] - ys[0]), 0);
         const Eigen::Vector3d p = cam_from_board * point_in_board;
-        if (!(p.z() > 1e-9)) return;
-        const double r2 = (p.x() * p.x() + p.y() * p.y()) / (p.z() * p.z());
-        if (!k.DistortionIsMonotoneAt(r2)) return;
+        if (plane) {
+          if (!(p.z() > 1e-9)) return;
+          const double r2 = (p.x() * p.x() + p.y() * p.y()) / (p.z() * p.z());
+          if (!k.DistortionIsMonotoneAt(r2)) return;
+        } else if (!k.DistortionIsMonotoneAlong(p)) {
+          return;
+        }
         Eigen::Vector2d pixel;
         if (!ProjectPoint(k, p, &pixel)) return;
         u_min = std::min(u_min, pixel.x()), u_max = std::max(u_max, pixel.x());
         v_min = std::min(v_min, pixel.y()), v_max = std::max(v_max, pixel.y());
       }
     }
-    // Corner (i, j) is at pixel coordinates (i - 0.5, j - 0.5).
-    i0_ = std::max(0, FastFloor(u_min + 0.5 - kPadPx));
-    i1_ = std::min(width, FastFloor(u_max + 0.5 + kPadPx) + 1);
-    j0_ = std::max(0, FastFloor(v_min + 0.5 - kPadPx));
-    j1_ = std::min(height, FastFloor(v_max + 0.5 + kPadPx) + 1);
+    // Corner (i, j) is at pixel coordinates (i - 0.5, j - 0.5); a lens without an image circle may
+    // put an outline point arbitrarily far (clamped before the conversion to int).
+    auto corner = [](double px, int size) { return std::clamp(px + 0.5, -8.0, size + 8.0); };
+    i0_ = std::max(0, FastFloor(corner(u_min, width) - kPadPx));
+    i1_ = std::min(width, FastFloor(corner(u_max, width) + kPadPx) + 1);
+    j0_ = std::max(0, FastFloor(corner(v_min, height) - kPadPx));
+    j1_ = std::min(height, FastFloor(corner(v_max, height) + kPadPx) + 1);
   }
   bool Covers(int i, int j) const { return i >= i0_ && i <= i1_ && j >= j0_ && j <= j1_; }
   int i0() const { return i0_; }
@@ -215,13 +266,13 @@ float SumSamples(int n, bool rows_are_simple, const Sample& sample) {
   return sum;
 }
 
-// Nearest board hit along a ray: kOffBoard or 2 * board + (1 if white).
-int TraceBoards(const std::vector<BoardShader>& boards, double x, double y) {
+// Nearest board hit along a homogeneous ray: kOffBoard or 2 * board + (1 if white).
+int TraceBoards(const std::vector<BoardShader>& boards, const Eigen::Vector3d& ray) {
   double nearest = std::numeric_limits<double>::infinity();
   int hit = kOffBoard;
   for (size_t i = 0; i < boards.size(); ++i) {
     double bx = 0, by = 0, depth = 0;
-    if (!boards[i].ToBoard(x, y, &bx, &by, &depth) || depth >= nearest) continue;
+    if (!boards[i].ToBoard(ray, &bx, &by, &depth) || depth >= nearest) continue;
     nearest = depth;
     hit = 2 * static_cast<int>(i) + boards[i].Shade(bx, by);
   }
@@ -366,23 +417,59 @@ bool RenderOptions::Check(std::string* why) const {
 
 namespace {
 
-// The lens families the renderer draws: it casts rays through the plane z = 1, so it cannot draw
-// what an omnidirectional lens sees past 90 degrees (not supported yet).
-bool RendersFamily(LensFamily family, std::string* why) {
-  switch (family) {
-    case LensFamily::kRadTan:
-    case LensFamily::kEquidistant:
-      return true;
-    case LensFamily::kUnified:
-    case LensFamily::kEucm:
-    case LensFamily::kDoubleSphere:
-      break;
+// The ray of pixel-corner position (u, v) (pixel coordinates) of a distorted camera, in the table's
+// form: (x, y) on the plane z = 1 for the families that see only z > 0, stereographic coordinates
+// for the omnidirectional ones; NaN outside the lens's valid region.
+Eigen::Vector2d TableRay(const CameraIntrinsics& intrinsics, const Eigen::Matrix3d& a_inv, double u,
+                         double v) {
+  Eigen::Vector2d xy = (a_inv * Eigen::Vector3d(u, v, 1.0)).head<2>();
+  bool valid = false;
+  if (IsPlaneFamily(intrinsics.family)) {
+    valid = UndistortNormalized(intrinsics, Eigen::Vector2d(xy), &xy);
+  } else {
+    Eigen::Vector3d ray;
+    valid = RayOfDistorted(intrinsics, xy, &ray);  // UnprojectToRay, A^-1 at hand.
+    if (valid) xy = Stereographic(ray);
   }
-  if (why) {
-    *why = std::string("the renderer does not support the ") + ToString(family) +
-           " lens family yet (it casts rays through the plane z = 1; radtan and equidistant only)";
+  if (!valid) xy.setConstant(std::numeric_limits<double>::quiet_NaN());
+  return xy;
+}
+
+// The rays of the (w + 1) x (h + 1) pixel corners, row-major.
+std::vector<Eigen::Vector2d> RayTable(const CameraIntrinsics& intrinsics, int w, int h) {
+  const Eigen::Matrix3d a_inv = intrinsics.Matrix().inverse();
+  std::vector<Eigen::Vector2d> table(static_cast<size_t>(w + 1) * (h + 1));
+  for (int j = 0; j <= h; ++j) {
+    for (int i = 0; i <= w; ++i) {
+      table[static_cast<size_t>(j) * (w + 1) + i] = TableRay(intrinsics, a_inv, i - 0.5, j - 0.5);
+    }
   }
-  return false;
+  return table;
+}
+
+// The corner rays of a grid m times finer, interpolated bilinearly between the pixel corners'
+// (as the renderer's samples inside a pixel are: below 1e-3 px with |k1| <= 0.3), and computed
+// exactly (`finer`: the finer grid's camera) where a pixel corner has no valid ray. m^2 times
+// fewer inversions of the lens than a table built for the finer grid.
+std::vector<Eigen::Vector2d> FinerRayTable(const std::vector<Eigen::Vector2d>& coarse,
+                                           const CameraIntrinsics& finer, int w, int h, int m) {
+  const Eigen::Matrix3d a_inv = finer.Matrix().inverse();
+  const size_t stride = static_cast<size_t>(w) * m + 1;
+  std::vector<Eigen::Vector2d> table(stride * (static_cast<size_t>(h) * m + 1));
+  for (int jj = 0; jj <= h * m; ++jj) {
+    const int j = std::min(jj / m, h - 1);
+    const double fb = static_cast<double>(jj - j * m) / m;
+    for (int ii = 0; ii <= w * m; ++ii) {
+      const int i = std::min(ii / m, w - 1);
+      const double fa = static_cast<double>(ii - i * m) / m;
+      const size_t k00 = static_cast<size_t>(j) * (w + 1) + i, k01 = k00 + w + 1;
+      const Eigen::Vector2d ray = (1 - fb) * ((1 - fa) * coarse[k00] + fa * coarse[k00 + 1]) +
+                                  fb * ((1 - fa) * coarse[k01] + fa * coarse[k01 + 1]);
+      table[static_cast<size_t>(jj) * stride + ii] =
+          ray.allFinite() ? ray : TableRay(finer, a_inv, ii - 0.5, jj - 0.5);
+    }
+  }
+  return table;
 }
 
 }  // namespace
@@ -390,9 +477,7 @@ bool RendersFamily(LensFamily family, std::string* why) {
 std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& intrinsics,
                                                      const RenderOptions& options,
                                                      std::string* why) {
-  if (!options.Check(why) || !intrinsics.Check(why) || !RendersFamily(intrinsics.family, why)) {
-    return nullptr;
-  }
+  if (!options.Check(why) || !intrinsics.Check(why)) return nullptr;
   std::unique_ptr<FrameRenderer> r(new FrameRenderer());
   r->intrinsics_ = intrinsics;
   r->options_ = options;
@@ -410,25 +495,20 @@ std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& int
       fine.blur_sigma_px = 0;
       fine.noise_sigma_gray = 0;
 
-      r->fine_ = Create(FinerCamera(intrinsics, m), fine, why);
-      if (!r->fine_) return nullptr;
+      std::unique_ptr<FrameRenderer> finer(new FrameRenderer());
+      finer->intrinsics_ = FinerCamera(intrinsics, m);
+      finer->options_ = fine;
+      if (intrinsics.IsDistorted()) {
+        finer->corner_rays_ =
+            FinerRayTable(RayTable(intrinsics, w, h), finer->intrinsics_, w, h, m);
+      }
+      r->fine_ = std::move(finer);
       r->fine_grid_ = m;
       return r;  // The pixels' own ray table is not used.
     }
   }
-  const Eigen::Matrix3d a_inv = intrinsics.Matrix().inverse();
-  const bool distorted = intrinsics.IsDistorted();
-  if (!distorted) return r;  // Rays are affine in the pixel: CornerRay() computes them.
-  r->corner_rays_.resize(static_cast<size_t>(w + 1) * (h + 1));
-  for (int j = 0; j <= h; ++j) {
-    for (int i = 0; i <= w; ++i) {
-      Eigen::Vector2d xy = (a_inv * Eigen::Vector3d(i - 0.5, j - 0.5, 1.0)).head<2>();
-      if (!UndistortNormalized(intrinsics, Eigen::Vector2d(xy), &xy)) {
-        xy.setConstant(std::numeric_limits<double>::quiet_NaN());
-      }
-      r->corner_rays_[static_cast<size_t>(j) * (w + 1) + i] = xy;
-    }
-  }
+  if (intrinsics.IsDistorted()) r->corner_rays_ = RayTable(intrinsics, w, h);
+  // Without distortion rays are affine in the pixel: ShadePixels computes them.
   return r;
 }
 
@@ -510,6 +590,8 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
   // Without distortion the ray of corner (i, j) is A^-1 (i - 0.5, j - 0.5, 1), as in the table.
   const Eigen::Matrix3d a_inv = intrinsics_.Matrix().inverse();
   const bool table = !corner_rays_.empty();
+  const RaySpace space = RaySpaceOf(intrinsics_.family);
+  // A corner's ray in the table's coordinates (RaySpace), lifted to a homogeneous ray by LiftRay.
   const auto corner_ray = [&](int i, int j) -> Eigen::Vector2d {
     return table ? corner_rays_[static_cast<size_t>(j) * stride + i]
                  : Eigen::Vector2d((a_inv * Eigen::Vector3d(i - 0.5, j - 0.5, 1.0)).head<2>());
@@ -524,9 +606,9 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
       if (j < board.j0() || j > board.j1()) continue;
       for (int i = board.i0(); i <= board.i1(); ++i) {
         const size_t k = j * stride + i;
-        const Eigen::Vector2d ray = corner_ray(i, j);
+        const Eigen::Vector3d ray = LiftRay(space, corner_ray(i, j));
         double bx = 0, by = 0, depth = 0;
-        if (!board.ToBoard(ray.x(), ray.y(), &bx, &by, &depth) || !(depth < depths[i])) continue;
+        if (!board.ToBoard(ray, &bx, &by, &depth) || !(depth < depths[i])) continue;
         depths[i] = depth;
         corners[k] = static_cast<int16_t>(2 * b + board.Shade(bx, by));
         corner_in_board[k] = Eigen::Vector2f(bx, by);
@@ -602,16 +684,18 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
         for (int a = 0; a < n; ++a) {
           const Eigen::Vector2d& f = offsets[b * n + a];
           const double fa = f.x(), fb = f.y();
-          Eigen::Vector2d ray =
-              (1 - fb) * ((1 - fa) * r00 + fa * r10) + fb * ((1 - fa) * r01 + fa * r11);
-          if (exact) {  // A corner outside the distortion's valid region: undistort the sample.
-            ray = (a_inv * Eigen::Vector3d(i - 0.5 + fa, j - 0.5 + fb, 1.0)).head<2>();
-            if (!UndistortNormalized(intrinsics_, Eigen::Vector2d(ray), &ray)) {
+          if (exact) {  // A corner outside the lens's valid region: unproject the sample.
+            Eigen::Vector3d ray;
+            if (!SampleRay(a_inv, i - 0.5 + fa, j - 0.5 + fb, &ray)) {
               sum += gray(kOffBoard);
               continue;
             }
+            sum += gray(TraceBoards(boards, ray));
+            continue;
           }
-          sum += gray(TraceBoards(boards, ray.x(), ray.y()));
+          const Eigen::Vector2d q =
+              (1 - fb) * ((1 - fa) * r00 + fa * r10) + fb * ((1 - fa) * r01 + fa * r11);
+          sum += gray(TraceBoards(boards, LiftRay(space, q)));
         }
       }
       values[j * w + i] = sum / static_cast<float>(n * n);
@@ -624,6 +708,15 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
     y0 = std::min(y0, board.j0()), y1 = std::max(y1, board.j1());
   }
   *boards_box = {x0, x1, y0, y1};
+  return true;
+}
+
+bool FrameRenderer::SampleRay(const Eigen::Matrix3d& a_inv, double u, double v,
+                              Eigen::Vector3d* ray) const {
+  Eigen::Vector2d xy = (a_inv * Eigen::Vector3d(u, v, 1.0)).head<2>();
+  if (!IsPlaneFamily(intrinsics_.family)) return RayOfDistorted(intrinsics_, xy, ray);
+  if (!UndistortNormalized(intrinsics_, Eigen::Vector2d(xy), &xy)) return false;
+  *ray = LiftRay(RaySpace::kPlane, xy);
   return true;
 }
 

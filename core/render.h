@@ -1,13 +1,17 @@
-// Ray-cast rendering of AprilTag grids as a camera sees them: 8-bit grayscale frames.
+// Ray-cast rendering of AprilTag grids as a camera sees them: 8-bit grayscale frames, through
+// every lens family of core/camera.h, past 90 degrees from the axis for the omnidirectional ones.
 //
 // For every sample point (u, v) of the image (pixel-centre convention of camera.h: pixel (i, j)
 // covers [i - 0.5, i + 0.5] x [j - 0.5, j + 0.5]):
-//   1. undo A: (xd, yd, 1) = A^-1 (u, v, 1); undo the distortion by fixed-point iteration;
-//   2. intersect the ray (x, y, 1) with every board plane: with cam_from_board = [R | t], the
-//      board point b = (bx, by) seen along the ray satisfies (x, y, 1) ~ [r1 r2 t] (bx, by, 1), so
-//      h = [r1 r2 t]^-1 (x, y, 1) gives b = h.xy / h.z at depth 1 / h.z (in front iff h.z > 0);
-//      keep the nearest hit that lands on a board (tags, their white margins, a white frame of one
-//      gap around);
+//   1. its ray r, any positive multiple of the unit ray of the points that project there
+//      (UnprojectToRay; radtan and equidistant: A^-1, then the distortion undone by iteration,
+//      r = (x, y, 1)). A point outside the lens's valid region (outside an omnidirectional lens's
+//      image circle) has no ray: it sees the background;
+//   2. intersect r with every board plane: with cam_from_board = [R | t], the board point
+//      b = (bx, by) seen along r satisfies lambda r = [r1 r2 t] (bx, by, 1), lambda > 0, so
+//      h = [r1 r2 t]^-1 r gives b = h.xy / h.z at lambda = 1 / h.z: in front iff h.z > 0, for
+//      rays with z <= 0 too (r is never flipped to z = 1); keep the nearest hit (smallest lambda)
+//      that lands on a board (tags, their white margins, a white frame of one gap around);
 //   3. shade: black or white cell of the tag bitmap (TagFamily), white board, or background.
 // Antialiasing: each pixel is the mean of n x n samples (supersample = n; a sheared grid whose n^2
 // samples have distinct x and y offsets, so that an axis-aligned edge is resolved to 1/n^2 px, not
@@ -25,10 +29,14 @@
 // sub-pixels and summed back into pixels: the edge shift falls to < 5e-4 px for m >= 3 / sigma
 // (measured on straight edges; RenderOptions::blur_grid). m = 1 is the fast pixel-level blur.
 // Each sub-pixel is area-sampled by n x n samples as a pixel is.
-// Speed: with distortion, FrameRenderer undistorts the rays of the (w + 1) x (h + 1) pixel corners
-// once per camera (without, a corner's ray is A^-1 times the corner);
-// the rays of the samples inside a pixel are interpolated bilinearly between its four corner rays
-// (exact without distortion; with |k1| <= 0.3 the error is below 1e-3 px).
+// Speed: with distortion, FrameRenderer computes the rays of the (w + 1) x (h + 1) pixel corners
+// once per camera (without, a corner's ray is A^-1 times the corner); the table holds each in two
+// numbers: (x, y) on the plane z = 1 for radtan and equidistant (rays in front only), the
+// stereographic coordinates (X, Y) / (|P| + Z) of the unit ray for the omnidirectional families
+// (every ray but the backward axis, which no family images). The rays of the samples inside a
+// pixel are interpolated bilinearly between its four corners' coordinates (exact without
+// distortion; with |k1| <= 0.3 the error is below 1e-3 px), unless a corner has no ray: then each
+// sample is unprojected.
 #pragma once
 
 #include <array>
@@ -115,8 +123,12 @@ class FrameRenderer {
                    std::array<int, 4>* boards_box, std::string* why) const;
   CameraIntrinsics intrinsics_;
   RenderOptions options_;
-  // With distortion: the rays of the (w + 1) x (h + 1) pixel corners, row-major; NaN: no valid
-  // ray. Empty without distortion (the rays are then affine in the pixel).
+  // The homogeneous ray of the sample at pixel coordinates (u, v) (header comment, step 1; a_inv
+  // = A^-1); false outside the lens's valid region.
+  bool SampleRay(const Eigen::Matrix3d& a_inv, double u, double v, Eigen::Vector3d* ray) const;
+  // With distortion: the rays of the (w + 1) x (h + 1) pixel corners, row-major, in two numbers
+  // (header comment: on the plane z = 1, or stereographic for the omnidirectional families); NaN:
+  // no valid ray. Empty without distortion (the rays are then affine in the pixel).
   std::vector<Eigen::Vector2d> corner_rays_;
   std::unique_ptr<const FrameRenderer> fine_;  // The m-times finer renderer of a blurred frame.
   int fine_grid_ = 1;

@@ -84,6 +84,18 @@ Rigid3 FacingBoardPose(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board
   return cam_from_board;
 }
 
+Rigid3 FacingBoardPoseAlong(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board_point,
+                            const Eigen::Vector3d& ray, double distance_m) {
+  const Eigen::Vector3d unit = ray.normalized();
+  const Eigen::Matrix3d turn =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), unit).toRotationMatrix();
+  const Rigid3 facing = FacingBoardPose(tilt, board_point, Eigen::Vector3d::Zero());
+  Rigid3 cam_from_board;
+  cam_from_board.rotation = turn * facing.rotation;
+  cam_from_board.translation = distance_m * unit - cam_from_board.rotation * board_point;
+  return cam_from_board;
+}
+
 BoardView SixByFiveTagGrid() {
   BoardView b;
   b.grid.tag_rows = 5;

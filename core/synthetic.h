@@ -99,6 +99,13 @@ struct SyntheticBoardViews {
 // `board_point` at `point_in_cam`.
 Rigid3 FacingBoardPose(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board_point,
                        const Eigen::Vector3d& point_in_cam);
+// The same board facing the camera centre from the direction of `ray` (any length; any direction
+// but the backward axis, e.g. past 90 deg from the optical axis for an omnidirectional lens):
+// FacingBoardPose's rotation turned by the rotation that takes the optical axis to `ray` about
+// their common perpendicular, with `board_point` at `distance_m` along the ray. Seen from the
+// camera it looks as a board facing it on the axis, turned with the line of sight.
+Rigid3 FacingBoardPoseAlong(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board_point,
+                            const Eigen::Vector3d& ray, double distance_m);
 
 // A planar board seen through a wide lens (120-200+ degrees) anywhere in its field, the edge of
 // the image circle included: each view's board centre lies in a direction theta_c from the axis,

@@ -1,5 +1,6 @@
 #include "detect/corner_bias.h"
 
+#include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
 #include <initializer_list>
@@ -92,22 +93,36 @@ struct TagView {
   double view_angle_deg = 0;
 };
 
-// The tag centre on the ray of centre_px at `depth` (m, along the optical axis).
+// The tag centre on the ray of centre_px at `depth` (m): along the optical axis, or along the ray
+// for a camera whose views face the line of sight (CornerBiasCamera::faces_line_of_sight).
 bool MakeView(const CornerBiasCase& c, const Eigen::Vector2d& centre_px, double depth,
               const AprilGrid& grid, const std::shared_ptr<const TagFamily>& family,
-              const CameraIntrinsics& k, TagView* v, std::string* why) {
-  Eigen::Vector2d ray_xy;
-  if (!UnprojectPixel(k, centre_px, &ray_xy)) {
+              const CornerBiasCamera& camera, TagView* v, std::string* why) {
+  const CameraIntrinsics& k = camera.intrinsics;
+  Eigen::Vector3d centre_in_cam;
+  Eigen::Matrix3d turn = Eigen::Matrix3d::Identity();  // Optical axis -> line of sight.
+  bool valid = false;
+  if (camera.faces_line_of_sight) {
+    Eigen::Vector3d ray;
+    valid = UnprojectToRay(k, centre_px, &ray);
+    turn = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), ray).toRotationMatrix();
+    centre_in_cam = depth * ray;
+  } else {
+    Eigen::Vector2d ray_xy;
+    valid = UnprojectPixel(k, centre_px, &ray_xy);
+    centre_in_cam = depth * ray_xy.homogeneous();
+  }
+  if (!valid) {
     if (why) *why = "the tag centre is outside the lens's valid region";
     return false;
   }
-  const Eigen::Vector3d centre_in_cam = depth * ray_xy.homogeneous();
   const std::vector<Eigen::Vector3d> corners = grid.CornersInBoard();
   const Eigen::Vector3d centre_in_board = (corners[0] + corners[2]) / 2;
   v->board.grid = grid;
   v->board.family = family;
   // Facing the camera (board y up in the image, its normal toward the camera), then roll, tilt.
-  v->board.cam_from_board.rotation = RotX(c.tilt_deg * kDeg) * RotX(M_PI) * RotZ(c.roll_deg * kDeg);
+  v->board.cam_from_board.rotation =
+      turn * RotX(c.tilt_deg * kDeg) * RotX(M_PI) * RotZ(c.roll_deg * kDeg);
   v->board.cam_from_board.translation =
       centre_in_cam - v->board.cam_from_board.rotation * centre_in_board;
   const Eigen::Vector3d normal = v->board.cam_from_board.rotation.col(2);
@@ -126,14 +141,14 @@ bool MakeView(const CornerBiasCase& c, const Eigen::Vector2d& centre_px, double 
 // The depth at which the tag, fronto-parallel and unrolled at centre_px, shows a mean side of
 // tag_px pixels through the lens (a few fixed-point steps: the side is ~ 1 / depth).
 bool DepthForTagPx(const CornerBiasCase& c, const Eigen::Vector2d& centre_px, const AprilGrid& grid,
-                   const std::shared_ptr<const TagFamily>& family, const CameraIntrinsics& k,
+                   const std::shared_ptr<const TagFamily>& family, const CornerBiasCamera& camera,
                    double* depth, std::string* why) {
   CornerBiasCase flat = c;
   flat.tilt_deg = flat.roll_deg = 0;
-  *depth = k.fku_px * grid.tag_size_m / c.tag_px;
+  *depth = camera.intrinsics.fku_px * grid.tag_size_m / c.tag_px;
   for (int it = 0; it < 6; ++it) {
     TagView v;
-    if (!MakeView(flat, centre_px, *depth, grid, family, k, &v, why)) return false;
+    if (!MakeView(flat, centre_px, *depth, grid, family, camera, &v, why)) return false;
     double side = 0;
     for (int i = 0; i < 4; ++i) side += (v.truth[(i + 1) % 4] - v.truth[i]).norm() / 4;
     if (!(side > 0)) break;
@@ -162,6 +177,8 @@ const char* CornerBiasLensName(CornerBiasLens lens) {
       return "radtan_euroc";
     case CornerBiasLens::kEquidistant:
       return "equidistant";
+    case CornerBiasLens::kDoubleSphere190:
+      return "double_sphere_190";
   }
   return "unknown";
 }
@@ -184,6 +201,21 @@ CornerBiasCamera CornerBiasCamera::Of(CornerBiasLens lens) {
       c.width = 752;
       c.default_centre_px = Eigen::Vector2d(150, 120);
       break;
+    case CornerBiasLens::kDoubleSphere190: {
+      // 95 deg lands 1.1354 f from the centre: 480 px.
+      c.intrinsics = CameraIntrinsics{423.0, 423.0, 90.0, 511.5, 511.5};
+      c.intrinsics.family = LensFamily::kDoubleSphere;
+      c.intrinsics.xi = 0.6;
+      c.intrinsics.alpha = 0.6;
+      c.width = c.height = 1024;
+      c.faces_line_of_sight = true;
+      // At 95 deg from the axis, up and to the left of the centre (azimuth 225 deg).
+      const double theta = 95 * kDeg, azimuth = 225 * kDeg;
+      const Eigen::Vector3d at(std::sin(theta) * std::cos(azimuth),
+                               std::sin(theta) * std::sin(azimuth), std::cos(theta));
+      ProjectPoint(c.intrinsics, at, &c.default_centre_px);
+      break;
+    }
   }
   return c;
 }
@@ -297,8 +329,8 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
   if (!family) return result;
   double depth = 0;
   TagView view0;
-  if (!DepthForTagPx(c, centre_px, grid, family, k, &depth, &result.message) ||
-      !MakeView(c, centre_px, depth, grid, family, k, &view0, &result.message))
+  if (!DepthForTagPx(c, centre_px, grid, family, camera, &depth, &result.message) ||
+      !MakeView(c, centre_px, depth, grid, family, camera, &view0, &result.message))
     return result;
   result.view_angle_deg = view0.view_angle_deg;
   result.centre_px = centre_px;
@@ -360,7 +392,8 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
     o.detector.quad_decimate = options.quad_decimate;
     o.refinement = stage == CornerStage::kEdgeFit ? CornerRefinement::kEdgeFit
                                                   : CornerRefinement::kPhotometric;
-    o.refine.curved_edges = c.lens == CornerBiasLens::kEquidistant;
+    o.refine.curved_edges =
+        c.lens == CornerBiasLens::kEquidistant || c.lens == CornerBiasLens::kDoubleSphere190;
     if (stage == CornerStage::kLensAware) o.camera = crop_camera;
     detectors[static_cast<int>(stage)] = FrameDetector::Create({grid}, o, &result.message);
     if (!detectors[static_cast<int>(stage)]) return result;
@@ -380,7 +413,8 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
     Rng shift_rng(view_seed);
     const Eigen::Vector2d shift(shift_rng.Uniform(-0.5, 0.5), shift_rng.Uniform(-0.5, 0.5));
     TagView view = view0;  // View 0 is the case's own; the others are shifted.
-    if (v > 0 && !MakeView(c, centre_px + shift, depth, grid, family, k, &view, &result.message))
+    if (v > 0 &&
+        !MakeView(c, centre_px + shift, depth, grid, family, camera, &view, &result.message))
       return result;
     for (StageSums& s : sums) s.view_errors.clear();
     for (int d = 0; d < options.draws; ++d) {
@@ -492,7 +526,9 @@ std::vector<CornerBiasCase> DefaultCornerBiasCases() {
         Family{CornerBiasLens::kRadTanEuroc, 1, false},
         Family{CornerBiasLens::kRadTanEuroc, 2, true},
         Family{CornerBiasLens::kEquidistant, 1, false},
-        Family{CornerBiasLens::kEquidistant, 2, true}}) {
+        Family{CornerBiasLens::kEquidistant, 2, true},
+        Family{CornerBiasLens::kDoubleSphere190, 1, false},
+        Family{CornerBiasLens::kDoubleSphere190, 2, true}}) {
     CornerBiasCase b = base;
     b.lens = f.lens;
     b.black_border_bits = f.border;

@@ -3,10 +3,11 @@
 //
 // One case is one view of a single tag36h11 tag (a 1 x 1 AprilGrid on its white board, with a 1-
 // or 2-bit black border, and with or without Kalibr's corner squares) through one of the study's
-// cameras (CornerBiasCamera: no lens, an EuRoC-like radtan lens, an equidistant fisheye). The tag's
-// centre projects to `centre_px`, its black square would show a side of `tag_px` pixels there
-// fronto-parallel (through the lens; `tag_edge_px` is the side as tilted), and the board is tilted
-// by `tilt_deg` about the board's x axis after an in-plane rotation `roll_deg`. The case is seen in
+// cameras (CornerBiasCamera: no lens, an EuRoC-like radtan lens, an equidistant fisheye, a 190 deg
+// double-sphere lens with the tag past 90 deg). The tag's centre projects to `centre_px`, its
+// black square would show a side of `tag_px` pixels there fronto-parallel (through the lens;
+// `tag_edge_px` is the side as tilted), and the board is tilted by `tilt_deg` about the board's x
+// axis after an in-plane rotation `roll_deg`. The case is seen in
 // `views` views, each shifted by a random sub-pixel offset (uniform in [-0.5, 0.5] px) and rendered
 // `draws` times with independent gray noise. Each stage (CornerStage) finds and refines the tag on
 // the same frames (cropped to the tag's surroundings); per view v, draw d and corner k (detector
@@ -45,15 +46,23 @@ namespace calibench {
 
 // The study's cameras. kNone: 640 x 480, f 800 px, no distortion. kRadTanEuroc: 752 x 480,
 // f 458 px, k1 = -0.28, k2 = 0.074 (EuRoC's cam0). kEquidistant: 752 x 480, f 300 px,
-// Kannala-Brandt k1 = 0.01, k2 = -0.002 (a 140 deg fisheye, TUM VI-like).
-enum class CornerBiasLens { kNone, kRadTanEuroc, kEquidistant };
-const char* CornerBiasLensName(CornerBiasLens lens);  // "none", "radtan_euroc", "equidistant"
+// Kannala-Brandt k1 = 0.01, k2 = -0.002 (a 140 deg fisheye, TUM VI-like). kDoubleSphere190:
+// 1024 x 1024, double sphere xi = 0.6, alpha = 0.6, f 423 px (95 deg from the axis lands 480 px
+// from the centre: a 190 deg lens), the tag at 95 deg, facing the camera.
+enum class CornerBiasLens { kNone, kRadTanEuroc, kEquidistant, kDoubleSphere190 };
+// "none", "radtan_euroc", "equidistant", "double_sphere_190".
+const char* CornerBiasLensName(CornerBiasLens lens);
 struct CornerBiasCamera {
   CameraIntrinsics intrinsics;
   int width = 640, height = 480;
   // Where a tag sits by default: the image centre without a lens; with one, off axis, where the
   // lens bends the tag's edges (EuRoC-like: 0.06 px of sag over a 32 px edge).
   Eigen::Vector2d default_centre_px;
+  // How a view is posed (MeasureCornerBias). false: the board faces the optical axis and the tag
+  // centre sits at `depth` along it (Z). true (a lens past 90 deg, where such a board is seen
+  // edge-on): the view on the axis at distance `depth`, turned to the tag's line of sight (about
+  // the perpendicular to both), so the board faces the camera centre; tilt and roll as on the axis.
+  bool faces_line_of_sight = false;
   static CornerBiasCamera Of(CornerBiasLens lens);
 };
 
@@ -140,7 +149,8 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
 // the default sweeps' view (32 px, 0.5 px blur, fronto-parallel): viewing angle 0..70 deg at two
 // rolls, tag edge 15..60 px, blur 0..1.5 px, image position. Then for each of (no lens, 2-bit),
 // (no lens, Kalibr grid: 2-bit with corner squares) and, for each lens, (1-bit) and (Kalibr grid):
-// tilt 0..60 deg, tag edge 15..60 px and blur 0..1.5 px about the same view.
+// tilt 0..60 deg, tag edge 15..60 px and blur 0..1.5 px about the same view (the 190 deg lens's
+// cases last).
 std::vector<CornerBiasCase> DefaultCornerBiasCases();
 
 }  // namespace calibench

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "core/tag_family.h"
+#include "detect/tangent_plane.h"
 
 namespace calibench {
 namespace {
@@ -77,8 +78,9 @@ namespace {
 // squares, and AprilTag 3 traces their outlines. Each square's white is the brightest pixel of its
 // neighbourhood. Corners of painted tags lose a margin-sized tip, which changes nothing: the
 // refinement runs on the original image. With a distorted `camera` each square is mapped
-// through the lens (the homography on the undistorted normalised plane, its sides sampled and
-// projected), so that squares a pitch away land where the lens puts them.
+// through the lens (the homography on the tangent plane about the tag's centre ray, its sides
+// sampled and projected), so that squares a pitch away land where the lens puts them, past 90
+// deg from the axis too.
 std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
                                         const std::vector<SquareToPaint>& squares,
                                         const CameraIntrinsics* camera) {
@@ -94,15 +96,22 @@ std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
   const cv::Rect frame(0, 0, image.width, image.height);
   const std::vector<cv::Point2f> unit = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   const TagDetection* homography_of = nullptr;
-  // Tag [0, 1]^2 -> pixels, or -> the undistorted normalised plane (camera); unset when the tag's
-  // corners leave the lens's valid region.
+  // Tag [0, 1]^2 -> pixels, or -> the tangent plane about the tag's centre ray (camera; homogeneous
+  // points (x, y, w), w > 0 on the tag); unset when the tag's corners leave the lens's valid
+  // region.
   std::optional<Eigen::Matrix3d> to_image;
-  // Tag coordinates -> pixel (through the lens with a camera); false off the lens's valid region.
+  TangentPlane plane;
+  // Tag coordinates -> pixel (through the lens with a camera: the ray e1 x + e2 y + c w, which
+  // keeps its direction for board points past the plane's horizon); false off the lens's valid
+  // region.
   auto to_pixel = [&](const cv::Point2f& in_tag, cv::Point2f* pixel) {
-    const Eigen::Vector2d mapped =
-        (*to_image * Eigen::Vector3d(in_tag.x, in_tag.y, 1)).hnormalized();
-    Eigen::Vector2d q = mapped;
-    if (camera && !ProjectPoint(*camera, mapped.homogeneous(), &q)) return false;
+    const Eigen::Vector3d mapped = *to_image * Eigen::Vector3d(in_tag.x, in_tag.y, 1);
+    Eigen::Vector2d q;
+    if (!camera) {
+      q = mapped.hnormalized();
+    } else if (!ProjectPoint(*camera, plane.ToRayHomogeneous(mapped), &q)) {
+      return false;
+    }
     *pixel = cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y()));
     return true;
   };
@@ -113,14 +122,21 @@ std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
       homography_of = square.tag;
       to_image.reset();
       std::vector<cv::Point2f> seen;
-      for (const Eigen::Vector2d& c : square.tag->corners) {
-        Eigen::Vector2d p = c;
-        if (camera && !UnprojectPixel(*camera, c, &p)) break;
-        seen.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+      if (!camera) {
+        for (const Eigen::Vector2d& c : square.tag->corners)
+          seen.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()));
+      } else {
+        std::array<Eigen::Vector2d, 4> on_plane;
+        if (TangentPlane::AboutPixels(*camera, square.tag->corners, &plane, &on_plane)) {
+          for (const Eigen::Vector2d& q : on_plane)
+            seen.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()));
+        }
       }
       if (seen.size() == 4) {
         Eigen::Matrix3d h;
         cv::cv2eigen(cv::getPerspectiveTransform(unit, seen), h);
+        // h_22 = 1: w = 1 at the tag's corner 0, so w > 0 over the tag (it does not cross the
+        // plane's horizon).
         to_image = h;
       }
     }

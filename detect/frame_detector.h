@@ -21,9 +21,10 @@
 //      tag appears: the tags they joined stand alone (measured on rendered Kalibr grids: 81-84%
 //      of tags found before, 99.4-100% after; tests/detect/kalibr_grid_test.cc). A fisheye without
 //      a camera paints only the squares touching found tags (a homography extrapolates badly
-//      through its bent edges); with a distorted `camera` the squares are mapped through its lens
-//      (the homography on the undistorted plane), up to two tags from a found tag. Tags found
-//      only in such copies keep no unrefined corners.
+//      through its bent edges); with a distorted `camera` (any lens family) the squares are
+//      mapped through its lens (the homography on the tangent plane about the tag's centre ray,
+//      detect/tangent_plane.h), up to two tags from a found tag. Tags found only in such copies
+//      keep no unrefined corners.
 //   2. Refining corners. kPhotometric fits the tag's pattern with its four squares. kEdgeFit
 //      follows the edge fit by the saddle point of each X-junction (cv::cornerSubPix, window
 //      (2 w + 1)^2 px, w = min(3, 0.4 x the square's edge in px), kept if it moves < 1 px):

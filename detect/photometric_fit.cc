@@ -18,15 +18,14 @@ constexpr double kSigmaSettledPx = 5e-3;
 PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) {
   PhotometricFitResult result;
   result.corners = initial;
-  // The model plane's corners: the pixels, or their undistorted normalised coordinates.
+  // The model plane's corners: the pixels, or their points on the tangent plane about the tag's
+  // centre ray (the mean of the corners' unit rays).
   std::array<Eigen::Vector2d, 4> model_corners = initial;
-  for (int k = 0; k < 4 && camera_; ++k) {
-    if (!UndistortNormalized(*camera_, (a_inv_ * initial[k].homogeneous()).hnormalized(),
-                             &model_corners[k])) {
-      result.failure = FitFailure::kDiverged;
-      result.message = "corner " + std::to_string(k) + " is outside the camera's valid region";
-      return result;
-    }
+  if (camera_ && !TangentPlane::AboutPixels(*camera_, initial, &plane_, &model_corners)) {
+    result.failure = FitFailure::kDiverged;
+    result.message =
+        "a corner is outside the camera's valid region, or the corners span half the sphere";
+    return result;
   }
   centre_.setZero();
   double perimeter = 0, pixel_perimeter = 0;

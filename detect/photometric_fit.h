@@ -85,11 +85,14 @@ struct PhotometricFitResult {
 };
 
 // Fits `pattern` to `image` from the detector's corners (calibench convention, detector order).
-// With a distorted `camera` (lens-aware fit) the homography maps the camera's undistorted
-// normalised image plane to the tag, where its edges are straight; every distance above is then
-// measured in pixels through the lens: d = (l . u~(p)) / |J(p)^T l_xy|, u(p) the undistorted point
-// of pixel p and J = du/dp, so the model's edges bend as the lens bends them. A pinhole camera (or
-// none) fits in pixels. Never throws; result.failure says why a fit was refused (corners then
+// With a distorted `camera` (lens-aware fit; every family, past 90 deg from the axis too) the
+// homography maps the tangent plane about the tag's centre ray (detect/tangent_plane.h; c the mean
+// of the detector's corners' unit rays) to the tag: a ray r is the point (e1 . r, e2 . r) / (c . r)
+// there, and the tag's edges are straight. Every distance above is then measured in pixels
+// through the lens: d = (l . u~(p)) / |J(p)^T l_xy|, u(p) the plane point of pixel p's ray
+// (UnprojectToRay) and J = du/dp (the inverse of the central differences of the projection,
+// ProjectPoint), so the model's edges bend as the lens bends them. A pinhole camera (or none)
+// fits in pixels. Never throws; result.failure says why a fit was refused (corners then
 // unchanged).
 PhotometricFitResult FitTagPhotometric(const GrayImageView& image, const TagPattern& pattern,
                                        const std::array<Eigen::Vector2d, 4>& initial_corners,

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "detect/photometric_fit.h"
+#include "detect/tangent_plane.h"
 
 namespace calibench {
 namespace photometric_internal {
@@ -86,8 +87,9 @@ class TagFit {
   // Cost, J^T J and J^T r at x; false when x is invalid (a pixel behind the homography's horizon).
   bool Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, ParamVector* jtr) const;
   bool InitialHomography(const std::array<Eigen::Vector2d, 4>& corners, ParamVector* x) const;
-  // The model plane: pixels themselves, or with a camera the undistorted normalised image plane,
-  // where the tag's edges are straight. p^ = (model point - centre_) / scale_.
+  // The model plane: pixels themselves, or with a camera the tangent plane about the tag's centre
+  // ray (tangent_plane.h), where the tag's edges are straight. p^ = (model point - centre_) /
+  // scale_. False where the pixel has no ray in front of that plane.
   bool ModelOf(const Eigen::Vector2d& pixel, Eigen::Vector2d* p_hat) const;
   // d pixel / d p^ at a model point (scale_ I without a camera), and its inverse d p^ / d pixel.
   Eigen::Matrix2d PixelJacobian(const Eigen::Vector2d& p_hat) const;
@@ -103,7 +105,8 @@ class TagFit {
   const PhotometricFitOptions& options_;
   const Layout layout_;
   const CameraIntrinsics* camera_;  // Null: a pinhole tag, straight edges in the image.
-  const Eigen::Matrix3d a_inv_;
+  const Eigen::Matrix3d a_inv_;     // A^-1 of the camera (pixel -> ray: RayOfDistorted).
+  TangentPlane plane_;              // With a camera: the model plane (Run sets it).
   Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
   double scale_ = 1, px_per_unit_ = 1;
   Eigen::Matrix2d centre_jacobian_ = Eigen::Matrix2d::Identity();  // ModelJacobian(0).

@@ -66,17 +66,21 @@ bool TagFit::ModelOf(const Eigen::Vector2d& pixel, Eigen::Vector2d* p_hat) const
     *p_hat = (pixel - centre_) / scale_;
     return true;
   }
-  Eigen::Vector2d undistorted;
-  if (!UndistortNormalized(*camera_, (a_inv_ * pixel.homogeneous()).hnormalized(), &undistorted))
+  // UnprojectToRay, with A^-1 computed once.
+  Eigen::Vector3d ray;
+  Eigen::Vector2d q;
+  if (!RayOfDistorted(*camera_, (a_inv_ * pixel.homogeneous()).hnormalized(), &ray) ||
+      !plane_.FromRay(ray, &q)) {
     return false;
-  *p_hat = (undistorted - centre_) / scale_;
+  }
+  *p_hat = (q - centre_) / scale_;
   return true;
 }
 
 Eigen::Vector2d TagFit::ToPixel(const Eigen::Vector2d& p_hat) const {
   if (!camera_) return centre_ + scale_ * p_hat;
   Eigen::Vector2d pixel(std::numeric_limits<double>::quiet_NaN(), 0);
-  ProjectPoint(*camera_, (centre_ + scale_ * p_hat).homogeneous(), &pixel);
+  plane_.ToPixel(*camera_, centre_ + scale_ * p_hat, &pixel);
   return pixel;
 }
 

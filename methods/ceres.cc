@@ -81,6 +81,7 @@ class CeresMethod final : public Method {
     }
     RefineOptions options = options_;
     options.compute_pose_covariance = online_.Online();
+    options.normal_equations = online_.Online();
     const RefineResult r = RefineCalibration(input.Frames().views, start->intrinsics,
                                              {start->cam_from_parent}, options);
     static_cast<MethodSummary&>(result) = r;

@@ -916,7 +916,7 @@ def matched_oracle_table(runs):
         curve.setdefault(method, []).append((float(sigma) * math.sqrt(2),
                                              rs.abs_band(ok_rows(h)[METRIC])[0]))
     head = ["rendered point", "corner RMS (px)", "method", "rendered median |f·ku err|",
-            "oracle at that RMS", "ratio (target ≤ 2)"]
+            "oracle at that RMS", "ratio (target ≤ 1.5)"]
     lines = []
     for point, g in rendered.groupby("point"):
         rms = float(np.nanmedian(g["corner_rms_px"]))

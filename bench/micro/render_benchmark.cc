@@ -1,5 +1,7 @@
 // Rendering and detection speed: one 640x480 frame of a 6x5 AprilTag grid, 4x4 supersampling at
-// edges; raw AprilTag 3 detection of that frame through the wrapper and through the C API.
+// edges, through a radtan lens (the ray table), a pinhole (rays on the fly) and a 190 deg
+// double-sphere lens (stereographic rays); raw AprilTag 3 detection of that frame through the
+// wrapper and through the C API.
 // The rendered pipeline of the default sweeps per frame (BM_RigPipeline: render + detect + refine
 // + match, configs/sweeps/rig.yaml's options, frames cycling through the trial's 240 poses) against
 // the raw C API call on the same frames at quad_decimate 1 (BM_RigDetectCApi/1) and 2 (/2): the
@@ -8,6 +10,7 @@
 #include <apriltag/tag36h11.h>
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -41,6 +44,38 @@ void BM_RenderFrame(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_RenderFrame)->Unit(benchmark::kMillisecond);
+
+// The same frame without distortion: the rays are affine in the pixel, computed on the fly.
+void BM_RenderFrameUndistorted(benchmark::State& state) {
+  const std::vector<BoardView> boards = {GridView()};
+  const CameraIntrinsics pinhole{600, 600, 90, 319.5, 239.5};
+  const auto renderer = FrameRenderer::Create(pinhole, RenderOptions(), nullptr);
+  GrayImage img;
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
+    renderer->Render(boards, nullptr, &img, nullptr);
+    benchmark::DoNotOptimize(img.pixels.data());
+  }
+}
+BENCHMARK(BM_RenderFrameUndistorted)->Unit(benchmark::kMillisecond);
+
+// The grid through a 190 deg double-sphere lens (xi 0.6, alpha 0.6, 640 x 480, 95 deg at 235 px
+// from the centre), seen 60 deg off the axis: the table holds stereographic rays.
+void BM_RenderFrameDoubleSphere(benchmark::State& state) {
+  CameraIntrinsics lens{207, 207, 90, 319.5, 239.5};
+  lens.family = LensFamily::kDoubleSphere;
+  lens.xi = 0.6;
+  lens.alpha = 0.6;
+  BoardView board = SixByFiveTagGrid();
+  board.cam_from_board = FacingBoardPoseAlong({0.3, -0.2, 0.1}, {0.15, 0.125, 0},
+                                              {std::sin(1.05), 0, std::cos(1.05)}, 0.35);
+  const auto renderer = FrameRenderer::Create(lens, RenderOptions(), nullptr);
+  GrayImage img;
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
+    renderer->Render({board}, nullptr, &img, nullptr);
+    benchmark::DoNotOptimize(img.pixels.data());
+  }
+}
+BENCHMARK(BM_RenderFrameDoubleSphere)->Unit(benchmark::kMillisecond);
 
 // The one-time cost of a camera: undistorting the rays of all pixel corners.
 void BM_CreateRenderer(benchmark::State& state) {

@@ -1,6 +1,7 @@
 #include "bench/run/trial.h"
 
 #include <chrono>
+#include <cmath>
 #include <deque>
 #include <memory>
 
@@ -227,19 +228,23 @@ class ScenarioTrial {
 
  private:
   // The Cramer-Rao bound of the instance's parametrisation, for scenarios with white pixel noise
-  // only (what it models); computed once per scenario and parametrisation.
+  // only (what it models); computed once per scenario and parametrisation. Rendered detections:
+  // the bound of white noise of the detector's measured error per axis (corner_rms_px / sqrt 2)
+  // on the observations it detected in this trial: equal corner error and equal data, the
+  // reference a rendered row's error compares to (RMSE / CRLB).
   void FillCrlb(const MethodInstance& instance, ScenarioShared* shared, RunRow* row) {
     const std::optional<RefineOptions> model = instance.method->BoundParametrisation();
     const NoiseOptions& noise = s_.measurements.noise;
-    if (!model || !(noise.pixel_sigma_px > 0) || noise.point_sigma_m > 0) return;
+    const bool rendered = s_.detections == "rendered";
+    const double sigma_px = rendered ? row->corner_rms_px / std::sqrt(2.0) : noise.pixel_sigma_px;
+    if (!model || !(sigma_px > 0) || noise.point_sigma_m > 0) return;
     const std::string key = std::string(ToString(model->model)) +
                             (model->estimate_skew ? "+skew" : "") +
                             (model->autodiff ? "+autodiff" : "");
     CrlbStd bound;
-    auto compute = [&] {
-      return CramerRaoStd(input_.Frames().views, s_.truth, *model, noise.pixel_sigma_px);
-    };
-    if (shared != nullptr && !s_.motion_random_phase) {  // Else every trial has its own views.
+    auto compute = [&] { return CramerRaoStd(input_.Frames().views, s_.truth, *model, sigma_px); };
+    // Else every trial has its own views (and a rendered one its own detections and error).
+    if (shared != nullptr && !s_.motion_random_phase && !rendered) {
       std::lock_guard<std::mutex> lock(shared->mutex);
       auto it = shared->crlb.find(key);
       if (it == shared->crlb.end()) it = shared->crlb.emplace(key, compute()).first;

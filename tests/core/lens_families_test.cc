@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "core/camera.h"
-#include "core/render.h"
 
 namespace calibench {
 namespace {
@@ -506,6 +505,41 @@ TEST(CameraIntrinsics, DistortionIsMonotoneWhereTheImageRadiusGrows) {
   }
 }
 
+// DistortionIsMonotoneAlong(point) (the renderer's guard for any direction): for rays in front it
+// is DistortionIsMonotoneAt(tan^2 theta); over every direction, past 90 deg too, it is true exactly
+// where the point projects and its image radius (signed, along the x axis) grows with the angle
+// from the axis; radtan and equidistant refuse Z <= 0.
+// Mutation caught: unified's slope taken at (X^2 + Y^2) / Z^2 instead of the sphere image's m^2.
+TEST(CameraIntrinsics, DistortionIsMonotoneAlongEveryDirection) {
+  std::vector<CameraIntrinsics> lenses = AllLenses();
+  lenses.push_back(Unified(0.5, -0.6, 0.0, 0.0, 0.0));  // Folds at 54 deg.
+  lenses.push_back(Unified(1.6, -1.2, 0.1, 0.0, 0.0));  // At 78 deg.
+  for (const CameraIntrinsics& k : lenses) {
+    for (double theta = 0.5 * kDeg; theta < M_PI; theta += 0.5 * kDeg) {
+      const Eigen::Vector3d p = 2.5 * Ray(theta, 0);
+      auto radius = [&](double t) {
+        Eigen::Vector2d pixel;
+        if (!ProjectPoint(k, Ray(t, 0), &pixel)) return std::nan("");
+        return (k.Matrix().inverse() * pixel.homogeneous()).hnormalized().x();
+      };
+      const bool grows = radius(theta + 1e-6) > radius(theta - 1e-6);  // False where NaN.
+      EXPECT_EQ(k.DistortionIsMonotoneAlong(p), grows) << Name(k) << " theta " << theta / kDeg;
+      if (theta < 89 * kDeg) {
+        const double t = std::tan(theta);
+        EXPECT_EQ(k.DistortionIsMonotoneAlong(p), k.DistortionIsMonotoneAt(t * t)) << Name(k);
+      }
+    }
+  }
+  CameraIntrinsics radtan;
+  CameraIntrinsics equidistant;
+  equidistant.family = LensFamily::kEquidistant;
+  for (const CameraIntrinsics& k : {radtan, equidistant}) {
+    EXPECT_TRUE(k.DistortionIsMonotoneAlong(Ray(60 * kDeg, 1.0)));
+    EXPECT_FALSE(k.DistortionIsMonotoneAlong(Eigen::Vector3d(0.6, 0.8, 0.0)));
+    EXPECT_FALSE(k.DistortionIsMonotoneAlong(Ray(100 * kDeg, 1.0)));
+  }
+}
+
 // ---- Check ----
 
 // Mutation caught: Check() without the family test (xi on radtan accepted), alpha's range as
@@ -572,19 +606,6 @@ TEST(CameraIntrinsics, CheckRefusesOmnidirectionalFieldsOutOfRangeOrOfAnotherFam
     EXPECT_NE(why.find(std::string("the ") + ToString(c.k.family) + " model"), std::string::npos)
         << why;  // ...with the family.
   }
-}
-
-// The renderer casts rays through the plane z = 1: it refuses the omnidirectional families (not
-// supported yet) with a message naming the family, and still takes radtan and equidistant.
-// Mutation caught: Create() without the family test.
-TEST(FrameRenderer, RefusesTheOmnidirectionalFamiliesForNow) {
-  RenderOptions options;
-  std::string why;
-  for (const CameraIntrinsics& k : {UnifiedLenses()[0], EucmLenses()[0], DoubleSphereLenses()[0]}) {
-    EXPECT_EQ(FrameRenderer::Create(k, options, &why), nullptr) << Name(k);
-    EXPECT_NE(why.find(ToString(k.family)), std::string::npos) << why;
-  }
-  EXPECT_NE(FrameRenderer::Create(Camera(LensFamily::kEquidistant), options, &why), nullptr) << why;
 }
 
 }  // namespace
