@@ -426,6 +426,7 @@ Solved SolveRespectingBounds(const std::vector<View>& views, const RefineOptions
   if (first.bound_hit < 0) return first;
   const int index = first.bound_hit;
   const LensFamily family = FamilyOf(options.model);
+  const Parameters before = *params;
   for (const LensBound& b : LensBounds(family)) {  // Onto the bound it heads for.
     if (b.index != index) continue;
     double& x = params->intrinsics[index];
@@ -442,7 +443,10 @@ Solved SolveRespectingBounds(const std::vector<View>& views, const RefineOptions
     *note = text.str();
     return held;
   }
-  *effective = options;  // Not active: free again.
+  // Not active: free again, from where the first solve ended (the bound itself may leave the
+  // lens' region for some points: unified with xi = 0 projects nothing past 90 deg).
+  *effective = options;
+  *params = before;
   Solved again = SolveOnce(views, options, params, false);
   again.iterations += held.iterations;
   return again;
