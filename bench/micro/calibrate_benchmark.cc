@@ -11,8 +11,11 @@
 // 29-view, 54-corner stereo fisheye set (cv::fisheye 281.6 ms, ceres 167.2 ms against 11.8 ms for
 // pinhole-radtan4) is the 29-view case. Counters: solver iterations and CPU ms per iteration.
 //
-// Run: calibench_micro_benchmarks --benchmark_filter='BM_(Calibrate|OpenCv|Ceres)'
-//      --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+// Run: calibench_micro_benchmarks
+//      --benchmark_filter='BM_(Calibrate/|OpenCv(CalibrateCamera|Fisheye|Omnidir).*/(30|100|300)$)'
+//      --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+// and the refinement alone (the Kannala-Brandt case before and after):
+//      --benchmark_filter='BM_CeresRefine' --benchmark_repetitions=3 ...
 #include <benchmark/benchmark.h>
 
 #include <ctime>
@@ -175,7 +178,8 @@ void BM_OpenCvOmnidirCalibrate(benchmark::State& state) {
     benchmark::DoNotOptimize(rms);
   }
 }
-BENCHMARK(BM_OpenCvOmnidirCalibrate)->Arg(30)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
+// Not on 300 views: cv::omnidir::calibrate took 153 s a call (77 s CPU) on 100 views.
+BENCHMARK(BM_OpenCvOmnidirCalibrate)->Arg(30)->Arg(100)->Unit(benchmark::kMillisecond);
 
 // The refinement alone (header comment): args model index, views, jet (0 analytic, 1 ceres::Jet
 // with DENSE_SVD covariance), covariance (0: none, the per-iteration figure; 1: as calibrate).
