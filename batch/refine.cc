@@ -39,10 +39,100 @@ struct Parameters {
   }
 };
 
-// The hand-written Jacobians cover the radtan family; other families use the ceres::Jet residual.
-bool AnalyticJacobians(const RefineOptions& o) {
-  return !o.autodiff && FamilyOf(o.model) == LensFamily::kRadTan;
+// The hand-written Jacobians (batch/projection_jacobian.h) cover every family; autodiff asks for
+// the ceres::Jet reference.
+bool AnalyticJacobians(const RefineOptions& o) { return !o.autodiff; }
+
+// The intrinsics kept at their value: the model's (FixedIntrinsics) and the caller's extra ones.
+std::vector<int> FixedOf(const RefineOptions& o) {
+  std::vector<int> fixed = FixedIntrinsics(o.model, o.estimate_skew);
+  for (int i : o.extra_fixed_intrinsics) {
+    if (std::find(fixed.begin(), fixed.end(), i) == fixed.end()) fixed.push_back(i);
+  }
+  std::sort(fixed.begin(), fixed.end());
+  return fixed;
 }
+
+// The ranges of the omnidirectional families' fields (core/camera.h, CameraIntrinsics::Check) as
+// Ceres bounds on the intrinsics block: a step that would leave them is projected back onto them.
+// Open ends (beta > 0, the double sphere's xi > -1) stay kOpenBoundMargin inside.
+constexpr double kOpenBoundMargin = 1e-9;
+constexpr double kNoBound = std::numeric_limits<double>::infinity();
+struct LensBound {
+  int index;  // Raw slot.
+  double lower, upper;
+};
+std::vector<LensBound> LensBounds(LensFamily family) {
+  switch (family) {
+    case LensFamily::kRadTan:
+    case LensFamily::kEquidistant:
+      return {};
+    case LensFamily::kUnified:  // xi >= 0.
+      return {{5, 0.0, kNoBound}};
+    case LensFamily::kEucm:  // alpha in [0, 1], beta > 0.
+      return {{5, 0.0, 1.0}, {6, kOpenBoundMargin, kNoBound}};
+    case LensFamily::kDoubleSphere:  // xi > -1, alpha in [0, 1].
+      return {{5, -1.0 + kOpenBoundMargin, kNoBound}, {6, 0.0, 1.0}};
+  }
+  return {};
+}
+
+void SetLensBounds(LensFamily family, double* intrinsics, ceres::Problem* problem) {
+  for (const LensBound& b : LensBounds(family)) {
+    problem->SetParameterLowerBound(intrinsics, b.index, b.lower);
+    if (b.upper != kNoBound) problem->SetParameterUpperBound(intrinsics, b.index, b.upper);
+  }
+}
+
+// An optimum on a bound is reached slowly: Ceres approaches it geometrically (measured on a
+// unified lens whose best xi is 0: the distance to the bound shrinking by ~0.85 an iteration, 62
+// iterations or 200 without converging against 8-22 off the bound). BoundWatch ends the solve
+// when a free bounded intrinsic heads for its bound: it sits on it for kBoundIterations accepted
+// steps, or the Aitken extrapolation of its distance d to the bound, d - D q / (1 - q) with D the
+// last decrease and q = D / (the one before), falls below kAitkenShare d for kBoundIterations
+// accepted steps in a row (an interior optimum, where d converges to d* > 0, extrapolates to d*).
+// RefineCalibration then holds it on the bound (an active bound) and solves again without it,
+// unless the cost falls off the bound (CostFallsInside), where it is freed again.
+constexpr int kBoundIterations = 3;
+constexpr double kAitkenShare = 0.1;
+class BoundWatch final : public ceres::IterationCallback {
+ public:
+  BoundWatch(const double* intrinsics, std::vector<LensBound> bounds)
+      : intrinsics_(intrinsics), bounds_(std::move(bounds)), tracks_(bounds_.size()) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    if (!summary.step_is_successful) return ceres::SOLVER_CONTINUE;
+    for (size_t b = 0; b < bounds_.size(); ++b) {
+      const double x = intrinsics_[bounds_[b].index];
+      if (tracks_[b].Update(std::min(x - bounds_[b].lower, bounds_[b].upper - x))) {
+        hit_ = bounds_[b].index;
+        return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+      }
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+  int hit() const { return hit_; }  // The raw slot heading for its bound, or -1.
+
+ private:
+  // The last distances to the bound and how many accepted steps in a row pointed onto it.
+  struct Track {
+    double d1 = -1, d2 = -1;  // The previous distance, the one before.
+    int count = 0;
+    bool Update(double d) {
+      bool heading = d == 0;
+      if (!heading && d1 > d && d2 > d1) {
+        const double step = d1 - d, q = step / (d2 - d1);
+        heading = q < 1 && d - step * q / (1 - q) < kAitkenShare * d;
+      }
+      count = heading ? count + 1 : 0;
+      d2 = d1, d1 = d;
+      return count >= kBoundIterations;
+    }
+  };
+  const double* intrinsics_;
+  std::vector<LensBound> bounds_;
+  std::vector<Track> tracks_;
+  int hit_ = -1;
+};
 
 ceres::LossFunction* MakeLoss(const RefineOptions& o) {
   if (o.loss == "huber") return new ceres::HuberLoss(o.loss_scale_px);
@@ -65,23 +155,27 @@ int BuildProblem(const std::vector<View>& views, const RefineOptions& options, P
     points += static_cast<int>(views[v].points.size());
     if (views[v].points.empty()) continue;
     if (per_view) {
-      problem->AddResidualBlock(new ViewReprojectionCostFunction(views[v].points, views[v].pixels),
-                                nullptr, blocks, 3);
+      problem->AddResidualBlock(
+          new ViewReprojectionCostFunction(views[v].points, views[v].pixels, family), nullptr,
+          blocks, 3);
       continue;
     }
     for (size_t i = 0; i < views[v].points.size(); ++i) {
       ceres::CostFunction* cost =
           AnalyticJacobians(options)
-              ? new ReprojectionCostFunction(views[v].pixels[i], views[v].points[i])
+              ? new ReprojectionCostFunction(views[v].pixels[i], views[v].points[i], family)
               : ReprojectionError::Create(views[v].pixels[i], views[v].points[i], family);
       problem->AddResidualBlock(cost, MakeLoss(options), blocks, 3);
     }
   }
-  const std::vector<int> fixed = FixedIntrinsics(options.model, options.estimate_skew);
+  const std::vector<int> fixed = FixedOf(options);
   if (options.fix_intrinsics) {
     problem->SetParameterBlockConstant(params->intrinsics.data());
-  } else if (!fixed.empty()) {
-    problem->SetManifold(params->intrinsics.data(), new ceres::SubsetManifold(kN, fixed));
+  } else {
+    if (!fixed.empty()) {
+      problem->SetManifold(params->intrinsics.data(), new ceres::SubsetManifold(kN, fixed));
+    }
+    SetLensBounds(family, params->intrinsics.data(), problem);
   }
   for (auto& q : params->rotations)
     problem->SetManifold(q.data(), new ceres::EigenQuaternionManifold);
@@ -117,17 +211,29 @@ std::vector<int> FreeIntrinsics(const std::vector<int>& fixed) {
 }
 
 // The inverse of a symmetric information matrix J^T J, or false when its condition number passes
-// 1e14 (a parameter the data do not determine).
+// 1e14 (a parameter the data do not determine). The test is made on the matrix scaled to a unit
+// diagonal (D^-1/2 S D^-1/2, D = diag S), so that the parameters' units do not count: a focal
+// length in pixels beside xi or k4 spans 1e10 in J^T J on their own (seen: unified and double
+// sphere fits refused at a well-determined optimum).
 bool InvertInformation(const Eigen::MatrixXd& information, Eigen::MatrixXd* inverse,
                        std::string* why) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(information);
+  const Eigen::VectorXd diagonal = information.diagonal();
+  if (!(diagonal.minCoeff() > 0)) {
+    if (why) *why = "covariance: the Jacobian is rank deficient (a parameter has no effect)";
+    return false;
+  }
+  const Eigen::VectorXd scale = diagonal.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd scaled = scale.asDiagonal() * information * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
   const Eigen::VectorXd& values = eig.eigenvalues();
   if (!(values[0] > 1e-14 * values[values.size() - 1])) {
     if (why) *why = "covariance: the Jacobian is rank deficient (parameters not observable)";
     return false;
   }
   *inverse =
-      eig.eigenvectors() * values.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+      scale.asDiagonal() *
+      (eig.eigenvectors() * values.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose()) *
+      scale.asDiagonal();
   return true;
 }
 
@@ -246,28 +352,115 @@ bool PerViewIntrinsicsCovariance(ceres::Problem* problem, Parameters* params,
   return true;
 }
 
-// The lens families refined here. The ceres::Jet residual projects every family, but the
-// omnidirectional ones need bounds (xi >= 0, alpha in [0, 1], beta > 0) and a start: not yet.
-bool RefinesFamily(LensFamily family) {
-  switch (family) {
-    case LensFamily::kRadTan:
-    case LensFamily::kEquidistant:
-      return true;
-    case LensFamily::kUnified:
-    case LensFamily::kEucm:
-    case LensFamily::kDoubleSphere:
-      return false;
+ceres::Solver::Options SolverOptions(const RefineOptions& options) {
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = !options.shared_pose       ? ceres::DENSE_SCHUR
+                                      : options.normal_equations ? ceres::DENSE_NORMAL_CHOLESKY
+                                                                 : ceres::DENSE_QR;
+  solver_options.max_num_iterations = options.max_iterations;
+  // Relative cost change 1e-10: parameters settle to ~1e-5 of their noise std (noisy data); the
+  // parameter tolerance ends noise-free problems, whose cost goes to zero.
+  solver_options.function_tolerance = 1e-10;
+  solver_options.gradient_tolerance = 1e-12;
+  solver_options.parameter_tolerance = 1e-10;
+  solver_options.num_threads = 1;
+  // Calibration from a closed-form start is well posed: start LM near Gauss-Newton (4 iterations
+  // instead of 7 on the 50-view benchmark, same optimum); rejected steps still shrink the region.
+  solver_options.initial_trust_region_radius = 1e6;
+  return solver_options;
+}
+
+// One solve of the problem `options` builds over *params.
+struct Solved {
+  std::unique_ptr<ceres::Problem> problem;
+  ceres::Solver::Summary summary;
+  int points = 0;
+  long iterations = 0;  // Over every solve that led here.
+  int bound_hit = -1;   // The raw slot BoundWatch stopped on, or -1.
+};
+Solved SolveOnce(const std::vector<View>& views, const RefineOptions& options, Parameters* params,
+                 bool watch_bounds) {
+  Solved out;
+  out.problem = std::make_unique<ceres::Problem>();
+  out.points = BuildProblem(views, options, params, out.problem.get());
+  ceres::Solver::Options solver_options = SolverOptions(options);
+  const std::vector<int> fixed = FixedOf(options);
+  std::vector<LensBound> free_bounds;
+  for (const LensBound& b : LensBounds(FamilyOf(options.model))) {
+    if (std::find(fixed.begin(), fixed.end(), b.index) == fixed.end()) free_bounds.push_back(b);
   }
-  return false;
+  BoundWatch watch(params->intrinsics.data(), free_bounds);
+  if (watch_bounds && !free_bounds.empty() && !options.fix_intrinsics) {
+    solver_options.callbacks.push_back(&watch);
+    solver_options.update_state_every_iteration = true;  // The watch reads the parameters.
+  }
+  ceres::Solve(solver_options, out.problem.get(), &out.summary);
+  out.iterations = static_cast<long>(out.summary.iterations.size());
+  out.bound_hit = watch.hit();
+  return out;
+}
+
+// Whether the cost falls when the held intrinsic `index` moves off its bound into the range (the
+// others as they are): then the bound is not active after all.
+bool CostFallsInside(ceres::Problem* problem, double* intrinsics, int index, LensFamily family) {
+  double on_bound = 0, inside = 0;
+  const double saved = intrinsics[index];
+  for (const LensBound& b : LensBounds(family)) {
+    if (b.index != index) continue;
+    constexpr double kStep = 1e-6;
+    intrinsics[index] = saved == b.lower ? saved + kStep : saved - kStep;
+    problem->Evaluate(ceres::Problem::EvaluateOptions(), &inside, nullptr, nullptr, nullptr);
+  }
+  intrinsics[index] = saved;
+  problem->Evaluate(ceres::Problem::EvaluateOptions(), &on_bound, nullptr, nullptr, nullptr);
+  return inside < on_bound;
+}
+
+// SolveOnce watching the bounds; when an intrinsic sat on its bound (BoundWatch), solved again
+// with it held there (*effective: the options of that last solve; *note says so), unless the
+// cost falls off the bound, where it is freed again.
+Solved SolveRespectingBounds(const std::vector<View>& views, const RefineOptions& options,
+                             Parameters* params, RefineOptions* effective, std::string* note) {
+  *effective = options;
+  Solved first = SolveOnce(views, options, params, true);
+  if (first.bound_hit < 0) return first;
+  const int index = first.bound_hit;
+  const LensFamily family = FamilyOf(options.model);
+  const Parameters before = *params;
+  for (const LensBound& b : LensBounds(family)) {  // Onto the bound it heads for.
+    if (b.index != index) continue;
+    double& x = params->intrinsics[index];
+    x = x - b.lower < b.upper - x ? b.lower : b.upper;
+  }
+  effective->extra_fixed_intrinsics.push_back(index);
+  Solved held = SolveOnce(views, *effective, params, false);
+  held.iterations += first.iterations;
+  if (held.summary.IsSolutionUsable() &&
+      !CostFallsInside(held.problem.get(), params->intrinsics.data(), index, family)) {
+    std::ostringstream text;
+    text << ParamNames(family)[index] << " held on its bound " << params->intrinsics[index]
+         << " (the optimum lies there; no standard deviation)";
+    *note = text.str();
+    return held;
+  }
+  // Not active: free again, from where the first solve ended (the bound itself may leave the
+  // lens' region for some points: unified with xi = 0 projects nothing past 90 deg).
+  *effective = options;
+  *params = before;
+  Solved again = SolveOnce(views, options, params, false);
+  again.iterations += held.iterations;
+  return again;
 }
 
 }  // namespace
 
 bool RefineOptions::Check(std::string* why) const {
   std::string msg;
-  if (!RefinesFamily(FamilyOf(model))) {
-    msg = std::string("model ") + ToString(model) + ": the ceres refinement does not support the " +
-          ToString(FamilyOf(model)) + " lens family yet (radtan and equidistant models only)";
+  const bool extra_in_range =
+      std::all_of(extra_fixed_intrinsics.begin(), extra_fixed_intrinsics.end(),
+                  [](int i) { return i >= 0 && i < PinholeSkewCamera::kNumParams; });
+  if (!extra_in_range) {
+    msg = "extra_fixed_intrinsics must index the raw parameter array (0..9)";
   } else if (loss != "none" && loss != "huber" && loss != "cauchy") {
     msg = "loss must be none, huber or cauchy, got '" + loss + "'";
   } else if (!(loss_scale_px > 0)) {
@@ -281,6 +474,85 @@ bool RefineOptions::Check(std::string* why) const {
   if (why) *why = msg;
   return false;
 }
+
+namespace {
+
+// The start in the model's family: an initial guess of another family (e.g. a radtan zhang for
+// an equidistant refinement) contributes its pinhole part only; the parameters the model leaves
+// out take their neutral values (an initialisation from a richer model, e.g. OpenCV's k1, k2,
+// must not stay frozen in): no distortion, beta = 1, phi = 90 degrees.
+Parameters StartParameters(const CameraIntrinsics& initial, const std::vector<Rigid3>& poses,
+                           const RefineOptions& options) {
+  const LensFamily family = FamilyOf(options.model);
+  CameraIntrinsics start = initial;
+  if (start.family != family) {
+    start = CameraIntrinsics();
+    start.family = family;
+    start.fku_px = initial.fku_px, start.fkv_px = initial.fkv_px, start.phi_deg = initial.phi_deg;
+    start.u0_px = initial.u0_px, start.v0_px = initial.v0_px;
+  }
+  Parameters params(start, poses);
+  for (int i : FixedIntrinsics(options.model, options.estimate_skew)) {
+    if (options.fix_intrinsics) continue;
+    params.intrinsics[i] = i == 2 ? M_PI / 2 : std::string(ParamNames(family)[i]) == "beta" ? 1 : 0;
+  }
+  return params;
+}
+
+// The solution's intrinsics, poses, RMS per view and overall, and sigma_hat; false when there are
+// fewer residuals than free parameters.
+bool FillSolution(const std::vector<View>& views, const Parameters& params,
+                  const RefineOptions& effective, RefineResult* result) {
+  result->intrinsics =
+      CameraIntrinsics::FromParams(params.intrinsics.data(), FamilyOf(effective.model));
+  for (size_t p = 0; p < params.rotations.size(); ++p)
+    result->cam_from_object.push_back(params.Pose(p));
+  double sum_sq = 0.0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const Rigid3& pose = result->cam_from_object[effective.shared_pose ? 0 : v];
+    // At a usable optimum every point projects (ceres rejects steps that leave the region).
+    double view_sq = 0.0;
+    ViewSquaredErrorPx2(views[v], result->intrinsics, pose, &view_sq);
+    sum_sq += view_sq;
+    result->view_rms_px.push_back(std::sqrt(view_sq / std::max<size_t>(1, views[v].points.size())));
+  }
+  result->rms_reproj_px = std::sqrt(sum_sq / result->num_points);
+  const int free_intrinsics =
+      effective.fix_intrinsics ? 0 : kN - static_cast<int>(FixedOf(effective).size());
+  const int free_params = free_intrinsics + 6 * static_cast<int>(params.rotations.size());
+  const int dof = 2 * result->num_points - free_params;
+  if (dof <= 0) return false;
+  result->sigma_hat_px = std::sqrt(sum_sq / dof);
+  return true;
+}
+
+// The covariance of the header comment and the standard deviations of the free intrinsics.
+bool FillCovariance(ceres::Problem* problem, Parameters* params, const RefineOptions& effective,
+                    RefineResult* result, std::string* why) {
+  const double sigma =
+      effective.known_pixel_sigma_px > 0 ? effective.known_pixel_sigma_px : result->sigma_hat_px;
+  const std::vector<int> fixed = FixedOf(effective);
+  if (effective.compute_pose_covariance && effective.shared_pose) {
+    if (!JointCovariance(problem, params, fixed, sigma * sigma, &result->joint_covariance, why)) {
+      return false;
+    }
+    result->covariance = result->joint_covariance.topLeftCorner<kN, kN>();
+  } else if (!effective.shared_pose && AnalyticJacobians(effective)) {
+    if (!PerViewIntrinsicsCovariance(problem, params, fixed, sigma * sigma, &result->covariance,
+                                     why)) {
+      return false;
+    }
+  } else if (!CovarianceOfIntrinsics(problem, params, sigma * sigma, &result->covariance, why)) {
+    return false;
+  }
+  for (int i = 0; i < kN; ++i) {
+    const bool is_fixed = std::find(fixed.begin(), fixed.end(), i) != fixed.end();
+    if (!is_fixed) result->intrinsics_std[i] = std::sqrt(result->covariance(i, i));
+  }
+  return true;
+}
+
+}  // namespace
 
 RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntrinsics& initial,
                                const std::vector<Rigid3>& initial_poses,
@@ -298,93 +570,24 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
     return finish(MethodStatus::kFailed, "need one initial pose per view (or one if shared)");
   }
   if (!initial.Check(&why)) return finish(MethodStatus::kFailed, "initial intrinsics: " + why);
-
-  // An initial guess of another lens family (e.g. a radtan zhang for an equidistant refinement)
-  // contributes its pinhole part only.
-  CameraIntrinsics start = initial;
-  if (start.family != FamilyOf(options.model)) {
-    start = CameraIntrinsics();
-    start.family = FamilyOf(options.model);
-    start.fku_px = initial.fku_px, start.fkv_px = initial.fkv_px, start.phi_deg = initial.phi_deg;
-    start.u0_px = initial.u0_px, start.v0_px = initial.v0_px;
+  Parameters params = StartParameters(initial, initial_poses, options);
+  RefineOptions effective;  // With an active bound held.
+  std::string note;
+  const Solved solved = SolveRespectingBounds(views, options, &params, &effective, &note);
+  result.num_points = solved.points;
+  result.iterations = solved.iterations;
+  if (!solved.summary.IsSolutionUsable() ||
+      solved.summary.termination_type == ceres::NO_CONVERGENCE) {
+    return finish(MethodStatus::kFailed, "ceres: " + solved.summary.message);
   }
-  Parameters params(start, initial_poses);
-  // Parameters the model leaves out take their neutral values (an initialisation from a richer
-  // model, e.g. OpenCV's k1, k2, must not stay frozen in): no distortion, phi = 90 degrees.
-  for (int i : FixedIntrinsics(options.model, options.estimate_skew)) {
-    if (!options.fix_intrinsics) params.intrinsics[i] = i == 2 ? M_PI / 2 : 0.0;
+  if (!FillSolution(views, params, effective, &result)) {
+    return finish(MethodStatus::kFailed, "fewer residuals than free parameters");
   }
-  ceres::Problem problem;
-  result.num_points = BuildProblem(views, options, &params, &problem);
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = !options.shared_pose       ? ceres::DENSE_SCHUR
-                                      : options.normal_equations ? ceres::DENSE_NORMAL_CHOLESKY
-                                                                 : ceres::DENSE_QR;
-  solver_options.max_num_iterations = options.max_iterations;
-  // Relative cost change 1e-10: parameters settle to ~1e-5 of their noise std (noisy data); the
-  // parameter tolerance ends noise-free problems, whose cost goes to zero.
-  solver_options.function_tolerance = 1e-10;
-  solver_options.gradient_tolerance = 1e-12;
-  solver_options.parameter_tolerance = 1e-10;
-  solver_options.num_threads = 1;
-  // Calibration from a closed-form start is well posed: start LM near Gauss-Newton (4 iterations
-  // instead of 7 on the 50-view benchmark, same optimum); rejected steps still shrink the region.
-  solver_options.initial_trust_region_radius = 1e6;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
-  result.iterations = static_cast<long>(summary.iterations.size());
-  if (!summary.IsSolutionUsable() || summary.termination_type == ceres::NO_CONVERGENCE) {
-    return finish(MethodStatus::kFailed, "ceres: " + summary.message);
+  if (options.compute_covariance && !options.fix_intrinsics &&
+      !FillCovariance(solved.problem.get(), &params, effective, &result, &why)) {
+    return finish(MethodStatus::kFailed, why);
   }
-
-  result.intrinsics =
-      CameraIntrinsics::FromParams(params.intrinsics.data(), FamilyOf(options.model));
-  for (size_t p = 0; p < params.rotations.size(); ++p)
-    result.cam_from_object.push_back(params.Pose(p));
-  double sum_sq = 0.0;
-  for (size_t v = 0; v < views.size(); ++v) {
-    const Rigid3& pose = result.cam_from_object[options.shared_pose ? 0 : v];
-    // At a usable optimum every point is in front (ceres rejects steps that leave it).
-    double view_sq = 0.0;
-    ViewSquaredErrorPx2(views[v], result.intrinsics, pose, &view_sq);
-    sum_sq += view_sq;
-    result.view_rms_px.push_back(std::sqrt(view_sq / std::max<size_t>(1, views[v].points.size())));
-  }
-  result.rms_reproj_px = std::sqrt(sum_sq / result.num_points);
-  const int free_intrinsics =
-      options.fix_intrinsics
-          ? 0
-          : kN - static_cast<int>(FixedIntrinsics(options.model, options.estimate_skew).size());
-  const int free_params = free_intrinsics + 6 * static_cast<int>(expected_poses);
-  const int dof = 2 * result.num_points - free_params;
-  if (dof <= 0) return finish(MethodStatus::kFailed, "fewer residuals than free parameters");
-  result.sigma_hat_px = std::sqrt(sum_sq / dof);
-
-  if (options.compute_covariance && !options.fix_intrinsics) {
-    const double sigma =
-        options.known_pixel_sigma_px > 0 ? options.known_pixel_sigma_px : result.sigma_hat_px;
-    const std::vector<int> fixed = FixedIntrinsics(options.model, options.estimate_skew);
-    if (options.compute_pose_covariance && options.shared_pose) {
-      if (!JointCovariance(&problem, &params, fixed, sigma * sigma, &result.joint_covariance,
-                           &why)) {
-        return finish(MethodStatus::kFailed, why);
-      }
-      result.covariance = result.joint_covariance.topLeftCorner<kN, kN>();
-    } else if (!options.shared_pose && AnalyticJacobians(options)) {
-      if (!PerViewIntrinsicsCovariance(&problem, &params, fixed, sigma * sigma, &result.covariance,
-                                       &why)) {
-        return finish(MethodStatus::kFailed, why);
-      }
-    } else if (!CovarianceOfIntrinsics(&problem, &params, sigma * sigma, &result.covariance,
-                                       &why)) {
-      return finish(MethodStatus::kFailed, why);
-    }
-    for (int i = 0; i < kN; ++i) {
-      const bool is_fixed = std::find(fixed.begin(), fixed.end(), i) != fixed.end();
-      if (!is_fixed) result.intrinsics_std[i] = std::sqrt(result.covariance(i, i));
-    }
-  }
-  return finish(MethodStatus::kOk, "");
+  return finish(MethodStatus::kOk, note);
 }
 
 bool IntrinsicsCovarianceAt(const std::vector<View>& views, const CameraIntrinsics& intrinsics,

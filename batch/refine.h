@@ -7,10 +7,17 @@
 //   one shared pose (shared_pose = true): a scenario's constant extrinsic, the points already
 //       expressed in the parent frame P (x_bar) through the known body motion.
 //
-// Covariance of the intrinsics: ceres::Covariance (dense SVD) of the final Jacobian, scaled by
-// sigma^2, where sigma is the known pixel noise if given, else sigma_hat^2 = 2 cost / (m - p)
-// (m residuals, p free parameters). Evaluated at the true parameters with the true sigma, the same
-// computation is the Cramer-Rao lower bound sigma^2 (J^T J)^-1 (IntrinsicsCovarianceAt).
+// Every lens family of core/camera.h is refined, with the hand-written Jacobians of
+// batch/projection_jacobian.h (autodiff: the ceres::Jet reference). The omnidirectional families'
+// ranges are Ceres bounds on the intrinsics block: unified xi >= 0; eucm alpha in [0, 1], beta > 0;
+// double sphere xi > -1, alpha in [0, 1] (a parameter that ends on a bound is reported there).
+//
+// Covariance of the intrinsics: sigma^2 (J^T J)^-1 restricted to the intrinsics, where sigma is
+// the known pixel noise if given, else sigma_hat^2 = 2 cost / (m - p) (m residuals, p free
+// parameters). Per-view poses: the Schur complement of the poses in J^T J (refine.cc,
+// PerViewIntrinsicsCovariance); autodiff and IntrinsicsCovarianceAt: ceres::Covariance's dense
+// SVD of the whole Jacobian (the same matrix, 10-50x slower). Evaluated at the true parameters
+// with the true sigma, the same computation is the Cramer-Rao lower bound (IntrinsicsCovarianceAt).
 #pragma once
 
 #include <Eigen/Core>
@@ -49,6 +56,9 @@ struct RefineOptions {
   // Keep every intrinsic at its initial value and move only the poses: evaluates a given
   // calibration on new views (view_rms_px, rms_reproj_px); no covariance.
   bool fix_intrinsics = false;
+  // Raw indices (0..9) kept at their initial value besides those the model fixes (a staged fit,
+  // e.g. the wide start's focal length and centre before the lens terms: batch/wide_init.h).
+  std::vector<int> extra_fixed_intrinsics;
   bool Check(std::string* why) const;
 };
 

@@ -5,12 +5,14 @@
 //
 // Parameter blocks:
 //   0: intrinsics[10]  the lens family's raw order (core/camera.h); radtan: fku, fkv, phi_rad,
-//                      u0, v0, k1, k2, p1, p2, k3; equidistant: ..., k1, k2, k3, k4, unused
+//                      u0, v0, k1, k2, p1, p2, k3; equidistant: ..., k1, k2, k3, k4, unused;
+//                      unified: ..., xi, k1, k2, p1, p2; eucm: ..., alpha, beta, 3 unused;
+//                      double-sphere: ..., xi, alpha, 3 unused
 //   1: rotation[4]     cam_from_object quaternion, Eigen order (x, y, z, w);
 //                      EigenQuaternionManifold
 //   2: translation[3]  cam_from_object translation
-// A point behind the camera makes the evaluation fail (Ceres then shortens the step) instead of
-// producing a silent zero.
+// A point outside the lens' valid region (behind the camera for radtan and equidistant) makes the
+// evaluation fail (Ceres then shortens the step) instead of producing a silent zero.
 #pragma once
 
 #include <ceres/autodiff_cost_function.h>
@@ -24,7 +26,7 @@
 
 namespace calibench {
 
-// The Jet reference for every lens family (ReprojectionCostFunction below is radtan only).
+// The Jet reference for every lens family.
 struct ReprojectionError {
   ReprojectionError(const Eigen::Vector2d& measured_pixel, const Eigen::Vector3d& point,
                     LensFamily lens_family = LensFamily::kRadTan)
@@ -56,46 +58,46 @@ struct ReprojectionError {
   LensFamily family;
 };
 
-// The same residual (radtan family) with hand-written Jacobians (the hot path of every batch
-// calibration: 10x faster than Jet<double, 17>). Same parameter blocks as ReprojectionError; its
-// Jacobians are checked against ReprojectionError's ceres::Jet derivatives in
-// tests/batch/refine_test.cc. Chain: pixel <- (xd, yd) <- (x, y) = (X/Z, Y/Z) <- X = q * point + t,
-// with
+// The same residual with hand-written Jacobians (batch/projection_jacobian.h, every lens family):
+// the hot path of every batch calibration, 5-8x faster per solver iteration than the
+// Jet<double, 17> reference (measured by bench/micro/calibrate_benchmark.cc). Same parameter
+// blocks as ReprojectionError; its Jacobians are checked against ReprojectionError's ceres::Jet
+// derivatives in tests/batch/refine_test.cc. Chain: pixel <- (xd, yd) <- X = q * point + t (the
+// lens step of projection_jacobian.h), with
 //   d(q * p)/dw = 2 (q_v x p),
 //   d(q * p)/dq_v = -2 w [p]x - 2 [q_v x p]x - 2 [q_v]x [p]x     (Eigen's q * p formula, unit q).
 class ReprojectionCostFunction final
     : public ceres::SizedCostFunction<2, PinholeSkewCamera::kNumParams, 4, 3> {
  public:
-  ReprojectionCostFunction(const Eigen::Vector2d& measured_pixel, const Eigen::Vector3d& point)
-      : pixel_(measured_pixel), point_in_object_(point) {}
+  ReprojectionCostFunction(const Eigen::Vector2d& measured_pixel, const Eigen::Vector3d& point,
+                           LensFamily family = LensFamily::kRadTan)
+      : pixel_(measured_pixel), point_in_object_(point), family_(family) {}
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
-
-  // The residual and (where a pointer is non-null) its 2 x block-size row-major Jacobians for one
-  // point, given sin and cos of phi (parameters[0][2]); shared with ViewReprojectionCostFunction.
-  static bool EvaluatePoint(double const* const* parameters, double sin_phi, double cos_phi,
-                            const Eigen::Vector3d& point, const Eigen::Vector2d& pixel,
-                            double* residuals, double* const* jacobians);
 
  private:
   Eigen::Vector2d pixel_;
   Eigen::Vector3d point_in_object_;
+  LensFamily family_;
 };
 
 // All points of one view in one residual block (2 n residuals, same blocks as above). With a
 // plain least-squares loss the cost is identical to n ReprojectionCostFunction blocks, and Ceres'
 // per-block overhead is paid once per view instead of once per point (3x faster on 150-point
 // boards). A robust loss would act on the view's summed squares instead: use per-point blocks.
+// The lens family is dispatched once per evaluation of the view, not per point.
 class ViewReprojectionCostFunction final : public ceres::CostFunction {
  public:
   ViewReprojectionCostFunction(std::vector<Eigen::Vector3d> points,
-                               std::vector<Eigen::Vector2d> pixels);
+                               std::vector<Eigen::Vector2d> pixels,
+                               LensFamily family = LensFamily::kRadTan);
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 
  private:
   std::vector<Eigen::Vector3d> points_;
   std::vector<Eigen::Vector2d> pixels_;
+  LensFamily family_;
 };
 
 }  // namespace calibench

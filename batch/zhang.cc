@@ -155,8 +155,10 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
     case LensModel::kEucm:
     case LensModel::kDoubleSphere: {
       const std::string model = ToString(options.model);
-      return finish(MethodStatus::kFailed, "zhang: no OpenCV initialisation for the " + model +
-                                               " lens model yet (radtan and equidistant only)");
+      return finish(MethodStatus::kFailed,
+                    "zhang: OpenCV has no initialisation for the " + model +
+                        " lens model (radtan and equidistant only); the wide start "
+                        "(batch/wide_init.h) starts it");
     }
   }
   // LM's normal equations by LU, not OpenCV's default SVD: the SVD of the (6 views + intrinsics)^2

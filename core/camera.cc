@@ -55,8 +55,13 @@ std::string ForeignFieldProblem(const CameraIntrinsics& k) {
 std::string RangeProblem(const CameraIntrinsics& k) {
   std::ostringstream msg;
   const char* family = ToString(k.family);
-  if (FamilyHas(k.family, "xi") && !(k.xi >= 0)) {
+  if (k.family == LensFamily::kUnified && !(k.xi >= 0)) {
     msg << "xi must be >= 0 for the " << family << " model, got " << k.xi;
+  } else if (k.family == LensFamily::kDoubleSphere && !(k.xi > -1)) {
+    msg << "xi must be > -1 for the " << family
+        << " model (the second sphere's centre inside the "
+           "first), got "
+        << k.xi;
   } else if (FamilyHas(k.family, "alpha") && !(k.alpha >= 0 && k.alpha <= 1)) {
     msg << "alpha must lie in [0, 1] for the " << family << " model, got " << k.alpha;
   } else if (FamilyHas(k.family, "beta") && !(k.beta > 0)) {

@@ -51,13 +51,16 @@
 //     d1 = |P|;  k = xi d1 + Z;  d2 = sqrt(X^2 + Y^2 + k^2);
 //     (xd, yd) = (X, Y) / (alpha d2 + (1 - alpha) k)
 //   Valid: Z > -w2 d1, with w1 = alpha/(1 - alpha) (alpha <= 1/2) or (1 - alpha)/alpha, and
-//     w2 = xi (1 - w1^2) + w1 sqrt(1 - xi^2 (1 - w1^2))   (xi <= 1),    w2 = 1/xi   (xi > 1),
+//     w2 = xi (1 - w1^2) + w1 sqrt(1 - xi^2 (1 - w1^2))   (-1 < xi <= 1),   w2 = 1/xi   (xi > 1),
 //   where the moved direction reaches the eucm edge (cos = -w1), or the first sphere's rim. The
 //   paper's and basalt's w2 = (w1 + xi) / sqrt(2 w1 xi + xi^2 + 1) lies inside it for xi in
 //   [0, 1], refusing up to 45 deg of valid field (alpha = 0, i.e. unified: xi = 1/2 stops at 116.6
 //   deg instead of 120, xi = 1 at 135 instead of 180), and past it for xi > 1 (a fold).
 //   Inverse: mz as eucm with beta = 1, f = (mz xi + sqrt(mz^2 + (1 - xi^2) r2)) / (mz^2 + r2),
 //   ray = (f xd, f yd, f mz - xi) (xi > 1: the square root's argument and f must be positive).
+//   xi may be negative (real fisheyes fit xi ~ -0.2: TUM VI's -0.18, basalt's and ours), down to
+//   xi > -1, where the second centre would leave the first sphere (the moved direction then no
+//   longer turns monotonically with the angle).
 //
 // Parameter order of the raw array used by Project() (kNumParams = 10): five pinhole slots
 // [fku_px, fkv_px, phi_rad, u0_px, v0_px], then five lens slots whose meaning is the family's
@@ -91,19 +94,20 @@
 //      -Wswitch warns (the tree has no -Werror) at every switch over LensFamily or LensModel
 //      without the new case; the if-chains below do not warn.
 //   3. Each place outside camera.{h,cc} that supports only some families takes the new one or
-//      refuses it with a message (unified, eucm, double-sphere: drawn by the renderer, refused by
-//      the next three):
+//      refuses it with a message:
 //      core/render.cc RaySpaceOf (how its ray table holds the family's rays: on the plane z = 1,
-//      or stereographic past 90 deg; the omnidirectional families are drawn);
-//      batch/zhang.cc CalibrateZhang (calibrateCamera flags, or cv::fisheye);
-//      batch/refine.cc RefineOptions::Check (the Jet residual serves any family; bounds do not);
-//      bench/config/camera_io.cc WriteCameraFile and the readers (opencv, kalibr, mrcal names);
+//      or stereographic past 90 deg; every family is drawn);
+//      batch/projection_jacobian.cc (the family's lens step with its Jacobians: the refinement's
+//      hot path; tests/batch/refine_test.cc checks it against the Jet);
+//      batch/refine.cc SetLensBounds (the family's ranges as Ceres bounds);
+//      batch/zhang.cc CalibrateZhang (calibrateCamera flags, or cv::fisheye; refuses the others);
+//      batch/wide_init.cc FromProfile (the family from the unified profile);
+//      bench/config/camera_io.cc the writers and readers (opencv, kalibr, mrcal names);
 //      bench/config/config_camera.cc (lens_family names; refuses others) and config_write.cc;
-//      bench/app/image_points.cc (curved tag edges) and calibrate.cc (equidistant focal scan).
-//   The three omnidirectional families took 9 files (camera.h, camera.cc, its test, its CMakeLists,
-//   camera_test.cc, and refusals in render, zhang, refine, camera_io); the renderer then took
-//   them (RaySpaceOf). Code that goes through UnprojectToRay and ProjectPoint only (the
-//   photometric fit's tangent plane, the frame detector's square painting) needs no case.
+//      bench/app/image_points.cc (curved tag edges for every family but radtan);
+//      bench/app/model_select.cc AutoCandidates (the models `--model auto` compares).
+//   Code that goes through UnprojectToRay and ProjectPoint only (the photometric fit's tangent
+//   plane, the frame detector's square painting) needs no case.
 #pragma once
 
 #include <Eigen/Core>
@@ -133,13 +137,14 @@ struct CameraIntrinsics {
   double k4 = 0.0;                          // Equidistant only: theta^8.
   LensFamily family = LensFamily::kRadTan;  // How the lens fields are read (header comment).
   // The omnidirectional families' fields (neutral for the other families):
-  double xi = 0.0;     // Unified, double-sphere: the (first) sphere's offset, >= 0.
+  double xi = 0.0;     // Unified (>= 0), double-sphere (> -1): the (first) sphere's offset.
   double alpha = 0.0;  // Eucm, double-sphere: the weight of the last projection, in [0, 1].
   double beta = 1.0;   // Eucm: the ellipsoid's shape (1 = sphere), > 0.
 
   // Positive finite focal lengths, phi in (0, 180) degrees, finite principal point and lens
   // fields; no field the family lacks away from its neutral value (e.g. k4 for radtan, xi for
-  // eucm, beta != 1 but for eucm); xi >= 0, alpha in [0, 1], beta > 0 where the family has them.
+  // eucm, beta != 1 but for eucm); xi >= 0 (unified) or > -1 (double sphere), alpha in [0, 1],
+  // beta > 0 where the family has them.
   bool Check(std::string* why) const;
   // Not a plain pinhole: any distortion term, or any family but radtan (equidistant with k = 0 is
   // still r = f theta; eucm with alpha = 0 is a pinhole, reported distorted all the same).

@@ -1,6 +1,8 @@
 #include "core/synthetic.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 
 namespace calibench {
 
@@ -135,6 +137,62 @@ SyntheticBoardViews MakeBoardViews(const CameraIntrinsics& intrinsics,
       view.pixels.push_back(pixel);
     }
     if (!inside) continue;
+    out.views.push_back(std::move(view));
+    out.cam_from_board.push_back(cam_from_board);
+  }
+  return out;
+}
+
+namespace {
+
+// One view of MakeWideBoardViews: the board's pose (see the header comment).
+Rigid3 WideBoardPose(const WideBoardOptions& o, const Eigen::Vector3d& centre, Rng* rng) {
+  const double theta = o.max_angle_deg * std::sqrt(rng->Uniform(0, 1)) * M_PI / 180;
+  const double azimuth = rng->Uniform(0, 2 * M_PI);
+  const Eigen::Vector3d direction(std::sin(theta) * std::cos(azimuth),
+                                  std::sin(theta) * std::sin(azimuth), std::cos(theta));
+  const double tilt = rng->Uniform(0, o.max_tilt_deg) * M_PI / 180;
+  const double tilt_axis = rng->Uniform(0, 2 * M_PI);
+  const Eigen::Vector3d tilt_vector =
+      tilt * Eigen::Vector3d(std::cos(tilt_axis), std::sin(tilt_axis), 0);
+  const double roll = rng->Uniform(-M_PI, M_PI);
+  // Facing the camera along +z, then turned onto `direction` about the camera's centre.
+  const Rigid3 facing =
+      FacingBoardPose(tilt_vector, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  const Eigen::Matrix3d turn =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), direction).toRotationMatrix();
+  Rigid3 cam_from_board;
+  cam_from_board.rotation = turn * facing.rotation * ExpSO3(Eigen::Vector3d(0, 0, roll));
+  const double distance = o.distance_m * rng->Uniform(0.8, 1.2);
+  cam_from_board.translation = distance * direction - cam_from_board.rotation * centre;
+  return cam_from_board;
+}
+
+}  // namespace
+
+SyntheticBoardViews MakeWideBoardViews(const CameraIntrinsics& intrinsics,
+                                       const WideBoardOptions& o, Rng* rng) {
+  SyntheticBoardViews out;
+  const std::vector<Eigen::Vector3d> board = BoardPoints(o.rows, o.cols, o.spacing_m);
+  const Eigen::Vector3d centre((o.cols - 1) * o.spacing_m / 2, (o.rows - 1) * o.spacing_m / 2, 0);
+  const size_t min_points = std::max<size_t>(
+      8,
+      static_cast<size_t>(std::ceil(o.min_visible_fraction * static_cast<double>(board.size()))));
+  int attempts = 0;
+  while (static_cast<int>(out.views.size()) < o.num_views && attempts++ < 1000 * o.num_views) {
+    const Rigid3 cam_from_board = WideBoardPose(o, centre, rng);
+    View view;
+    for (const Eigen::Vector3d& p : board) {
+      Eigen::Vector2d pixel;
+      if (!ProjectPoint(intrinsics, cam_from_board * p, &pixel) || pixel.x() < -0.5 ||
+          pixel.y() < -0.5 || pixel.x() > o.image_width - 0.5 || pixel.y() > o.image_height - 0.5) {
+        continue;
+      }
+      view.points.push_back(p);
+      view.pixels.push_back(pixel +
+                            o.pixel_sigma_px * Eigen::Vector2d(rng->Normal(), rng->Normal()));
+    }
+    if (view.points.size() < min_points) continue;
     out.views.push_back(std::move(view));
     out.cam_from_board.push_back(cam_from_board);
   }

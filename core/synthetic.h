@@ -107,6 +107,27 @@ Rigid3 FacingBoardPose(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board
 Rigid3 FacingBoardPoseAlong(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board_point,
                             const Eigen::Vector3d& ray, double distance_m);
 
+// A planar board seen through a wide lens (120-200+ degrees) anywhere in its field, the edge of
+// the image circle included: each view's board centre lies in a direction theta_c from the axis,
+// theta_c = max_angle_deg sqrt(u) (u uniform: uniform over the disc of angles), azimuth uniform,
+// at distance_m +- 20 %; the board faces the camera (FacingBoardPose turned onto that direction),
+// tilted by up to max_tilt_deg about a random in-plane axis and rolled at random. Points outside
+// the image or the lens' valid region are dropped (partial boards); a view is kept when at least
+// min_visible_fraction of its points (and 8) remain, else redrawn.
+struct WideBoardOptions {
+  int rows = 6, cols = 8;   // Corners.
+  double spacing_m = 0.04;  // Corner pitch.
+  int num_views = 20;
+  double distance_m = 0.4;
+  double max_angle_deg = 90.0;
+  double max_tilt_deg = 35.0;
+  double min_visible_fraction = 0.5;
+  double pixel_sigma_px = 0.0;  // Gaussian noise on u and v.
+  int image_width = 1024, image_height = 1024;
+};
+SyntheticBoardViews MakeWideBoardViews(const CameraIntrinsics& intrinsics,
+                                       const WideBoardOptions& options, Rng* rng);
+
 // A 6 x 5 tag36h11 AprilGrid of 4 cm tags to render (cam_from_board left at identity).
 BoardView SixByFiveTagGrid();
 

@@ -57,6 +57,8 @@ class AdaptiveMethod final : public Method {
   }
 
   MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {
+    MethodResult refused;
+    if (RefuseWideLens(input, "adaptive (the pinhole estimator)", &refused)) return refused;
     const MeasurementSource& source = *input.source;
     const Vector16d theta0 =
         ThetaFromCamera(initial_.intrinsics, initial_.ParentFromCam().Inverse());

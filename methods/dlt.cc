@@ -20,6 +20,8 @@ class DltMethod final : public Method {
   bool Check(std::string* why) const override { return options_.Check(why) && online_.Check(why); }
 
   MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {
+    MethodResult refused;
+    if (RefuseWideLens(input, "dlt", &refused)) return refused;
     return RunMaybeOnline(
         input, online_, sink,
         [this](const MethodInput& window, const CameraEstimate*) { return Solve(window); });

@@ -113,6 +113,7 @@ class EkfMethod final : public Method {
   MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {
     const SummaryClock clock;
     MethodResult result;
+    if (RefuseWideLens(input, "ekf", &result)) return result;
     const MethodResult& init = input.Window(0.0, init_window_s_).Prerequisite(init_);
     if (!init.IsUsable() || !init.estimate.has_camera) {
       return clock.Finish(&result, MethodStatus::kFailed,

@@ -7,6 +7,19 @@
 
 namespace calibench {
 
+bool RefuseWideLens(const MethodInput& input, const std::string& method, MethodResult* result) {
+  if (input.lens != LensFamily::kUnified && input.lens != LensFamily::kEucm &&
+      input.lens != LensFamily::kDoubleSphere) {
+    return false;
+  }
+  result->status = MethodStatus::kFailed;
+  result->message = method + " assumes a pinhole projection; the camera's lens is " +
+                    ToString(input.lens) +
+                    " (rays past 90 deg): refused (zhang and ceres with model " +
+                    ToString(input.lens) + " calibrate it)";
+  return true;
+}
+
 FrameSet ReadFrames(const MeasurementSource& source) {
   FrameSet frames;
   frames.views.resize(source.NumFrames());

@@ -130,6 +130,10 @@ struct MethodInput {
   // that follows the data (adaptive, a filter) reports its state. Empty: report nothing.
   std::vector<double> report_times_s;
   int image_width = 0, image_height = 0;
+  // The lens family of the scenario's camera (its truth's), as a user knows the lens on the
+  // camera: methods that assume a pinhole projection refuse the omnidirectional families
+  // (RefuseWideLens).
+  LensFamily lens = LensFamily::kRadTan;
   std::vector<BoardLayout> boards;  // Planar boards of the point set, in point order; may be empty.
   // Where the points frame (body for a fixed camera, world for a moving one) is in the parent
   // frame at time t: known, as the thesis assumes the body poses known (core/scene.h).
@@ -153,6 +157,12 @@ struct MethodInput {
   // "" for the whole trial, else the window's bounds: part of every cache key of a windowed input.
   std::string WindowKey() const;
 };
+
+// For a method that assumes a pinhole projection (dlt, adaptive, ekf, zhang with a radtan or
+// equidistant model): true when input.lens is unified, eucm or double-sphere (rays at and past
+// 90 deg from the axis, which no pinhole projection images), with *result failed and the reason
+// naming `method` and the lens. The sweep records the failed row and goes on.
+bool RefuseWideLens(const MethodInput& input, const std::string& method, MethodResult* result);
 
 class Method {
  public:

@@ -8,13 +8,17 @@
 // board seen with fewer than kMinViewPoints points in a frame gives no view. The estimate reports
 // OpenCV's standard deviations and its own reprojection RMS (one pose per view: fit_rms_px).
 // Online mode (window_s, every_s): methods/online.h (calibrateCamera starts from scratch on each
-// window).
+// window). With model unified, eucm or double-sphere, the per-view solve is the wide start
+// (batch/wide_init.h: no standard deviations); with a radtan or equidistant model on a camera of
+// those families (MethodInput::lens) it refuses (RefuseWideLens).
 #include "batch/zhang.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "batch/extrinsic_from_views.h"
+#include "batch/wide_init.h"
 #include "methods/method.h"
 #include "methods/online.h"
 #include "methods/options.h"
@@ -57,6 +61,16 @@ struct ZhangSolve {
 
 ZhangSolve Solve(const MethodInput& input, const ZhangSettings& settings) {
   ZhangSolve solve;
+  MethodResult refused;
+  if (!WideInitServes(FamilyOf(settings.model)) ||
+      FamilyOf(settings.model) == LensFamily::kEquidistant) {
+    if (RefuseWideLens(input, std::string("zhang (model ") + ToString(settings.model) + ")",
+                       &refused)) {
+      solve.result.status = MethodStatus::kFailed;
+      solve.message = refused.message;
+      return solve;
+    }
+  }
   const std::vector<BoardLayout>& layouts = input.boards;
   if (layouts.empty()) {
     solve.message = "zhang needs planar boards: points: {boards: [...]} or {aprilgrids: [...]}";
@@ -90,11 +104,27 @@ ZhangSolve Solve(const MethodInput& input, const ZhangSettings& settings) {
       view_time_board.emplace_back(frames.times_s[k], b);
     }
   }
-  ZhangOptions options;
-  options.model = settings.model;
-  options.image_width = input.image_width;
-  options.image_height = input.image_height;
-  solve.result = CalibrateZhang(views, options);
+  if (WideInitServes(FamilyOf(settings.model)) &&
+      FamilyOf(settings.model) != LensFamily::kEquidistant) {
+    // The omnidirectional families: the wide start (batch/wide_init.h), which OpenCV has not.
+    WideInitOptions wide;
+    wide.model = settings.model;
+    wide.image_width = input.image_width;
+    wide.image_height = input.image_height;
+    const WideInitResult start = InitializeWideCamera(views, wide);
+    static_cast<MethodSummary&>(solve.result) = start;
+    solve.result.intrinsics = start.intrinsics;
+    solve.result.intrinsics_std.fill(std::nan(""));
+    solve.result.cam_from_board = start.cam_from_board;
+    solve.result.used_views = start.used_views;
+    solve.result.rms_reproj_px = start.rms_reproj_px;
+  } else {
+    ZhangOptions options;
+    options.model = settings.model;
+    options.image_width = input.image_width;
+    options.image_height = input.image_height;
+    solve.result = CalibrateZhang(views, options);
+  }
   if (!solve.result.IsUsable()) {
     solve.message = solve.result.message;
     return solve;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "batch/board_pose.h"
+#include "batch/wide_init.h"
 
 namespace calibench {
 
@@ -49,6 +50,60 @@ ZhangResult InitialiseFromCamera(const std::vector<View>& views, const CameraInt
                       first_failure.empty() ? "" : "skipped " + first_failure);
 }
 
+// The wide start (batch/wide_init.h) as the initialisation's result.
+ZhangResult FromWideStart(const WideInitResult& wide) {
+  ZhangResult result;
+  static_cast<MethodSummary&>(result) = wide;
+  result.intrinsics = wide.intrinsics;
+  result.intrinsics_std.fill(std::nan(""));
+  result.cam_from_board = wide.cam_from_board;
+  result.used_views = wide.used_views;
+  result.rms_reproj_px = wide.rms_reproj_px;
+  return result;
+}
+
+WideInitResult WideStart(const PointData& data, LensModel model) {
+  WideInitOptions wide;
+  wide.model = model;
+  wide.image_width = data.image_width;
+  wide.image_height = data.image_height;
+  return InitializeWideCamera(data.views, wide);
+}
+
+// The initialisation without a given camera. zhang (cv::calibrateCamera) for radtan; for the
+// equidistant fisheye cv::fisheye::calibrate, and the wide start when that fails (it does on
+// partial boards far off axis: it then returns its start) and the wide start fits better; the
+// wide start for the omnidirectional families, which OpenCV cannot start.
+ZhangResult StartFromScratch(const PointData& data, LensModel model, std::string* initial_name) {
+  const LensFamily family = FamilyOf(model);
+  if (family != LensFamily::kRadTan && family != LensFamily::kEquidistant) {
+    *initial_name = "wide start";
+    return FromWideStart(WideStart(data, model));
+  }
+  ZhangOptions zhang_options;
+  zhang_options.model = model;
+  zhang_options.image_width = data.image_width;
+  zhang_options.image_height = data.image_height;
+  ZhangResult zhang = CalibrateZhang(data.views, zhang_options);
+  if (family == LensFamily::kRadTan) return zhang;
+  *initial_name = "cv::fisheye";
+  const bool zhang_ok = zhang.IsUsable() && zhang.used_views.size() == data.views.size() &&
+                        zhang.rms_reproj_px < kHighReprojectionPx;
+  if (zhang_ok) return zhang;
+  const WideInitResult wide = WideStart(data, model);
+  if (!wide.IsUsable() && !zhang.IsUsable()) zhang.message += "; " + wide.message;
+  if (!wide.IsUsable() || (zhang.IsUsable() && wide.rms_reproj_px >= zhang.rms_reproj_px)) {
+    return zhang;
+  }
+  char opencv[64];
+  std::snprintf(opencv, sizeof(opencv), "RMS %.4g px", zhang.rms_reproj_px);
+  ZhangResult start = FromWideStart(wide);
+  start.message = "cv::fisheye::calibrate did not fit (" +
+                  (zhang.IsUsable() ? std::string(opencv) : zhang.message) + "): " + wide.message;
+  *initial_name = "wide start";
+  return start;
+}
+
 }  // namespace
 
 CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOptions& options) {
@@ -57,40 +112,7 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
     report.initial_name = "init (" + options.init->ModelName() + ")";
     report.zhang = InitialiseFromCamera(data.views, options.init->intrinsics);
   } else {
-    ZhangOptions zhang_options;
-    zhang_options.model = options.model;
-    zhang_options.image_width = data.image_width;
-    zhang_options.image_height = data.image_height;
-    report.zhang = CalibrateZhang(data.views, zhang_options);
-    if (FamilyOf(options.model) == LensFamily::kEquidistant) {
-      report.initial_name = "cv::fisheye";
-      // cv::fisheye::calibrate fails on partial boards far off axis (it then returns its start);
-      // the equidistant focal scan is the fallback, taken when it fits better.
-      FocalScanOptions scan_options;
-      scan_options.image_width = data.image_width;
-      scan_options.image_height = data.image_height;
-      FocalScanResult scan;
-      const SummaryClock scan_clock;
-      const bool zhang_ok = report.zhang.IsUsable() &&
-                            report.zhang.used_views.size() == data.views.size() &&
-                            report.zhang.rms_reproj_px < kHighReprojectionPx;
-      if (!zhang_ok && EquidistantFocalScan(data.views, scan_options, &scan, nullptr) &&
-          (!report.zhang.IsUsable() || scan.rms_reproj_px < report.zhang.rms_reproj_px)) {
-        const std::string opencv = report.zhang.IsUsable()
-                                       ? "rms " + std::to_string(report.zhang.rms_reproj_px) + " px"
-                                       : report.zhang.message;
-        report.zhang = ZhangResult();
-        report.zhang.intrinsics = scan.intrinsics;
-        report.zhang.intrinsics_std.fill(std::nan(""));
-        report.zhang.cam_from_board = scan.cam_from_board;
-        for (size_t v = 0; v < data.views.size(); ++v) report.zhang.used_views.push_back(v);
-        report.zhang.rms_reproj_px = scan.rms_reproj_px;
-        scan_clock.Finish(&report.zhang, MethodStatus::kOk,
-                          "cv::fisheye::calibrate did not fit (" + opencv +
-                              "): started from the equidistant focal scan");
-        report.initial_name = "equidistant scan";
-      }
-    }
+    report.zhang = StartFromScratch(data, options.model, &report.initial_name);
   }
   if (!report.zhang.IsUsable()) {
     report.ceres.status = MethodStatus::kFailed;
@@ -178,6 +200,7 @@ std::string FormatCalibrateReport(const CalibrateReport& report, const PointData
                 report.ceres.iterations);
   out << line;
   if (!report.zhang.message.empty()) out << "note: " << report.zhang.message << "\n";
+  if (!report.ceres.message.empty()) out << "note: ceres: " << report.ceres.message << "\n";
   return out.str();
 }
 

@@ -1,7 +1,9 @@
-// Calibrating a camera from point files or detected images: zhang (cv::calibrateCamera; for the
-// equidistant fisheye cv::fisheye::calibrate) initialises, ceres refines (per-view board poses, the
-// chosen lens model, optional skew) and reports standard deviations from its covariance (sigma
-// estimated from the residuals).
+// Calibrating a camera from point files or detected images: an initialisation, then ceres refines
+// (per-view board poses, the chosen lens model, optional skew) and reports standard deviations
+// from its covariance (sigma estimated from the residuals). The initialisation: zhang
+// (cv::calibrateCamera) for the radtan models; cv::fisheye::calibrate for pinhole-equi, or the wide
+// start (batch/wide_init.h) when cv::fisheye does not fit; the wide start for unified, eucm and
+// double-sphere, which OpenCV cannot start.
 //
 // With a given camera (`calibrate --init FILE`, any format of bench/config/camera_io.h) the
 // initial guess is that camera, each view's pose comes from it (batch/board_pose.h), and ceres
@@ -31,8 +33,9 @@ struct CalibrateOptions {
 };
 
 struct CalibrateReport {
-  // The initialisation: zhang's result, or (with init) the given camera with the poses found
-  // through it (intrinsics_std NaN, rms_reproj_px at those poses before refinement).
+  // The initialisation: zhang's (or cv::fisheye's, or the wide start's: initial_name says which)
+  // result, or (with init) the given camera with the poses found through it (intrinsics_std NaN,
+  // rms_reproj_px at those poses before refinement).
   ZhangResult zhang;
   std::string initial_name = "zhang (OpenCV)";
   bool evaluated = false;  // The given camera was kept fixed (evaluate_only).

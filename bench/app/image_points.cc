@@ -50,8 +50,9 @@ bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, View* vie
 FrameDetectorOptions ImageDetectorOptions(const ImagePointOptions& image) {
   FrameDetectorOptions options;
   // The photometric model draws a tag through a homography, which a fisheye's bent edges break:
-  // without a camera to draw it through, equidistant lenses keep the curved-edge fit.
-  options.refine.curved_edges = image.lens == LensFamily::kEquidistant;
+  // without a camera to draw it through, the wide families (all but radtan) keep the curved-edge
+  // fit.
+  options.refine.curved_edges = image.lens != LensFamily::kRadTan;
   if (image.camera) {
     options.camera = *image.camera;
   } else if (options.refine.curved_edges) {

@@ -33,8 +33,8 @@ struct ImagePointOptions {
 };
 
 // The detector options for images of an aprilgrid: the defaults (the corner squares of Kalibr's
-// printed grids are the grid's: AprilGrid::corner_squares). For a fisheye lens
-// (`lens` equidistant) the edge fit takes curved edges (corner_refinement.h, curved_edges).
+// printed grids are the grid's: AprilGrid::corner_squares). For a wide lens (`lens` of any family
+// but radtan) the edge fit takes curved edges (corner_refinement.h, curved_edges).
 FrameDetectorOptions ImageDetectorOptions(const ImagePointOptions& options = {});
 
 // The image files of `dir` (extensions above, any case), sorted by name. False with *why naming

@@ -16,6 +16,7 @@
 #include "bench/app/corner_bias_cmd.h"
 #include "bench/app/detect_images.h"
 #include "bench/app/frames_io.h"
+#include "bench/app/model_select.h"
 #include "bench/app/solver_logging.h"
 #include "bench/app/target_cmd.h"
 #include "bench/config/config_io.h"
@@ -156,17 +157,102 @@ int FinishCalibration(const calibench::CalibrateReport& report, const std::strin
   return 0;
 }
 
+// CalibrateFromPoints; with --model auto, the model selection (its table printed) and its pick,
+// which *options then holds. False when auto picks nothing.
+bool FitCamera(const calibench::PointData& data, bool auto_model,
+               calibench::CalibrateOptions* options, calibench::CalibrateReport* report) {
+  if (!auto_model) {
+    *report = calibench::CalibrateFromPoints(data, *options);
+    return true;
+  }
+  calibench::ModelSelectOptions select;
+  select.estimate_skew = options->estimate_skew;
+  const calibench::ModelSelection selection = calibench::SelectLensModel(data, select);
+  std::cout << calibench::FormatModelSelection(selection) << "\n";
+  if (!selection.IsUsable()) return false;
+  const calibench::ModelScore& chosen = selection.scores[selection.chosen];
+  options->model = chosen.model;
+  *report = chosen.report;
+  return true;
+}
+
+// calibrate --images: the target's corners in the images, the fit (FitCamera), the corners re-fit
+// through the lens (aprilgrid, photometric), the reports and the camera file.
+int CalibrateImages(const CalibrateArgs& args, bool auto_model, calibench::CalibrateOptions options,
+                    calibench::CameraFormat format) {
+  calibench::CalibrationTarget target;
+  std::string why;
+  if (args.target_path.empty()) {
+    std::cerr << "calibench: --images needs --target TARGET.yaml (Kalibr aprilgrid or "
+                 "checkerboard)\n";
+    return 2;
+  }
+  if (!calibench::LoadTargetYaml(args.target_path, &target, &why)) {
+    std::cerr << "calibench: --target: " << why << "\n";
+    return 2;
+  }
+  // With --init, the given camera's lens draws the corner fit from the first pass.
+  calibench::ImagePointOptions image_options;
+  // --model auto: the candidates include wide lenses, whose bent tag edges need the curved fit.
+  image_options.lens =
+      auto_model ? calibench::LensFamily::kUnified : calibench::FamilyOf(options.model);
+  if (options.init) image_options.camera = options.init->intrinsics;
+  if (!args.corner_refinement.empty()) {
+    calibench::CornerRefinement refinement;
+    if (!calibench::ParseCornerRefinement(args.corner_refinement, &refinement)) {
+      std::cerr << "calibench: --corner-refinement: '" << args.corner_refinement
+                << "' is not a refinement\n";
+      return 2;
+    }
+    image_options.refinement = refinement;
+  }
+  // The re-fit through the lens is the photometric fit's.
+  const bool photometric =
+      image_options.refinement.value_or(calibench::CornerRefinement::kPhotometric) ==
+      calibench::CornerRefinement::kPhotometric;
+  calibench::PointData data;
+  calibench::ImageFolderReport images;
+  std::vector<int> used_index;
+  if (!calibench::LoadImagePoints(args.images_dir, target, &data, &images, &used_index, &why,
+                                  image_options)) {
+    std::cerr << "calibench: --images: " << why << "\n";
+    return 2;
+  }
+  if (options.init &&
+      !calibench::CheckInitImageSize(*options.init, args.init_path, data, args.images_dir, &why)) {
+    std::cerr << "calibench: --init: " << why << "\n";
+    return 2;
+  }
+  calibench::CalibrateReport report;
+  if (!FitCamera(data, auto_model, &options, &report)) return 4;
+  if (!args.evaluate && target.type == calibench::CalibrationTarget::Type::kAprilGrid &&
+      options.model != calibench::LensModel::kPinhole && args.corner_iterations > 0 &&
+      photometric) {
+    report = calibench::IterateCornersThroughTheLens(args.images_dir, target, options,
+                                                     args.corner_iterations, report, &data, &images,
+                                                     &used_index, std::cerr);
+  }
+  std::cout << calibench::FormatCalibrateReport(report, data);
+  std::cout << calibench::FormatImageReport(images, used_index, report);
+  return FinishCalibration(report, args.out_path, format);
+}
+
 int Calibrate(const CalibrateArgs& args) {
-  const std::string& out_path = args.out_path;
   calibench::CalibrateOptions options;
   std::string why;
-  if (!calibench::ParseLensModel(args.model, &options.model)) {
+  const bool auto_model = args.model == "auto";
+  if (!auto_model && !calibench::ParseLensModel(args.model, &options.model)) {
     std::cerr << "calibench: --model: unknown lens model '" << args.model << "' ("
-              << LensModelList() << ")\n";
+              << LensModelList() << ", auto)\n";
+    return 2;
+  }
+  if (auto_model && !args.init_path.empty()) {
+    std::cerr << "calibench: --model auto fits every candidate model from scratch; --init gives "
+                 "one camera (name its --model, or drop --init)\n";
     return 2;
   }
   options.estimate_skew = args.skew;
-  calibench::CameraFormat format = calibench::CameraFormatFromPath(out_path);
+  calibench::CameraFormat format = calibench::CameraFormatFromPath(args.out_path);
   if (!args.format.empty() && !calibench::ParseCameraFormat(args.format, &format, &why)) {
     std::cerr << "calibench: --format: " << why << "\n";
     return 2;
@@ -187,65 +273,16 @@ int Calibrate(const CalibrateArgs& args) {
     std::cerr << "calibench: --evaluate needs --init CAMERA_FILE (the calibration to evaluate)\n";
     return 2;
   }
+  if (!args.images_dir.empty()) return CalibrateImages(args, auto_model, options, format);
   calibench::PointData data;
-  calibench::ImageFolderReport images;
-  std::vector<int> used_index;
-  if (!args.images_dir.empty()) {
-    calibench::CalibrationTarget target;
-    if (args.target_path.empty()) {
-      std::cerr << "calibench: --images needs --target TARGET.yaml (Kalibr aprilgrid or "
-                   "checkerboard)\n";
-      return 2;
-    }
-    if (!calibench::LoadTargetYaml(args.target_path, &target, &why)) {
-      std::cerr << "calibench: --target: " << why << "\n";
-      return 2;
-    }
-    // With --init, the given camera's lens draws the corner fit from the first pass.
-    calibench::ImagePointOptions image_options;
-    image_options.lens = calibench::FamilyOf(options.model);
-    if (options.init) image_options.camera = options.init->intrinsics;
-    if (!args.corner_refinement.empty()) {
-      calibench::CornerRefinement refinement;
-      if (!calibench::ParseCornerRefinement(args.corner_refinement, &refinement)) {
-        std::cerr << "calibench: --corner-refinement: '" << args.corner_refinement
-                  << "' is not a refinement\n";
-        return 2;
-      }
-      image_options.refinement = refinement;
-    }
-    // The re-fit through the lens is the photometric fit's.
-    const bool photometric =
-        image_options.refinement.value_or(calibench::CornerRefinement::kPhotometric) ==
-        calibench::CornerRefinement::kPhotometric;
-    if (!calibench::LoadImagePoints(args.images_dir, target, &data, &images, &used_index, &why,
-                                    image_options)) {
-      std::cerr << "calibench: --images: " << why << "\n";
-      return 2;
-    }
-    if (options.init && !calibench::CheckInitImageSize(*options.init, args.init_path, data,
-                                                       args.images_dir, &why)) {
-      std::cerr << "calibench: --init: " << why << "\n";
-      return 2;
-    }
-    calibench::CalibrateReport report = calibench::CalibrateFromPoints(data, options);
-    if (!args.evaluate && target.type == calibench::CalibrationTarget::Type::kAprilGrid &&
-        options.model != calibench::LensModel::kPinhole && args.corner_iterations > 0 &&
-        photometric) {
-      report = calibench::IterateCornersThroughTheLens(args.images_dir, target, options,
-                                                       args.corner_iterations, report, &data,
-                                                       &images, &used_index, std::cerr);
-    }
-    std::cout << calibench::FormatCalibrateReport(report, data);
-    std::cout << calibench::FormatImageReport(images, used_index, report);
-    return FinishCalibration(report, out_path, format);
-  } else if (!calibench::LoadPointData(args.points_path, &data, &why)) {
+  if (!calibench::LoadPointData(args.points_path, &data, &why)) {
     std::cerr << "calibench: --points: " << why << "\n";
     return 2;
   }
-  const calibench::CalibrateReport report = calibench::CalibrateFromPoints(data, options);
+  calibench::CalibrateReport report;
+  if (!FitCamera(data, auto_model, &options, &report)) return 4;
   std::cout << calibench::FormatCalibrateReport(report, data);
-  return FinishCalibration(report, out_path, format);
+  return FinishCalibration(report, args.out_path, format);
 }
 
 struct FramesArgs {
@@ -393,7 +430,11 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
                         "extension: .cameramodel = mrcal, *camchain*.yaml = kalibr, else opencv)");
   calibrate->add_option("--format", cal.format, "Output format: opencv, kalibr or mrcal");
   CLI::Option* model_option =
-      calibrate->add_option("--model", cal.model, "Lens model: " + LensModelList());
+      calibrate->add_option("--model", cal.model,
+                            "Lens model: " + LensModelList() +
+                                ", or auto (fit pinhole-radtan4/5, pinhole-equi, unified, eucm, "
+                                "double-sphere; pick the simplest within noise of the best "
+                                "held-out RMS)");
   calibrate->add_flag("--skew", cal.skew, "Estimate the skew angle phi too");
   calibrate
       ->add_option("--init", cal.init_path,
@@ -410,7 +451,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   calibrate
       ->add_option("--corner-refinement", cal.corner_refinement,
                    "With --images (aprilgrid): none, edge_fit or photometric (default; the "
-                   "edge fit with curved edges for pinhole-equi without --init). Other than "
+                   "edge fit with curved edges for the wide models without --init). Other than "
                    "photometric: detect once, no re-fit through the lens")
       ->check(CLI::IsMember(
           {calibench::CornerRefinementName(calibench::CornerRefinement::kNone),

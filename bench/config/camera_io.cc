@@ -62,7 +62,18 @@ bool WriteText(const std::string& path, const std::string& text, std::string* wh
 
 // The smallest lens model of the family holding every non-zero coefficient.
 LensModel InferLensModel(const CameraIntrinsics& k) {
-  if (k.family == LensFamily::kEquidistant) return LensModel::kPinholeEqui;
+  switch (k.family) {
+    case LensFamily::kEquidistant:
+      return LensModel::kPinholeEqui;
+    case LensFamily::kUnified:
+      return LensModel::kUnified;
+    case LensFamily::kEucm:
+      return LensModel::kEucm;
+    case LensFamily::kDoubleSphere:
+      return LensModel::kDoubleSphere;
+    case LensFamily::kRadTan:
+      break;
+  }
   if (k.k3 != 0) return LensModel::kPinholeRadTan5;
   if (k.p1 != 0 || k.p2 != 0) return LensModel::kPinholeRadTan4;
   if (k.k1 != 0 || k.k2 != 0) return LensModel::kPinholeK2;
@@ -76,11 +87,36 @@ void InferModel(CameraFile* camera) {
 
 // ---- opencv ---------------------------------------------------------------------------------
 
-const char* kStdNames[10] = {"std_fku_px", "std_fkv_px", "std_phi_deg", "std_u0_px", "std_v0_px",
-                             "std_k1",     "std_k2",     "std_p1",      "std_p2",    "std_k3"};
-const char* kEquiStdNames[10] = {"std_fku_px", "std_fkv_px", "std_phi_deg", "std_u0_px",
-                                 "std_v0_px",  "std_k1",     "std_k2",      "std_k3",
-                                 "std_k4",     "std_unused"};
+// std_<name> of raw slot i in the family's order (ParamNames: std_k1, std_xi, std_alpha, ..);
+// empty for an unused slot.
+std::string StdName(LensFamily family, int i) {
+  const std::string name = ParamNames(family)[i];
+  return name == "-" ? "" : "std_" + name;
+}
+
+// The lens fields: radtan and equidistant as distortion_coefficients (cv::calibrateCamera's and
+// cv::fisheye's); unified as cv::omnidir's (distortion_coefficients k1 k2 p1 p2 and a scalar xi,
+// the fields its omni_calibration sample writes); eucm and the double sphere as their own scalars.
+void WriteOpenCvLens(const CameraIntrinsics& k, cv::FileStorage* out) {
+  switch (k.family) {
+    case LensFamily::kRadTan:
+      *out << "distortion_coefficients" << (cv::Mat_<double>(1, 5) << k.k1, k.k2, k.p1, k.p2, k.k3);
+      return;
+    case LensFamily::kEquidistant:
+      *out << "distortion_coefficients" << (cv::Mat_<double>(1, 4) << k.k1, k.k2, k.k3, k.k4);
+      return;
+    case LensFamily::kUnified:
+      *out << "distortion_coefficients" << (cv::Mat_<double>(1, 4) << k.k1, k.k2, k.p1, k.p2);
+      *out << "xi" << k.xi;
+      return;
+    case LensFamily::kEucm:
+      *out << "alpha" << k.alpha << "beta" << k.beta;
+      return;
+    case LensFamily::kDoubleSphere:
+      *out << "xi" << k.xi << "alpha" << k.alpha;
+      return;
+  }
+}
 
 bool WriteOpenCv(const std::string& path, const CameraFile& camera, std::string* why) {
   const std::string tmp = TemporaryBeside(path);
@@ -93,22 +129,17 @@ bool WriteOpenCv(const std::string& path, const CameraFile& camera, std::string*
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c) camera_matrix.at<double>(r, c) = a(r, c);
     }
-    const bool equi = k.family == LensFamily::kEquidistant;
     out << "model" << camera.ModelName();
     out << "image_width" << camera.image_width << "image_height" << camera.image_height;
     out << "camera_matrix" << camera_matrix;
     out << "distortion_model" << ToString(k.family);
-    if (equi) {
-      out << "distortion_coefficients" << (cv::Mat_<double>(1, 4) << k.k1, k.k2, k.k3, k.k4);
-    } else {
-      out << "distortion_coefficients" << (cv::Mat_<double>(1, 5) << k.k1, k.k2, k.p1, k.p2, k.k3);
-    }
+    WriteOpenCvLens(k, &out);
     out << "fku_px" << k.fku_px << "fkv_px" << k.fkv_px << "phi_deg" << k.phi_deg;
     out << "rms_reproj_px" << camera.rms_reproj_px;
     for (int i = 0; i < 10; ++i) {
       const double s = camera.intrinsics_std[i];
-      if (std::isfinite(s))
-        out << (equi ? kEquiStdNames : kStdNames)[i] << (i == 2 ? s * kRadToDeg : s);
+      const std::string name = StdName(k.family, i);
+      if (std::isfinite(s) && !name.empty()) out << name << (i == 2 ? s * kRadToDeg : s);
     }
     out << "view_rms_px" << camera.view_rms_px;
     out.release();
@@ -120,120 +151,263 @@ bool WriteOpenCv(const std::string& path, const CameraFile& camera, std::string*
   return RenameInto(tmp, path, why);
 }
 
-bool ReadOpenCv(const std::string& path, CameraFile* camera, std::string* why) {
-  try {
-    cv::FileStorage in(path, cv::FileStorage::READ);
-    if (!in.isOpened()) return Fail(why, path + ": cannot open (not an OpenCV FileStorage file)");
-    cv::Mat a, d;
-    in["camera_matrix"] >> a;
-    if (a.rows != 3 || a.cols != 3) {
-      return Fail(why, path + ": camera_matrix: expected a 3 x 3 matrix");
-    }
-    a.convertTo(a, CV_64F);
-    Eigen::Matrix3d matrix;
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) matrix(r, c) = a.at<double>(r, c);
-    }
-    if (!(matrix(0, 0) > 0 && matrix(1, 1) > 0) || matrix(1, 0) != 0 || matrix(2, 0) != 0 ||
-        matrix(2, 1) != 0 || matrix(2, 2) != 1) {
-      return Fail(why,
-                  path + ": camera_matrix: expected [fx s cx; 0 fy cy; 0 0 1] with fx, fy > 0");
-    }
-    CameraIntrinsics k = CameraIntrinsics::FromMatrix(matrix);
-    std::string family;
-    in["distortion_model"] >> family;
-    if (family == "equidistant" || family == "fisheye") {
-      k.family = LensFamily::kEquidistant;
-    } else if (!family.empty() && family != "radtan" && family != "plumb_bob") {
-      return Fail(why, path + ": distortion_model: unknown '" + family +
-                           "' (radtan, plumb_bob, equidistant, fisheye)");
-    }
-    in["distortion_coefficients"] >> d;
-    d.convertTo(d, CV_64F);
-    const int n = static_cast<int>(d.total());
-    auto coeff = [&](int i) { return i < n ? d.at<double>(i) : 0.0; };
-    if (k.family == LensFamily::kEquidistant) {
-      if (n != 4) {
-        return Fail(why, path +
-                             ": distortion_coefficients: the equidistant model has 4 (k1..k4), "
-                             "got " +
-                             std::to_string(n));
-      }
-      k.k1 = coeff(0), k.k2 = coeff(1), k.k3 = coeff(2), k.k4 = coeff(3);
-    } else {
-      if (n != 0 && n != 4 && n != 5 && n != 8 && n != 12 && n != 14) {
-        return Fail(why, path + ": distortion_coefficients: OpenCV has 4, 5, 8, 12 or 14, got " +
-                             std::to_string(n));
-      }
-      for (int i = 5; i < n; ++i) {
-        if (coeff(i) != 0) {
-          return Fail(why, path + ": distortion_coefficients: coefficient " + std::to_string(i) +
-                               " (rational / thin-prism / tilt) is not zero; calibench's radtan "
-                               "model has k1 k2 p1 p2 k3");
-        }
-      }
-      k.k1 = coeff(0), k.k2 = coeff(1), k.p1 = coeff(2), k.p2 = coeff(3), k.k3 = coeff(4);
-    }
-    // calibench's exact fields (the matrix loses the last bits of fkv and phi).
-    if (!in["fku_px"].empty()) in["fku_px"] >> k.fku_px;
-    if (!in["fkv_px"].empty()) in["fkv_px"] >> k.fkv_px;
-    if (!in["phi_deg"].empty()) in["phi_deg"] >> k.phi_deg;
-    camera->intrinsics = k;
-    in["image_width"] >> camera->image_width;
-    in["image_height"] >> camera->image_height;
-    if (!in["rms_reproj_px"].empty()) in["rms_reproj_px"] >> camera->rms_reproj_px;
-    camera->intrinsics_std.fill(std::nan(""));
-    const bool equi = k.family == LensFamily::kEquidistant;
-    for (int i = 0; i < 10; ++i) {
-      const cv::FileNode node = in[(equi ? kEquiStdNames : kStdNames)[i]];
-      if (node.empty()) continue;
-      double s = 0;
-      node >> s;
-      camera->intrinsics_std[i] = i == 2 ? s / kRadToDeg : s;
-    }
-    if (!in["view_rms_px"].empty()) in["view_rms_px"] >> camera->view_rms_px;
-    InferModel(camera);
-    std::string model;
-    in["model"] >> model;
-    if (!model.empty()) {
-      const size_t plus = model.find("+skew");
-      if (!ParseLensModel(model.substr(0, plus), &camera->lens_model)) {
-        return Fail(why, path + ": model: unknown lens model '" + model + "'");
-      }
-      camera->estimate_skew = plus != std::string::npos;
-    }
-  } catch (const cv::Exception& e) {
-    return Fail(why, path + ": " + e.what());
+// The family named by distortion_model; a file without one is radtan, or unified when it has a
+// scalar xi (cv::omnidir's omni_calibration output).
+bool ParseOpenCvFamily(const std::string& path, const cv::FileStorage& in, LensFamily* family,
+                       std::string* why) {
+  std::string name;
+  in["distortion_model"] >> name;
+  if (name.empty()) {
+    *family = in["xi"].empty() ? LensFamily::kRadTan : LensFamily::kUnified;
+  } else if (name == "radtan" || name == "plumb_bob") {
+    *family = LensFamily::kRadTan;
+  } else if (name == "equidistant" || name == "fisheye") {
+    *family = LensFamily::kEquidistant;
+  } else if (name == "unified" || name == "omnidir") {
+    *family = LensFamily::kUnified;
+  } else if (name == "eucm") {
+    *family = LensFamily::kEucm;
+  } else if (name == "double-sphere") {
+    *family = LensFamily::kDoubleSphere;
+  } else {
+    return Fail(why, path + ": distortion_model: unknown '" + name +
+                         "' (radtan, plumb_bob, equidistant, fisheye, unified, omnidir, eucm, "
+                         "double-sphere)");
   }
   return true;
 }
 
+// A scalar lens field of the family (xi, alpha, beta): present and a number.
+bool ReadScalar(const std::string& path, const cv::FileStorage& in, const char* field,
+                const char* family, double* value, std::string* why) {
+  const cv::FileNode node = in[field];
+  if (node.empty() || !(node.isReal() || node.isInt())) {
+    return Fail(why,
+                path + ": " + field + ": the " + family + " model needs " + field + " (a number)");
+  }
+  node >> *value;
+  return true;
+}
+
+// The radtan coefficients: OpenCV's 4, 5, 8, 12 or 14, the ones past k3 zero.
+bool ReadRadTanCoefficients(const std::string& path, const cv::Mat& d, CameraIntrinsics* k,
+                            std::string* why) {
+  const int n = static_cast<int>(d.total());
+  auto coeff = [&](int i) { return i < n ? d.at<double>(i) : 0.0; };
+  if (n != 0 && n != 4 && n != 5 && n != 8 && n != 12 && n != 14) {
+    return Fail(why, path + ": distortion_coefficients: OpenCV has 4, 5, 8, 12 or 14, got " +
+                         std::to_string(n));
+  }
+  for (int i = 5; i < n; ++i) {
+    if (coeff(i) != 0) {
+      return Fail(why, path + ": distortion_coefficients: coefficient " + std::to_string(i) +
+                           " (rational / thin-prism / tilt) is not zero; calibench's radtan "
+                           "model has k1 k2 p1 p2 k3");
+    }
+  }
+  k->k1 = coeff(0), k->k2 = coeff(1), k->p1 = coeff(2), k->p2 = coeff(3), k->k3 = coeff(4);
+  return true;
+}
+
+// Exactly `count` distortion coefficients for `family` (which has them as `names`).
+bool ReadCoefficients(const std::string& path, const cv::Mat& d, int count, const char* family,
+                      const char* names, double* const* fields, std::string* why) {
+  const int n = static_cast<int>(d.total());
+  if (n != count) {
+    return Fail(why, path + ": distortion_coefficients: the " + family + " model has " +
+                         std::to_string(count) + " (" + names + "), got " + std::to_string(n));
+  }
+  for (int i = 0; i < n; ++i) *fields[i] = d.at<double>(i);
+  return true;
+}
+
+// The lens fields of WriteOpenCvLens, for k->family.
+bool ReadOpenCvLens(const std::string& path, const cv::FileStorage& in, CameraIntrinsics* k,
+                    std::string* why) {
+  cv::Mat d;
+  const cv::FileNode node = in["distortion_coefficients"];
+  if (node.isSeq()) {  // A plain list, as hand-written files have it.
+    std::vector<double> list;
+    node >> list;
+    d = cv::Mat(list, true);
+  } else if (node.isMap()) {
+    node >> d;
+  } else if (!node.empty()) {
+    return Fail(why, path + ": distortion_coefficients: expected a matrix or a list of numbers");
+  }
+  d.convertTo(d, CV_64F);
+  const char* family = ToString(k->family);
+  switch (k->family) {
+    case LensFamily::kRadTan:
+      return ReadRadTanCoefficients(path, d, k, why);
+    case LensFamily::kEquidistant: {
+      double* const fields[4] = {&k->k1, &k->k2, &k->k3, &k->k4};
+      return ReadCoefficients(path, d, 4, family, "k1..k4", fields, why);
+    }
+    case LensFamily::kUnified: {
+      double* const fields[4] = {&k->k1, &k->k2, &k->p1, &k->p2};
+      return ReadCoefficients(path, d, 4, family, "k1 k2 p1 p2", fields, why) &&
+             ReadScalar(path, in, "xi", family, &k->xi, why);
+    }
+    case LensFamily::kEucm:
+      return ReadCoefficients(path, d, 0, family, "none: alpha and beta", nullptr, why) &&
+             ReadScalar(path, in, "alpha", family, &k->alpha, why) &&
+             ReadScalar(path, in, "beta", family, &k->beta, why);
+    case LensFamily::kDoubleSphere:
+      return ReadCoefficients(path, d, 0, family, "none: xi and alpha", nullptr, why) &&
+             ReadScalar(path, in, "xi", family, &k->xi, why) &&
+             ReadScalar(path, in, "alpha", family, &k->alpha, why);
+  }
+  return false;
+}
+
+// camera_matrix as an upper-triangular A with fx, fy > 0.
+bool ReadCameraMatrix(const std::string& path, const cv::FileStorage& in, CameraIntrinsics* k,
+                      std::string* why) {
+  cv::Mat a;
+  in["camera_matrix"] >> a;
+  if (a.rows != 3 || a.cols != 3)
+    return Fail(why, path + ": camera_matrix: expected a 3 x 3 matrix");
+  a.convertTo(a, CV_64F);
+  Eigen::Matrix3d matrix;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) matrix(r, c) = a.at<double>(r, c);
+  }
+  if (!(matrix(0, 0) > 0 && matrix(1, 1) > 0) || matrix(1, 0) != 0 || matrix(2, 0) != 0 ||
+      matrix(2, 1) != 0 || matrix(2, 2) != 1) {
+    return Fail(why, path + ": camera_matrix: expected [fx s cx; 0 fy cy; 0 0 1] with fx, fy > 0");
+  }
+  *k = CameraIntrinsics::FromMatrix(matrix);
+  return true;
+}
+
+// calibench's own fields: the exact pinhole values, size, RMS, std_*, view RMS, model.
+bool ReadOpenCvExtras(const std::string& path, const cv::FileStorage& in, CameraFile* camera,
+                      std::string* why) {
+  CameraIntrinsics& k = camera->intrinsics;
+  if (!in["fku_px"].empty()) in["fku_px"] >> k.fku_px;  // The matrix loses the last bits of
+  if (!in["fkv_px"].empty()) in["fkv_px"] >> k.fkv_px;  // fkv and phi.
+  if (!in["phi_deg"].empty()) in["phi_deg"] >> k.phi_deg;
+  in["image_width"] >> camera->image_width;
+  in["image_height"] >> camera->image_height;
+  if (!in["rms_reproj_px"].empty()) in["rms_reproj_px"] >> camera->rms_reproj_px;
+  camera->intrinsics_std.fill(std::nan(""));
+  for (int i = 0; i < 10; ++i) {
+    const std::string name = StdName(k.family, i);
+    const cv::FileNode node = name.empty() ? cv::FileNode() : in[name];
+    if (node.empty()) continue;
+    double s = 0;
+    node >> s;
+    camera->intrinsics_std[i] = i == 2 ? s / kRadToDeg : s;
+  }
+  if (!in["view_rms_px"].empty()) in["view_rms_px"] >> camera->view_rms_px;
+  InferModel(camera);
+  std::string model;
+  in["model"] >> model;
+  if (model.empty()) return true;
+  const size_t plus = model.find("+skew");
+  if (!ParseLensModel(model.substr(0, plus), &camera->lens_model)) {
+    return Fail(why, path + ": model: unknown lens model '" + model + "'");
+  }
+  if (FamilyOf(camera->lens_model) != k.family) {
+    return Fail(why, path + ": model: '" + model + "' is not of the " + ToString(k.family) +
+                         " family that distortion_model names");
+  }
+  camera->estimate_skew = plus != std::string::npos;
+  return true;
+}
+
+bool ReadOpenCv(const std::string& path, CameraFile* camera, std::string* why) {
+  try {
+    cv::FileStorage in(path, cv::FileStorage::READ);
+    if (!in.isOpened()) return Fail(why, path + ": cannot open (not an OpenCV FileStorage file)");
+    CameraIntrinsics& k = camera->intrinsics;
+    LensFamily family = LensFamily::kRadTan;
+    if (!ReadCameraMatrix(path, in, &k, why) || !ParseOpenCvFamily(path, in, &family, why)) {
+      return false;
+    }
+    k.family = family;
+    return ReadOpenCvLens(path, in, &k, why) && ReadOpenCvExtras(path, in, camera, why);
+  } catch (const cv::Exception& e) {
+    return Fail(why, path + ": " + e.what());
+  }
+}
+
 // ---- kalibr ---------------------------------------------------------------------------------
 
+// Kalibr's camera_model names and intrinsics order for each family (Kalibr's
+// kalibr_common/ConfigReader.py, AslamCamera): the lens parameters first, then fu fv pu pv.
+struct KalibrModel {
+  LensFamily family;
+  const char* camera_model;
+  std::vector<const char*> lens;  // The fields before fu fv pu pv.
+};
+const std::vector<KalibrModel>& KalibrModels() {
+  static const std::vector<KalibrModel> models = {
+      {LensFamily::kRadTan, "pinhole", {}},
+      {LensFamily::kEquidistant, "pinhole", {}},
+      {LensFamily::kUnified, "omni", {"xi"}},
+      {LensFamily::kEucm, "eucm", {"alpha", "beta"}},
+      {LensFamily::kDoubleSphere, "ds", {"xi", "alpha"}},
+  };
+  return models;
+}
+
+double& LensField(CameraIntrinsics* k, const std::string& name) {
+  return name == "xi" ? k->xi : name == "alpha" ? k->alpha : k->beta;
+}
+
+// distortion_model and its coefficients for a family.
+void KalibrDistortion(const CameraIntrinsics& k, std::string* model, std::vector<double>* coeffs) {
+  switch (k.family) {
+    case LensFamily::kRadTan:
+    case LensFamily::kUnified:
+      *model = "radtan";
+      *coeffs = {k.k1, k.k2, k.p1, k.p2};
+      return;
+    case LensFamily::kEquidistant:
+      *model = "equidistant";
+      *coeffs = {k.k1, k.k2, k.k3, k.k4};
+      return;
+    case LensFamily::kEucm:
+    case LensFamily::kDoubleSphere:
+      *model = "none";
+      coeffs->clear();
+      return;
+  }
+}
+
+const KalibrModel& KalibrModelOf(LensFamily family) {
+  for (const KalibrModel& m : KalibrModels()) {
+    if (m.family == family) return m;
+  }
+  return KalibrModels()[0];
+}
+
 bool WriteKalibr(const std::string& path, const CameraFile& camera, std::string* why) {
-  const CameraIntrinsics& k = camera.intrinsics;
+  CameraIntrinsics k = camera.intrinsics;
   if (HasSkew(k)) {
-    return Fail(why, path + ": kalibr: Kalibr's pinhole camera has no skew (phi_deg " +
+    return Fail(why, path + ": kalibr: Kalibr's cameras have no skew (phi_deg " +
                          Number(k.phi_deg) + "); calibrate without --skew or write opencv");
   }
-  const bool equi = k.family == LensFamily::kEquidistant;
-  if (!equi && k.k3 != 0) {
+  if (k.family == LensFamily::kRadTan && k.k3 != 0) {
     return Fail(why, path + ": kalibr: Kalibr's radtan model has k1 k2 r1 r2, no k3 (k3 " +
                          Number(k.k3) + "); use --model pinhole-radtan4 or write opencv/mrcal");
   }
+  const KalibrModel& m = KalibrModelOf(k.family);
+  std::string distortion;
+  std::vector<double> coeffs;
+  KalibrDistortion(k, &distortion, &coeffs);
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap << YAML::Key << "cam0" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "camera_model" << YAML::Value << "pinhole";
-  out << YAML::Key << "intrinsics" << YAML::Value << YAML::Flow << YAML::BeginSeq << k.fku_px
-      << k.fkv_px << k.u0_px << k.v0_px << YAML::EndSeq;
-  out << YAML::Key << "distortion_model" << YAML::Value << (equi ? "equidistant" : "radtan");
+  out << YAML::Key << "camera_model" << YAML::Value << m.camera_model;
+  out << YAML::Key << "intrinsics" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (const char* field : m.lens) out << LensField(&k, field);
+  out << k.fku_px << k.fkv_px << k.u0_px << k.v0_px << YAML::EndSeq;
+  out << YAML::Key << "distortion_model" << YAML::Value << distortion;
   out << YAML::Key << "distortion_coeffs" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  if (equi) {
-    out << k.k1 << k.k2 << k.k3 << k.k4;
-  } else {
-    out << k.k1 << k.k2 << k.p1 << k.p2;
-  }
+  for (double c : coeffs) out << c;
   out << YAML::EndSeq;
   out << YAML::Key << "resolution" << YAML::Value << YAML::Flow << YAML::BeginSeq
       << camera.image_width << camera.image_height << YAML::EndSeq;
@@ -241,48 +415,80 @@ bool WriteKalibr(const std::string& path, const CameraFile& camera, std::string*
   return WriteText(path, std::string(out.c_str()) + "\n", why);
 }
 
+// A list of exactly `count` numbers at cam0.<field> (a missing list reads as empty).
+bool KalibrNumbers(const YAML::Node& cam, const std::string& at, const char* field, size_t count,
+                   std::vector<double>* values, std::string* why) {
+  const YAML::Node node = cam[field];
+  values->clear();
+  if (!node && count == 0) return true;
+  if (!node || !node.IsSequence() || node.size() != count) {
+    return Fail(why, at + field + ": expected a list of " + std::to_string(count) + " numbers");
+  }
+  for (const YAML::Node& v : node) {
+    try {
+      values->push_back(v.as<double>());
+    } catch (const YAML::Exception&) {
+      return Fail(why, at + field + ": '" + v.Scalar() + "' is not a number");
+    }
+  }
+  return true;
+}
+
+// distortion_model and distortion_coeffs for camera_model `m` into *k.
+bool ReadKalibrDistortion(const YAML::Node& cam, const std::string& at, const KalibrModel& m,
+                          CameraIntrinsics* k, std::string* why) {
+  const std::string model =
+      cam["distortion_model"] ? cam["distortion_model"].as<std::string>("") : "none";
+  const std::string name = m.camera_model;
+  std::vector<double> d;
+  if (model == "none") return KalibrNumbers(cam, at, "distortion_coeffs", 0, &d, why);
+  const bool takes_radtan = name == "pinhole" || name == "omni";
+  if (model == "radtan" && takes_radtan) {
+    if (!KalibrNumbers(cam, at, "distortion_coeffs", 4, &d, why)) return false;
+    k->k1 = d[0], k->k2 = d[1], k->p1 = d[2], k->p2 = d[3];
+    return true;
+  }
+  if (model == "equidistant" && name == "pinhole") {
+    if (!KalibrNumbers(cam, at, "distortion_coeffs", 4, &d, why)) return false;
+    k->family = LensFamily::kEquidistant;
+    k->k1 = d[0], k->k2 = d[1], k->k3 = d[2], k->k4 = d[3];
+    return true;
+  }
+  return Fail(why, at + "distortion_model: '" + model + "' is not supported with camera_model " +
+                       name + " (" +
+                       (name == "pinhole" ? "radtan, equidistant, none"
+                        : takes_radtan    ? "radtan, none"
+                                          : "none") +
+                       ")");
+}
+
 bool ReadKalibr(const std::string& path, const YAML::Node& root, CameraFile* camera,
                 std::string* why) {
   const YAML::Node cam = root["cam0"];
   const std::string at = path + ": cam0.";
-  auto numbers = [&](const char* field, size_t count, std::vector<double>* values) {
-    const YAML::Node node = cam[field];
-    if (!node || !node.IsSequence() || node.size() != count) {
-      return Fail(why, at + field + ": expected a list of " + std::to_string(count) + " numbers");
-    }
-    values->clear();
-    for (const YAML::Node& v : node) {
-      try {
-        values->push_back(v.as<double>());
-      } catch (const YAML::Exception&) {
-        return Fail(why, at + field + ": '" + v.Scalar() + "' is not a number");
-      }
-    }
-    return true;
-  };
-  const std::string model = cam["camera_model"] ? cam["camera_model"].as<std::string>("") : "";
-  if (model != "pinhole") {
-    return Fail(why, at + "camera_model: '" + model +
-                         "' is not supported (calibench reads Kalibr's pinhole; omni, ds and eucm "
-                         "have other projections)");
+  const std::string name = cam["camera_model"] ? cam["camera_model"].as<std::string>("") : "";
+  const KalibrModel* m = nullptr;
+  for (const KalibrModel& candidate : KalibrModels()) {
+    if (name == candidate.camera_model && m == nullptr) m = &candidate;
   }
-  std::vector<double> intr, dist, res;
-  if (!numbers("intrinsics", 4, &intr) || !numbers("resolution", 2, &res)) return false;
-  const std::string dist_model =
-      cam["distortion_model"] ? cam["distortion_model"].as<std::string>("") : "none";
+  if (m == nullptr) {
+    return Fail(why, at + "camera_model: '" + name +
+                         "' is not a Kalibr camera model calibench reads (pinhole, omni, eucm, "
+                         "ds)");
+  }
+  std::vector<double> intr, res;
+  if (!KalibrNumbers(cam, at, "intrinsics", m->lens.size() + 4, &intr, why) ||
+      !KalibrNumbers(cam, at, "resolution", 2, &res, why)) {
+    return false;
+  }
   CameraIntrinsics k;
-  if (dist_model == "equidistant") {
-    k.family = LensFamily::kEquidistant;
-    if (!numbers("distortion_coeffs", 4, &dist)) return false;
-    k.k1 = dist[0], k.k2 = dist[1], k.k3 = dist[2], k.k4 = dist[3];
-  } else if (dist_model == "radtan") {
-    if (!numbers("distortion_coeffs", 4, &dist)) return false;
-    k.k1 = dist[0], k.k2 = dist[1], k.p1 = dist[2], k.p2 = dist[3];
-  } else if (dist_model != "none") {
-    return Fail(why, at + "distortion_model: '" + dist_model +
-                         "' is not supported (radtan, equidistant, none)");
-  }
-  k.fku_px = intr[0], k.fkv_px = intr[1], k.u0_px = intr[2], k.v0_px = intr[3];
+  k.family = m->family;
+  for (size_t i = 0; i < m->lens.size(); ++i) LensField(&k, m->lens[i]) = intr[i];
+  const double* pinhole = intr.data() + m->lens.size();
+  k.fku_px = pinhole[0], k.fkv_px = pinhole[1], k.u0_px = pinhole[2], k.v0_px = pinhole[3];
+  if (!ReadKalibrDistortion(cam, at, *m, &k, why)) return false;
+  std::string reason;
+  if (!k.Check(&reason)) return Fail(why, at + "intrinsics: " + reason);
   camera->intrinsics = k;
   camera->image_width = static_cast<int>(res[0]);
   camera->image_height = static_cast<int>(res[1]);
@@ -299,11 +505,15 @@ bool WriteMrcal(const std::string& path, const CameraFile& camera, std::string* 
     return Fail(why, path + ": mrcal: mrcal's lens models have no skew (phi_deg " +
                          Number(k.phi_deg) + "); calibrate without --skew or write opencv");
   }
-  if (k.family == LensFamily::kEquidistant) {
-    return Fail(why, path +
-                         ": mrcal: mrcal 2.2 has no Kannala-Brandt (equidistant) lens model "
-                         "(LENSMODEL_PINHOLE, STEREOGRAPHIC, LONLAT, LATLON, OPENCV4/5/8/12, "
-                         "CAHVOR, CAHVORE, SPLINED_STEREOGRAPHIC); write opencv or kalibr");
+  if (k.family != LensFamily::kRadTan) {
+    const std::string model =
+        k.family == LensFamily::kEquidistant
+            ? "Kannala-Brandt (equidistant)"
+            : std::string(ToString(k.family)) + (k.family == LensFamily::kUnified ? " (Mei)" : "");
+    return Fail(why, path + ": mrcal: mrcal 2.2 has no " + model +
+                         " lens model (LENSMODEL_PINHOLE, STEREOGRAPHIC, LONLAT, LATLON, "
+                         "OPENCV4/5/8/12, CAHVOR, CAHVORE, SPLINED_STEREOGRAPHIC); write opencv "
+                         "or kalibr");
   }
   std::vector<double> intrinsics = {k.fku_px, k.fkv_px, k.u0_px, k.v0_px};
   std::string lensmodel = "LENSMODEL_PINHOLE";
@@ -464,17 +674,6 @@ bool WriteCameraFile(const std::string& path, CameraFormat format, const CameraF
                      std::string* why) {
   std::string reason;
   if (!camera.intrinsics.Check(&reason)) return Fail(why, path + ": " + reason);
-  switch (camera.intrinsics.family) {
-    case LensFamily::kRadTan:
-    case LensFamily::kEquidistant:
-      break;
-    case LensFamily::kUnified:
-    case LensFamily::kEucm:
-    case LensFamily::kDoubleSphere:
-      return Fail(why, path + ": camera files do not support the " +
-                           ToString(camera.intrinsics.family) +
-                           " lens family yet (radtan and equidistant only)");
-  }
   switch (format) {
     case CameraFormat::kOpenCv:
       return WriteOpenCv(path, camera, why);

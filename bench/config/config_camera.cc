@@ -22,17 +22,21 @@ void ParseIntrinsics(const Reader& r, const YAML::Node& node, const std::string&
   }
   r.CheckKeys(node, field,
               {"lens_family", "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "k1", "k2", "p1",
-               "p2", "k3", "k4"});
+               "p2", "k3", "k4", "xi", "alpha", "beta"});
   if (node["lens_family"]) {
     const std::string family =
         r.Scalar<std::string>(node["lens_family"], Reader::Join(field, "lens_family"), "a string");
-    if (family == "radtan") {
-      k->family = LensFamily::kRadTan;
-    } else if (family == "equidistant") {
-      k->family = LensFamily::kEquidistant;
-    } else {
+    constexpr LensFamily kFamilies[] = {LensFamily::kRadTan, LensFamily::kEquidistant,
+                                        LensFamily::kUnified, LensFamily::kEucm,
+                                        LensFamily::kDoubleSphere};
+    bool known = false;
+    for (LensFamily f : kFamilies) {
+      if (family == ToString(f)) k->family = f, known = true;
+    }
+    if (!known) {
       r.Fail(node["lens_family"], Reader::Join(field, "lens_family"),
-             "unknown lens family '" + family + "' (radtan, equidistant)");
+             "unknown lens family '" + family +
+                 "' (radtan, equidistant, unified, eucm, double-sphere)");
     }
   }
   r.Set(node, "fku_px", field, &k->fku_px);
@@ -46,6 +50,9 @@ void ParseIntrinsics(const Reader& r, const YAML::Node& node, const std::string&
   r.Set(node, "p2", field, &k->p2);
   r.Set(node, "k3", field, &k->k3);
   r.Set(node, "k4", field, &k->k4);
+  r.Set(node, "xi", field, &k->xi);        // Unified, double-sphere.
+  r.Set(node, "alpha", field, &k->alpha);  // Eucm, double-sphere.
+  r.Set(node, "beta", field, &k->beta);    // Eucm.
   std::string why;
   if (!k->Check(&why)) r.Fail(node, field, why);
 }

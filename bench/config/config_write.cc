@@ -66,6 +66,13 @@ void config_internal::EmitCamera(YAML::Emitter& out, const CameraSpec& c,
     out << YAML::Key << "k4" << YAML::Value << k.k4 << YAML::Key << "lens_family" << YAML::Value
         << ToString(k.family);
   }
+  if (k.family == LensFamily::kUnified || k.family == LensFamily::kDoubleSphere) {
+    out << YAML::Key << "xi" << YAML::Value << k.xi;
+  }
+  if (k.family == LensFamily::kEucm || k.family == LensFamily::kDoubleSphere) {
+    out << YAML::Key << "alpha" << YAML::Value << k.alpha;
+  }
+  if (k.family == LensFamily::kEucm) out << YAML::Key << "beta" << YAML::Value << k.beta;
   out << YAML::EndMap;
   out << YAML::Key << "R_C" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (int r = 0; r < 3; ++r) EmitVector(out, c.r_c.row(r).transpose());

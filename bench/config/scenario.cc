@@ -67,6 +67,15 @@ RenderedSourceOptions ScenarioConfig::RenderingOptions() const {
   o.frame_rate_hz = measurements.sample_rate_hz;
   o.render.width = image_width;
   o.render.height = image_height;
+  // Through an omnidirectional lens (unified, eucm, double-sphere) a tag's edges bend and its
+  // corner squares sit past a homography's reach: the photometric fit is drawn through the
+  // camera's lens (the truth's, as calibrate --images draws its last pass through its estimate),
+  // unless the scenario gives a camera.
+  const LensFamily lens = truth.intrinsics.family;
+  if (!o.detection.camera && (lens == LensFamily::kUnified || lens == LensFamily::kEucm ||
+                              lens == LensFamily::kDoubleSphere)) {
+    o.detection.camera = truth.intrinsics;
+  }
   return o;
 }
 

@@ -121,6 +121,7 @@ class ScenarioTrial {
     input_.source = &source;
     input_.image_width = s.image_width;
     input_.image_height = s.image_height;
+    input_.lens = s.truth.intrinsics.family;
     input_.boards = s.BoardLayouts();
     input_.parent_from_points = [&scene](double t) { return scene.ParentFromPoints(t); };
     input_.cache = cache;

@@ -121,6 +121,18 @@ INSTANTIATE_TEST_SUITE_P(
             "unknown_lens_family",
             "scenario:\n  name: t\n  truth:\n    intrinsics: {lens_family: omni}\n",
             {"FILE:4:", "scenario.truth.intrinsics.lens_family", "unknown lens family 'omni'"}},
+        ConfigCase{"unified_negative_xi",
+                   "scenario:\n  name: t\n  truth:\n    intrinsics: {lens_family: unified, "
+                   "xi: -0.1}\n",
+                   {"FILE:4:", "scenario.truth.intrinsics", "xi must be >= 0"}},
+        ConfigCase{"eucm_alpha_above_1",
+                   "scenario:\n  name: t\n  truth:\n    intrinsics: {lens_family: eucm, "
+                   "alpha: 1.2}\n",
+                   {"FILE:4:", "scenario.truth.intrinsics", "alpha must lie in [0, 1]"}},
+        ConfigCase{"eucm_beta_zero",
+                   "scenario:\n  name: t\n  truth:\n    intrinsics: {lens_family: eucm, "
+                   "alpha: 0.5, beta: 0}\n",
+                   {"FILE:4:", "scenario.truth.intrinsics", "beta must be > 0"}},
         ConfigCase{"focal_zero",
                    "scenario:\n  name: t\n  truth:\n    intrinsics: {fku_px: 0}\n",
                    {"FILE:4:", "scenario.truth.intrinsics", "fku_px"}},

@@ -148,8 +148,10 @@ INSTANTIATE_TEST_SUITE_P(Configs, ResolvedYamlRoundTrip,
                                            "batch/rig_moving.yaml", "rendered/all.yaml",
                                            "sweeps/noise.yaml", "sweeps/points.yaml",
                                            "sweeps/gain.yaml", "examples/named_instances.yaml",
-                                           "dynamic/all.yaml",
-                                           "diagnostics/corner_error_part.yaml"));
+                                           "dynamic/all.yaml", "diagnostics/corner_error_part.yaml",
+                                           "examples/unified.yaml", "examples/eucm.yaml",
+                                           "examples/double_sphere.yaml",
+                                           "examples/wide_190_rendered.yaml"));
 
 TEST(Config, BatchMethodsAndRandomPointsParse) {
   RunConfig config;

@@ -72,7 +72,8 @@ std::vector<CameraIntrinsics> EucmLenses() {
           Eucm(0.35, 0.9)};      // alpha < 1/2: the denominator's edge.
 }
 std::vector<CameraIntrinsics> DoubleSphereLenses() {
-  return {DoubleSphere(0.25, 0.6), DoubleSphere(0.6, 0.4), DoubleSphere(1.3, 0.55)};
+  return {DoubleSphere(0.25, 0.6), DoubleSphere(0.6, 0.4), DoubleSphere(1.3, 0.55),
+          DoubleSphere(-0.2, 0.6)};  // xi < 0, as real fisheyes fit (TUM VI: -0.19).
 }
 std::vector<CameraIntrinsics> AllLenses() {
   std::vector<CameraIntrinsics> all = UnifiedLenses();
@@ -542,12 +543,14 @@ TEST(CameraIntrinsics, DistortionIsMonotoneAlongEveryDirection) {
 // ---- Check ----
 
 // Mutation caught: Check() without the family test (xi on radtan accepted), alpha's range as
-// (0, 1] (alpha = 0, the pinhole, refused).
+// (0, 1] (alpha = 0, the pinhole, refused); the double sphere's xi bound as >= 0 (xi = -0.99
+// refused) or dropped (xi = -1 accepted).
 TEST(CameraIntrinsics, CheckRefusesOmnidirectionalFieldsOutOfRangeOrOfAnotherFamily) {
   // The lenses tested, and the ranges' closed ends: alpha = 0 (the pinhole) and 1, xi = 0.
   std::vector<CameraIntrinsics> valid = AllLenses();
-  for (const CameraIntrinsics& k : {Eucm(0.0, 1.0), Eucm(1.0, 2.0), DoubleSphere(0.0, 0.0),
-                                    DoubleSphere(0.0, 1.0), Unified(0.0, 0, 0, 0, 0)}) {
+  for (const CameraIntrinsics& k :
+       {Eucm(0.0, 1.0), Eucm(1.0, 2.0), DoubleSphere(0.0, 0.0), DoubleSphere(0.0, 1.0),
+        DoubleSphere(-0.99, 0.5), Unified(0.0, 0, 0, 0, 0)}) {
     valid.push_back(k);
   }
   for (const CameraIntrinsics& k : valid) {
@@ -559,7 +562,8 @@ TEST(CameraIntrinsics, CheckRefusesOmnidirectionalFieldsOutOfRangeOrOfAnotherFam
     std::vector<std::string> words;  // The message must name the field and the family.
   } cases[] = {
       {Unified(-0.1, 0, 0, 0, 0), {"xi", "unified"}},
-      {DoubleSphere(-0.2, 0.5), {"xi", "double-sphere"}},
+      {DoubleSphere(-1.0, 0.5), {"xi", "double-sphere", "> -1"}},
+      {DoubleSphere(-1.5, 0.5), {"xi", "double-sphere"}},
       {Eucm(-0.01, 1.0), {"alpha", "eucm", "[0, 1]"}},
       {Eucm(1.01, 1.0), {"alpha", "eucm"}},
       {DoubleSphere(0.3, 1.2), {"alpha", "double-sphere"}},
