@@ -177,7 +177,7 @@ TEST(Runner, PinholeMethodsRefuseAWideLensAndTheOthersCalibrateIt) {
       ++refused;
     } else {
       ASSERT_EQ(r.status, "ok") << r.method << ": " << r.message;
-      EXPECT_LT(std::abs(r.err_fku), kWideFocalTolPx) << r.method;
+      EXPECT_LT(std::abs(r.err_fku_px), kWideFocalTolPx) << r.method;
     }
   }
   EXPECT_EQ(refused, 3);
