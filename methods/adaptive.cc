@@ -67,7 +67,7 @@ class AdaptiveMethod final : public Method {
     size_t next_report = 0;
     if (sink != nullptr) {
       observer = [&](double t, const Vector16d& theta_hat) {
-        sink->OnTheta(t, theta_hat);
+        sink->OnSeries(t, kThetaSeries, theta_hat);
         // Its state at the report times (the integrator stops there): the recovered camera.
         while (next_report < reports.size() && reports[next_report] < t) ++next_report;
         if (next_report < reports.size() && reports[next_report] == t) {
@@ -83,7 +83,8 @@ class AdaptiveMethod final : public Method {
     static_cast<MethodSummary&>(result) = summary;
     result.estimate.theta = summary.theta_hat;  // Also for a diverged run: its last state.
     if (!summary.IsUsable()) return result;
-    result.pe_min_eig = PersistentExcitationIndex(summary.information, summary.theta_hat);
+    const double pe_min_eig = PersistentExcitationIndex(summary.information, summary.theta_hat);
+    result.extra_columns["pe_min_eig"] = pe_min_eig;
 
     Frame last;
     source.Measure(source.Duration(), static_cast<int>(source.Breakpoints().size()) - 2, &last);
@@ -97,13 +98,13 @@ class AdaptiveMethod final : public Method {
       result.message += (result.message.empty() ? "" : "; ") + std::to_string(summary.resets) +
                         " covariance resets";
     }
-    if (result.pe_min_eig < kMinIdentifiablePeIndex) {
+    if (pe_min_eig < kMinIdentifiablePeIndex) {
       char text[200];
       std::snprintf(
           text, sizeof(text),
           "not identifiable: persistent-excitation index %.2g < %.0e, so theta_hat is one "
           "of many that fit (too few points or too little motion)",
-          result.pe_min_eig, kMinIdentifiablePeIndex);
+          pe_min_eig, kMinIdentifiablePeIndex);
       result.message += (result.message.empty() ? "" : "; ") + std::string(text);
     }
     return result;

@@ -53,9 +53,14 @@ class CeresMethod final : public Method {
     return options_.Check(why) && online_.Check(why);
   }
   std::vector<std::string> Prerequisites() const override { return {init_}; }
-  std::optional<RefineOptions> BoundParametrisation() const override {
+  std::optional<Parametrisation> BoundParametrisation() const override {
     if (views_ == "init") return std::nullopt;
-    return options_;
+    Parametrisation p;
+    p.model = options_.model;
+    p.estimate_skew = options_.estimate_skew;
+    p.shared_pose = options_.shared_pose;
+    p.autodiff = options_.autodiff;
+    return p;
   }
 
   MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {

@@ -13,9 +13,9 @@
 //                 ceres starts from dlt or zhang. Cache() shares intermediate work between the
 //                 methods of a trial (zhang and zhang_handeye share one calibrateCamera).
 //   MethodResult  status, message, iterations and wall time (core/status.h), the estimate
-//                 (core/estimate.h) and method diagnostics.
-//   EstimateSink  estimates over time, as the method produces them (the harness turns them into
-//                 ||theta~||(t), convergence times and curves).
+//                 (core/estimate.h), the data it used and its own extra figures by column name.
+//   EstimateSink  estimates over time, as the method produces them, and named series of its own
+//                 state (the harness turns them into ||theta~||(t), convergence times, curves).
 //
 // Options: each type reads and writes its options through one function, VisitOptions(), called
 // with a visitor that reads them (the config I/O, from YAML: methods never see YAML), writes them
@@ -23,6 +23,7 @@
 // two sweep points may share a result). Check() validates them after reading.
 #pragma once
 
+#include <Eigen/Core>
 #include <functional>
 #include <limits>
 #include <map>
@@ -31,10 +32,10 @@
 #include <string>
 #include <vector>
 
-#include "batch/refine.h"
 #include "core/camera.h"
 #include "core/estimate.h"
 #include "core/measurements.h"
+#include "core/parametrisation.h"
 #include "core/scene.h"
 #include "core/status.h"
 #include "core/target.h"
@@ -83,9 +84,10 @@ struct PerViewSolution {
 
 struct MethodResult : MethodSummary {
   CameraEstimate estimate;
-  // Persistent-excitation index of the data the method integrated (adaptive/estimator.h); NaN when
-  // the method computes none.
-  double pe_min_eig = std::numeric_limits<double>::quiet_NaN();
+  // A method's own figures beyond the estimate, by runs.csv column name (for example the adaptive
+  // estimator's persistent-excitation index, pe_min_eig). The harness writes the ones the metric
+  // table declares (metrics/metric_table.h); a column a method does not set stays empty.
+  std::map<std::string, double> extra_columns;
   // The data the estimate used (runs.csv n_frames_used, n_obs_used): frames with at least one
   // observation, and corner observations. -1: every frame of the input (the harness counts them).
   long frames_used = -1, observations_used = -1;
@@ -93,13 +95,17 @@ struct MethodResult : MethodSummary {
   std::shared_ptr<const PerViewSolution> per_view;
 };
 
+// The series name of the linear form theta_hat (EstimateSink::OnSeries).
+inline constexpr const char* kThetaSeries = "theta";
+
 // Estimates over time, in the order the method produces them.
 class EstimateSink {
  public:
   virtual ~EstimateSink() = default;
-  // The linear form theta_hat at time t (the adaptive estimator: at t = 0 and after every accepted
-  // integrator step).
-  virtual void OnTheta(double t_s, const Vector16d& theta_hat) = 0;
+  // A sample at time t of a named series of the method's own state. The harness knows
+  // kThetaSeries (the linear form theta_hat of core/projection_matrix.h, 16 values: the adaptive
+  // estimator's state, at t = 0 and after every accepted integrator step) and ignores others.
+  virtual void OnSeries(double t_s, const std::string& series, const Eigen::VectorXd& value) = 0;
   // The method's estimate from time t on (until its next one): online methods at their report
   // times (MethodInput::report_times_s, a batch solve, a filter update). Static methods emit none.
   virtual void OnEstimate(double t_s, const CameraEstimate& estimate) = 0;
@@ -176,7 +182,7 @@ class Method {
   virtual std::vector<std::string> Prerequisites() const { return {}; }
   // The parametrisation (lens model, skew, one shared pose) whose Cramer-Rao bound the method's
   // rows carry; none by default.
-  virtual std::optional<RefineOptions> BoundParametrisation() const { return std::nullopt; }
+  virtual std::optional<Parametrisation> BoundParametrisation() const { return std::nullopt; }
   // Never throws for bad data: a failed result with a message instead. `sink` may be null.
   virtual MethodResult Run(const MethodInput& input, EstimateSink* sink) const = 0;
 };

@@ -158,6 +158,10 @@ ZhangSolve Solve(const MethodInput& input, const ZhangSettings& settings) {
 // The shared part of both types: options, the cached solve, the estimate's intrinsics.
 class ZhangBase : public Method {
  public:
+  // OpenCV's own thread pool splits calibrateCamera's sums differently from run to run; the
+  // harness parallelises over trials instead. Instances are made while a configuration is read,
+  // before any worker thread starts (batch/zhang.h UseSequentialOpenCv).
+  ZhangBase() { UseSequentialOpenCv(); }
   void VisitOptions(OptionVisitor* v) override { settings_.Visit(v); }
   bool Check(std::string* why) const override { return settings_.Check(why); }
 

@@ -91,11 +91,16 @@ EstimateMetrics EvaluateEstimate(MethodStatus status, const CameraEstimate& esti
 }
 
 CrlbStd CramerRaoStd(const std::vector<View>& views, const CameraSpec& truth,
-                     const RefineOptions& parametrisation, double pixel_sigma_px) {
+                     const Parametrisation& parametrisation, double pixel_sigma_px) {
+  RefineOptions options;
+  options.model = parametrisation.model;
+  options.estimate_skew = parametrisation.estimate_skew;
+  options.shared_pose = parametrisation.shared_pose;
+  options.autodiff = parametrisation.autodiff;
   CrlbStd bound;
   IntrinsicsCovariance cov;
   bound.valid = IntrinsicsCovarianceAt(views, truth.intrinsics, {truth.ParentFromCam().Inverse()},
-                                       parametrisation, pixel_sigma_px, &cov, nullptr);
+                                       options, pixel_sigma_px, &cov, nullptr);
   if (!bound.valid) return bound;
   const double deg = 180.0 / M_PI;
   bound.std_px = {std::sqrt(cov(0, 0)), std::sqrt(cov(1, 1)),

@@ -27,6 +27,7 @@
 
 #include "batch/refine.h"
 #include "core/estimate.h"
+#include "core/parametrisation.h"
 #include "core/projection_matrix.h"
 #include "core/scene.h"
 #include "core/status.h"
@@ -82,7 +83,7 @@ struct CrlbStd {
 // `views`: exact points in the parent frame (pixels are not used: J does not involve them);
 // `parametrisation`: what the estimator frees (lens model, skew; a shared pose).
 CrlbStd CramerRaoStd(const std::vector<View>& views, const CameraSpec& truth,
-                     const RefineOptions& parametrisation, double pixel_sigma_px);
+                     const Parametrisation& parametrisation, double pixel_sigma_px);
 
 // ||theta~(t)|| along an estimate's trajectory: the convergence time and, when recording, the
 // curve (thinned to at most max_samples evenly spaced samples, always keeping the last).

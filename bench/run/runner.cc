@@ -11,7 +11,6 @@
 #include <mutex>
 #include <type_traits>
 
-#include "batch/zhang.h"
 #include "util/parallel_for.h"
 
 namespace calibench {
@@ -60,8 +59,10 @@ void RunTasksInOrder(
   size_t next_commit = 0;
   std::map<size_t, std::vector<RunRow>> ready;
   bool stop = false;
-  UseSequentialOpenCv();  // Before the workers start.
-  ParallelFor(tasks.size(), threads, [&](int /*worker*/, size_t k) {
+  ParallelForOptions parallel;
+  parallel.threads = threads;
+  parallel.spawn_every_worker = true;  // As zhang's reproducibility needs (docs/reliability.md).
+  ParallelFor(tasks.size(), parallel, [&](int /*worker*/, size_t k) {
     {
       std::unique_lock<std::mutex> lock(mutex);
       cv.wait(lock, [&] { return stop || k < next_commit + window; });

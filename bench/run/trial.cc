@@ -98,8 +98,9 @@ struct Outcome {
 class TrackSink final : public EstimateSink {
  public:
   TrackSink(ThetaTrack* theta, EstimateTrack* estimates) : theta_(theta), estimates_(estimates) {}
-  void OnTheta(double t_s, const Vector16d& theta_hat) override {
-    theta_->Add(t_s, theta_hat);
+  void OnSeries(double t_s, const std::string& series, const Eigen::VectorXd& value) override {
+    if (series != kThetaSeries || value.size() != 16) return;
+    theta_->Add(t_s, value);
     ++theta_samples;
   }
   void OnEstimate(double t_s, const CameraEstimate& estimate) override {
@@ -207,7 +208,9 @@ class ScenarioTrial {
     row.rms_reproj_px = m.rms_reproj_px;
     if (r.IsUsable() && outcome.trajectory_samples > 0)
       row.converge_time_s = outcome.converge_time_s;
-    row.pe_min_eig = r.pe_min_eig;
+    if (auto it = r.extra_columns.find("pe_min_eig"); it != r.extra_columns.end()) {
+      row.pe_min_eig = it->second;
+    }
     row.n_frames_used = r.frames_used;
     row.n_obs_used = r.observations_used;
     if (r.frames_used < 0 && r.IsUsable()) {  // A failed row used nothing: it keeps -1.
@@ -234,7 +237,7 @@ class ScenarioTrial {
   // on the observations it detected in this trial: equal corner error and equal data, the
   // reference a rendered row's error compares to (RMSE / CRLB).
   void FillCrlb(const MethodInstance& instance, ScenarioShared* shared, RunRow* row) {
-    const std::optional<RefineOptions> model = instance.method->BoundParametrisation();
+    const std::optional<Parametrisation> model = instance.method->BoundParametrisation();
     const NoiseOptions& noise = s_.measurements.noise;
     const bool rendered = s_.detections == "rendered";
     const double sigma_px = rendered ? row->corner_rms_px / std::sqrt(2.0) : noise.pixel_sigma_px;

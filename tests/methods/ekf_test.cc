@@ -16,7 +16,7 @@ CameraSpec TruthAt(const SceneTruth& scene, double t) { return scene.CameraAt(t)
 
 class Recorder final : public EstimateSink {
  public:
-  void OnTheta(double, const Vector16d&) override {}
+  void OnSeries(double, const std::string&, const Eigen::VectorXd&) override {}
   void OnEstimate(double t, const CameraEstimate& e) override { track.Add(t, e), ++count; }
   EstimateTrack track;
   int count = 0;

@@ -161,7 +161,7 @@ TEST(Metrics, CramerRaoBoundMatchesANumericFisherInformation) {
   const double sigma = 0.5;
   const Eigen::Matrix<double, 11, 11> cov =
       sigma * sigma * info.ldlt().solve(Eigen::Matrix<double, 11, 11>::Identity());
-  RefineOptions model;
+  Parametrisation model;
   model.shared_pose = true;
   model.estimate_skew = true;
   const CrlbStd bound = CramerRaoStd(views, truth, model, sigma);

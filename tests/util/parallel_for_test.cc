@@ -41,6 +41,16 @@ TEST(ParallelFor, WorkersAreNumberedFromTheCallingThread) {
     if (worker == 0 && std::this_thread::get_id() != caller) worker0_is_caller = false;
   });
   EXPECT_TRUE(worker0_is_caller);
+  // spawn_every_worker: no call on the calling thread.
+  bool caller_ran = false;
+  ParallelForOptions spawned;
+  spawned.threads = 2;
+  spawned.spawn_every_worker = true;
+  ParallelFor(50, spawned, [&](int, size_t) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (std::this_thread::get_id() == caller) caller_ran = true;
+  });
+  EXPECT_FALSE(caller_ran);
   for (int w : seen) {
     EXPECT_GE(w, 0);
     EXPECT_LT(w, 3);
