@@ -340,6 +340,20 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
   std::array<double, kMaxLinesPerPixel> distance;
   std::array<Eigen::Vector2d, kMaxLinesPerPixel> normal;
   const double s2 = sigma * sigma + 1.0 / 12, inv_s = 1 / std::sqrt(s2);
+  // The quadrature per rho, built once per vertex: without a lens every pixel of a vertex has the
+  // same rho (its two lines' normals), so a few entries serve the whole tag.
+  std::array<QuadrantRule, 16> rules;
+  int num_rules = 0, next_rule = 0;
+  auto rule_for = [&](double rho) -> const QuadrantRule& {
+    for (int i = 0; i < num_rules; ++i) {
+      if (rules[i].rho == rho) return rules[i];
+    }
+    const int slot = next_rule;
+    next_rule = (next_rule + 1) % static_cast<int>(rules.size());
+    num_rules = std::max(num_rules, slot + 1);
+    rules[slot] = QuadrantRuleFor(rho);
+    return rules[slot];
+  };
   Eigen::Matrix<double, kNumParams, 1> jac;
   for (size_t index = 0; index < pixels_.size(); ++index) {
     const FitPixel& px = pixels_[index];
@@ -388,7 +402,7 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
               std::abs(qb) > kQuadrantCorrectionReach) {
             continue;
           }
-          const QuadrantCorrection c = QuadrantCorrectionAt(qa, qb, rho);
+          const QuadrantCorrection c = QuadrantCorrectionAt(qa, qb, rule_for(rho));
           const double sign = (i + j) % 2 == 0 ? 1.0 : -1.0;
           b += sign * c.c;
           weight[sx] += sign * c.dc_da * inv_s;

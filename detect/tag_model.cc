@@ -41,25 +41,63 @@ EdgeProfileValue EdgeProfile(double d, double sigma, double nx, double ny) {
           sigma * (t1.phi - t2.phi - t3.phi + t4.phi) * inv};
 }
 
-QuadrantCorrection QuadrantCorrectionAt(double a, double b, double rho) {
-  // Gauss-Legendre, 8 nodes on [0, asin(rho)]: the integrand is smooth for |rho| < 0.9 (the
-  // fit's vertices; error < 1e-7 there, tests/detect/photometric_fit_test.cc).
-  static constexpr double kNodes[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
-                                       0.9602898564975363};
-  static constexpr double kWeights[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
-                                         0.1012285362903763};
-  const double half = 0.5 * std::asin(std::clamp(rho, -0.99, 0.99));
-  const double q = a * a + b * b, ab2 = 2 * a * b;
-  double sum = 0;
-  for (int i = 0; i < 4; ++i) {
-    for (const double t : {half * (1 - kNodes[i]), half * (1 + kNodes[i])}) {
+QuadrantRule QuadrantRuleFor(double rho) {
+  // Gauss-Legendre nodes and weights on [-1, 1], positive half (the rule is symmetric).
+  static constexpr double kNodes2[1] = {0.5773502691896258};
+  static constexpr double kWeights2[1] = {1.0};
+  static constexpr double kNodes4[2] = {0.3399810435848563, 0.8611363115940526};
+  static constexpr double kWeights4[2] = {0.6521451548625461, 0.3478548451374538};
+  static constexpr double kNodes6[3] = {0.2386191860831969, 0.6612093864662645, 0.9324695142031521};
+  static constexpr double kWeights6[3] = {0.4679139345726910, 0.3607615730481386,
+                                          0.1713244923791704};
+  static constexpr double kNodes8[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                        0.9602898564975363};
+  static constexpr double kWeights8[4] = {0.3626837833783620, 0.3137066458778873,
+                                          0.2223810344533745, 0.1012285362903763};
+  static constexpr double kNodes16[8] = {0.0950125098376375, 0.2816035507792589, 0.4580167776572274,
+                                         0.6178762444026438, 0.7554044083550030, 0.8656312023878318,
+                                         0.9445750230732326, 0.9894009349916499};
+  static constexpr double kWeights16[8] = {
+      0.1894506104550686, 0.1826034150449236, 0.1691565193950026, 0.1495959888165768,
+      0.1246289712555340, 0.0951585116824926, 0.0622535239386477, 0.0271524594117540};
+  QuadrantRule rule;
+  rule.rho = rho;
+  rule.clamped = std::clamp(rho, -0.99, 0.99);
+  rule.inv_root = 1 / std::sqrt(1 - rule.clamped * rule.clamped);
+  rule.half = 0.5 * std::asin(rule.clamped);
+  const double abs_rho = std::abs(rule.clamped);
+  const double *nodes = kNodes8, *weights = kWeights8;
+  int pairs = 4;
+  if (abs_rho <= 0.2) {
+    nodes = kNodes2, weights = kWeights2, pairs = 1;
+  } else if (abs_rho <= 0.5) {
+    nodes = kNodes4, weights = kWeights4, pairs = 2;
+  } else if (abs_rho <= 0.7) {
+    nodes = kNodes6, weights = kWeights6, pairs = 3;
+  } else if (abs_rho > 0.9) {
+    nodes = kNodes16, weights = kWeights16, pairs = 8;
+  }
+  for (int i = 0; i < pairs; ++i) {
+    for (const double t : {rule.half * (1 - nodes[i]), rule.half * (1 + nodes[i])}) {
       const double c = std::cos(t);
-      sum += kWeights[i] * std::exp(-(q - ab2 * std::sin(t)) / (2 * c * c));
+      rule.weight[rule.num_nodes] = weights[i];
+      rule.sin_t[rule.num_nodes] = std::sin(t);
+      rule.inv_2cos2[rule.num_nodes] = 1 / (2 * c * c);
+      ++rule.num_nodes;
     }
   }
-  const double r = std::clamp(rho, -0.99, 0.99), root = std::sqrt(1 - r * r);
-  return {sum * half / (2 * M_PI), PhiDensity(a) * (Phi((b - r * a) / root) - Phi(b)),
-          PhiDensity(b) * (Phi((a - r * b) / root) - Phi(a))};
+  return rule;
+}
+
+QuadrantCorrection QuadrantCorrectionAt(double a, double b, const QuadrantRule& rule) {
+  const double q = a * a + b * b, ab2 = 2 * a * b;
+  double sum = 0;
+  for (int k = 0; k < rule.num_nodes; ++k) {
+    sum += rule.weight[k] * std::exp(-(q - ab2 * rule.sin_t[k]) * rule.inv_2cos2[k]);
+  }
+  const double r = rule.clamped;
+  return {sum * rule.half / (2 * M_PI), PhiDensity(a) * (Phi((b - r * a) * rule.inv_root) - Phi(b)),
+          PhiDensity(b) * (Phi((a - r * b) * rule.inv_root) - Phi(a))};
 }
 
 bool TagPattern::FromFamily(const TagFamily& family, int id, double white_margin_cells,

@@ -26,6 +26,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -67,7 +68,22 @@ EdgeProfileValue EdgeProfile(double d, double sigma, double nx, double ny);
 struct QuadrantCorrection {
   double c, dc_da, dc_db;
 };
-QuadrantCorrection QuadrantCorrectionAt(double a, double b, double rho);
+// The quadrature for one rho: Gauss-Legendre nodes on [0, asin(rho)], as few as keep the error
+// below 5e-8 for |a|, |b| <= 5 (2 nodes to |rho| 0.2, 4 to 0.5, 6 to 0.7, 8 to 0.9, 16 beyond, to
+// the clamp at 0.99). It depends on rho alone, so a fit builds it once per vertex and
+// evaluates every pixel with exponentials only.
+struct QuadrantRule {
+  double rho = 0;  // As given; the quadrature uses it clamped to [-0.99, 0.99].
+  int num_nodes = 0;
+  double half = 0;  // asin(rho) / 2.
+  std::array<double, 16> weight{}, sin_t{}, inv_2cos2{};
+  double clamped = 0, inv_root = 1;  // rho clamped, 1 / sqrt(1 - rho^2).
+};
+QuadrantRule QuadrantRuleFor(double rho);
+QuadrantCorrection QuadrantCorrectionAt(double a, double b, const QuadrantRule& rule);
+inline QuadrantCorrection QuadrantCorrectionAt(double a, double b, double rho) {
+  return QuadrantCorrectionAt(a, b, QuadrantRuleFor(rho));
+}
 // Beyond this |a| or |b| the correction is below 2e-7: it is not computed.
 constexpr double kQuadrantCorrectionReach = 5.0;
 
