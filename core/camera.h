@@ -98,7 +98,7 @@
 //      batch/zhang.cc CalibrateZhang (calibrateCamera flags, or cv::fisheye);
 //      batch/refine.cc RefineOptions::Check (the Jet residual serves any family; bounds do not);
 //      bench/config/camera_io.cc WriteCameraFile and the readers (opencv, kalibr, mrcal names);
-//      bench/config/config_camera.cc (lens_family names; refuses others) and config_write.cc;
+//      bench/config/scenario_fields.cc (the scenario's lens_family names; refuses others);
 //      bench/app/image_points.cc (curved tag edges) and calibrate.cc (equidistant focal scan).
 //   The three omnidirectional families took 9 files (camera.h, camera.cc, its test, its CMakeLists,
 //   camera_test.cc, and refusals in render, zhang, refine, camera_io); the renderer then took
