@@ -179,9 +179,8 @@ std::string ConfigurationReference() {
     const std::unique_ptr<Method> m = t.create();
     OptionDoc doc;
     m->VisitOptions(&doc);
-    out << "**" << t.name << "**: " << t.description
-        << (t.enabled_by_default ? " Enabled by default." : "")
-        << "\n\n| key | type | default |\n|---|---|---|\n";
+    out << "**" << t.name << "**" << (t.enabled_by_default ? " (enabled by default)" : "") << ": "
+        << t.description << ".\n\n| key | type | default |\n|---|---|---|\n";
     for (const Row& r : doc.rows) {
       out << "| `" << r.key << "` | " << r.type << " | " << r.default_value << " |\n";
     }
