@@ -34,7 +34,8 @@ std::string OneOf(const std::vector<std::string>& names) {
 }
 
 struct Row {
-  std::string key, type, default_value, unit, doc;
+  std::string key, type, default_value;
+  std::string unit = "", doc = "";
 };
 
 // One mapping's table, then the tables of its nested mappings (headings `path`).
