@@ -103,7 +103,7 @@
 //      batch/zhang.cc CalibrateZhang (calibrateCamera flags, or cv::fisheye; refuses the others);
 //      batch/wide_init.cc FromProfile (the family from the unified profile);
 //      bench/config/camera_io.cc the writers and readers (opencv, kalibr, mrcal names);
-//      bench/config/config_camera.cc (lens_family names; refuses others) and config_write.cc;
+//      bench/config/scenario_fields.cc (the scenario's lens_family name table);
 //      bench/app/image_points.cc (curved tag edges for every family but radtan);
 //      bench/app/model_select.cc AutoCandidates (the models `--model auto` compares).
 //   Code that goes through UnprojectToRay and ProjectPoint only (the photometric fit's tangent

@@ -51,7 +51,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (const calibench::ScenarioConfig& s : config.scenarios) {
     const double frames =
         s.duration_s * std::max(s.measurements.sample_rate_hz, s.measurements.eval_rate_hz);
-    if (s.detections != "oracle" || frames > kMaxFrames || s.points.size() > kMaxPoints) continue;
+    if (s.detections != calibench::Detections::kOracle || frames > kMaxFrames ||
+        s.points.xyz.size() > kMaxPoints)
+      continue;
     const calibench::SceneTruth scene = s.MakeScene();
     const auto source =
         calibench::OracleSource::Create(scene, s.OracleSourceOptions(), s.TrialSeedOf(0), &why);

@@ -23,7 +23,7 @@ std::string FrameName(int k) {
 }
 
 bool CheckRendered(const ScenarioConfig& s, std::string* why) {
-  if (s.aprilgrids.empty() || !(s.measurements.sample_rate_hz > 0)) {
+  if (s.points.aprilgrids.empty() || !(s.measurements.sample_rate_hz > 0)) {
     if (why) {
       *why = "scenario '" + s.name +
              "' needs AprilTag targets (points: {aprilgrids: [...]}) and "
@@ -60,8 +60,8 @@ bool WriteRenderedFrames(const ScenarioConfig& s, const FramesOptions& o, const 
     return false;
   }
   const SceneTruth scene = s.MakeScene(s.TrialSeedOf(o.trial));
-  const auto renderer =
-      SceneRenderer::Create(scene, s.aprilgrids, s.RenderingOptions().render, why);
+  const std::vector<AprilGrid> grids = s.points.AprilGrids();  // The renderer keeps a reference.
+  const auto renderer = SceneRenderer::Create(scene, grids, s.RenderingOptions().render, why);
   if (!renderer) return false;
   const uint64_t trial_seed = s.TrialSeedOf(o.trial);
   std::string csv =
@@ -111,7 +111,7 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
       shortened.duration_s = std::min(s.duration_s, o.max_frames / s.measurements.sample_rate_hz);
     }
     const SceneTruth scene = shortened.MakeScene(s.TrialSeedOf(o.trial));
-    const auto source = RenderedSource::Create(scene, s.aprilgrids, s.RenderingOptions(),
+    const auto source = RenderedSource::Create(scene, s.points.AprilGrids(), s.RenderingOptions(),
                                                s.TrialSeedOf(o.trial), why);
     if (!source) return false;
     *stats = source->stats();
@@ -139,7 +139,7 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
     truth[frame].tags_in_view += (in_view && corner == 0);
   }
   std::string error;
-  const auto detector = FrameDetector::Create(s.aprilgrids, s.rendering.detection, why);
+  const auto detector = FrameDetector::Create(s.points.AprilGrids(), s.rendering.detection, why);
   if (!detector) return false;
   DetectionStatsAccumulator acc;
   std::string errors_csv =

@@ -20,6 +20,7 @@
 #include "bench/app/solver_logging.h"
 #include "bench/app/target_cmd.h"
 #include "bench/config/config_io.h"
+#include "bench/config/config_reference.h"
 #include "bench/run/csv.h"
 #include "bench/run/run_dir.h"
 #include "bench/run/runner.h"
@@ -513,6 +514,10 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   target->add_option("--dpi", target_args.dpi, "Resolution of the PNG (default 300)");
   target->add_option("--out", target_args.out_path,
                      "Output PDF; the PNG and YAML are written beside it (default board.pdf)");
+  CLI::App* config_reference = app.add_subcommand(
+      "config-reference",
+      "Print the scenario format's reference (Markdown) from its declarations: the generated part "
+      "of docs/configuration.md");
   CLI11_PARSE(app, argc, argv);
   if (verbose) calibench::ConfigureSolverLogging(argv[0], true);
   try {
@@ -539,6 +544,10 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
     }
     if (corner_bias->parsed()) return calibench::CornerBias(bias_args);
     if (target->parsed()) return calibench::WriteTarget(target_args);
+    if (config_reference->parsed()) {
+      std::cout << calibench::ConfigurationReference();
+      return 0;
+    }
     if (calibrate->parsed()) {
       if (cal.points_path.empty() && cal.images_dir.empty()) {
         std::cerr << "calibench: calibrate: give --points FILE or --images DIR --target T.yaml\n";

@@ -23,12 +23,15 @@ namespace {
 
 namespace fs = std::filesystem;
 using config_internal::ConfigError;
-using config_internal::ParseCamera;
 using config_internal::Reader;
 
-void ParsePoints(const Reader& r, const YAML::Node& node, const std::string& field,
-                 ScenarioConfig* s) {
-  r.CheckKeys(node, field, {"preset", "count", "list", "random", "boards", "aprilgrids"});
+// The form given must be exactly one; its keys and entries are declared (Visit(PointsConfig)).
+void ParsePointsSection(const Reader& r, const YAML::Node& node, const std::string& field,
+                        PointsConfig* p) {
+  r.CheckKeys(node, field, config_internal::DeclaredKeys([](FieldVisitor& v) {
+                PointsConfig q;
+                Visit(v, q);
+              }));
   const bool has_preset = node["preset"].IsDefined();
   const bool has_list = node["list"].IsDefined();
   const bool has_random = node["random"].IsDefined();
@@ -37,142 +40,56 @@ void ParsePoints(const Reader& r, const YAML::Node& node, const std::string& fie
   if (has_preset + has_list + has_random + has_boards + has_grids != 1) {
     r.Fail(node, field, "give exactly one of 'preset', 'list', 'random', 'boards' or 'aprilgrids'");
   }
-  s->points.clear();
-  s->points_preset.clear();
-  s->boards.clear();
-  s->aprilgrids.clear();
-  s->board_rpy_deg.clear();
-  s->aprilgrid_rpy_deg.clear();
-  if (has_grids) {
-    const YAML::Node list = node["aprilgrids"];
-    const std::string f = Reader::Join(field, "aprilgrids");
-    if (!list.IsSequence() || list.size() == 0) r.Fail(list, f, "expected a non-empty list");
-    for (size_t i = 0; i < list.size(); ++i) {
-      AprilGrid g;
-      Eigen::Vector3d rpy_deg;
-      config_internal::ParseAprilGrid(r, list[i], f + "[" + std::to_string(i) + "]", &g, &rpy_deg);
-      s->aprilgrid_rpy_deg.push_back(rpy_deg);
-      const std::vector<Eigen::Vector3d> corners = g.CornersInPointsFrame();
-      s->points.insert(s->points.end(), corners.begin(), corners.end());
-      s->aprilgrids.push_back(g);
-    }
-    s->points_preset = "aprilgrids";
-    s->points_count = static_cast<int>(s->points.size());
-    return;
+  if (node["count"].IsDefined() && !has_preset) {
+    r.Fail(node["count"], field + ".count", "only with a preset");
   }
-  if (has_boards) {
-    const YAML::Node list = node["boards"];
-    const std::string f = Reader::Join(field, "boards");
-    if (!list.IsSequence() || list.size() == 0) r.Fail(list, f, "expected a non-empty list");
-    for (size_t i = 0; i < list.size(); ++i) {
-      const std::string bf = f + "[" + std::to_string(i) + "]";
-      r.CheckKeys(list[i], bf, {"rows", "cols", "spacing_m", "origin", "rpy_deg"});
-      PlanarBoard b;
-      r.If(list[i], "rows", bf, [&](auto n, auto g) { b.rows = r.Int(n, g); });
-      r.If(list[i], "cols", bf, [&](auto n, auto g) { b.cols = r.Int(n, g); });
-      r.If(list[i], "spacing_m", bf, [&](auto n, auto g) { b.spacing_m = r.Double(n, g); });
-      r.If(list[i], "origin", bf,
-           [&](auto n, auto g) { b.points_from_board.translation = r.Vector3(n, g); });
-      Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();
-      r.If(list[i], "rpy_deg", bf, [&](auto n, auto g) {
-        rpy_deg = r.Vector3(n, g);
-        b.points_from_board.rotation = FromRollPitchYawDeg(rpy_deg);
-      });
-      std::string why;
-      if (!b.Check(&why)) r.Fail(list[i], bf, why);
-      s->boards.push_back(b);
-      s->board_rpy_deg.push_back(rpy_deg);
-    }
-    s->points_preset = "boards";
-    s->points = RigCorners(s->boards);
-    s->points_count = static_cast<int>(s->points.size());
-    return;
-  }
+  const YAML::Node rnd = node["random"];
   if (has_random) {
-    const YAML::Node rnd = node["random"];
     const std::string f = Reader::Join(field, "random");
-    r.CheckKeys(rnd, f, {"count", "min", "max"});
+    r.ExpectMap(rnd, f);
     for (const char* key : {"count", "min", "max"}) {
       if (!rnd[key].IsDefined()) r.Fail(rnd, Reader::Join(f, key), "missing");
     }
-    const long count = r.Integer(rnd["count"], f + ".count");
-    if (count < 1 || count > 100000) r.Fail(rnd["count"], f + ".count", "must lie in [1, 100000]");
-    s->points_preset = "random";
-    s->points_count = static_cast<int>(count);
-    s->random_min = r.Vector3(rnd["min"], f + ".min");
-    s->random_max = r.Vector3(rnd["max"], f + ".max");
-    if (!(s->random_min.array() < s->random_max.array()).all()) {
+  }
+  *p = PointsConfig();
+  config_internal::FieldReader reader(r, node, field, nullptr);
+  Visit(reader, *p);
+  if (has_grids) {
+    p->form = PointsForm::kAprilGrids;
+    for (const AprilGrid& g : p->AprilGrids()) {
+      const std::vector<Eigen::Vector3d> corners = g.CornersInPointsFrame();
+      p->xyz.insert(p->xyz.end(), corners.begin(), corners.end());
+    }
+  } else if (has_boards) {
+    p->form = PointsForm::kBoards;
+    p->xyz = RigCorners(p->Boards());
+  } else if (has_random) {
+    p->form = PointsForm::kRandom;
+    const std::string f = Reader::Join(field, "random");
+    if (p->count < 1 || p->count > 100000) {
+      r.Fail(rnd["count"], f + ".count", "must lie in [1, 100000]");
+    }
+    if (!(p->random_min.array() < p->random_max.array()).all()) {
       r.Fail(rnd, f, "min must be below max in every coordinate");
     }
     return;  // Drawn from the seed once the whole scenario is read (see Finish).
-  }
-  if (has_preset) {
-    s->points_preset = r.Choice(node["preset"], Reader::Join(field, "preset"), {"thesis"});
-    s->points_count = 10;
-    r.If(node, "count", field, [&](auto n, auto f) {
-      const long count = r.Integer(n, f);
-      if (count < 1 || count > 10)
-        r.Fail(n, f, "the thesis preset has 1 to 10 points, got " + std::to_string(count));
-      s->points_count = static_cast<int>(count);
-    });
-    s->points = ThesisFeaturePoints(s->points_count);
-    return;
-  }
-  if (node["count"].IsDefined()) r.Fail(node["count"], field + ".count", "only with a preset");
-  const YAML::Node list = node["list"];
-  const std::string list_field = Reader::Join(field, "list");
-  if (!list.IsSequence() || list.size() == 0) {
-    r.Fail(list, list_field, "expected a non-empty list of [x, y, z] points");
-  }
-  for (size_t i = 0; i < list.size(); ++i) {
-    s->points.push_back(r.Vector3(list[i], list_field + "[" + std::to_string(i) + "]"));
-  }
-  s->points_count = static_cast<int>(s->points.size());
-}
-
-void ParseMotion(const Reader& r, const YAML::Node& node, const std::string& field,
-                 ScenarioConfig* s) {
-  r.CheckKeys(node, field,
-              {"preset", "v_const", "v_cos", "v_sin", "w_const", "w_cos", "w_sin",
-               "frequency_rad_s", "frame", "random_phase"});
-  s->motion = TwistProfile();
-  s->motion_random_phase = false;
-  r.Set(node, "random_phase", field, &s->motion_random_phase);
-  s->motion_preset.clear();
-  if (node["preset"].IsDefined()) {
-    for (const char* key :
-         {"v_const", "v_cos", "v_sin", "w_const", "w_cos", "w_sin", "frequency_rad_s", "frame"}) {
-      if (node[key].IsDefined()) {
-        r.Fail(node[key], Reader::Join(field, key), "give either a preset or the components");
-      }
+  } else if (has_preset) {
+    p->form = PointsForm::kThesis;
+    if (p->count < 1 || p->count > 10) {
+      r.Fail(node["count"], field + ".count",
+             "the thesis preset has 1 to 10 points, got " + std::to_string(p->count));
     }
-    s->motion_preset =
-        r.Choice(node["preset"], Reader::Join(field, "preset"), ThesisMotionPresetNames());
-    s->motion = *ThesisMotionPreset(s->motion_preset, s->calibration_case);
+    p->xyz = ThesisFeaturePoints(p->count);
     return;
   }
-  TwistProfile& m = s->motion;
-  r.Set(node, "v_const", field, &m.v_const);
-  r.Set(node, "v_cos", field, &m.v_cos);
-  r.Set(node, "v_sin", field, &m.v_sin);
-  r.Set(node, "w_const", field, &m.w_const);
-  r.Set(node, "w_cos", field, &m.w_cos);
-  r.Set(node, "w_sin", field, &m.w_sin);
-  r.Set(node, "frequency_rad_s", field, &m.frequency_rad_s);
-  std::string frame = "auto";
-  r.If(node, "frame", field, [&](auto n, auto f) {
-    frame = r.Choice(n, f, {"auto", "body", "world"});
-  });
-  const bool fixed = s->calibration_case == CalibrationCase::kFixedCamera;
-  m.frame = frame == "world" || (frame == "auto" && fixed) ? TwistProfile::Frame::kWorld
-                                                           : TwistProfile::Frame::kBody;
-  std::string why;
-  if (!m.Check(&why)) r.Fail(node, field, why);
+  p->count = static_cast<int>(p->xyz.size());
 }
 
 // truth.changes: [{kind: step, at_s, ...} | {kind: ramp, from_s, to_s, ...}] (core/scene.h).
-void ParseChanges(const Reader& r, const YAML::Node& node, const std::string& field,
-                  ScenarioConfig* s) {
+}  // namespace
+
+void config_internal::ParseChanges(const Reader& r, const YAML::Node& node,
+                                   const std::string& field, ScenarioConfig* s) {
   if (!node.IsSequence()) r.Fail(node, field, "expected a list of {kind: step | ramp, ...}");
   s->truth_changes.clear();
   s->truth_change_marks.clear();
@@ -216,144 +133,23 @@ void ParseChanges(const Reader& r, const YAML::Node& node, const std::string& fi
   }
 }
 
-// tracking: {enabled, report_rate_hz, band_samples, steady_fraction, tolerance: {QUANTITY: tol}}.
-void ParseTracking(const Reader& r, const YAML::Node& node, const std::string& field,
-                   TrackingConfig* t) {
-  r.CheckKeys(node, field,
-              {"enabled", "report_rate_hz", "band_samples", "steady_fraction", "tolerance"});
-  r.Set(node, "enabled", field, &t->enabled);
-  r.Set(node, "report_rate_hz", field, &t->report_rate_hz);
-  r.Set(node, "band_samples", field, &t->band_samples);
-  r.Set(node, "steady_fraction", field, &t->metrics.steady_fraction);
-  r.If(node, "tolerance", field, [&](auto n, auto f) {
-    const auto& names = TrackQuantityNames();
-    r.CheckKeys(n, f, std::vector<std::string>(names.begin(), names.end()));
-    for (int q = 0; q < kTrackQuantities; ++q) r.Set(n, names[q], f, &t->metrics.tolerance[q]);
-  });
-  std::string why;
-  if (!t->Check(&why)) r.Fail(node, field, why);
-}
-
-void ParseReference(const Reader& r, const YAML::Node& node, const std::string& field,
-                    Reference* ref) {
-  r.CheckKeys(node, field,
-              {"source", "method", "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "x_C",
-               "theta_err_below"});
-  *ref = Reference();
-  r.Set(node, "source", field, &ref->source);
-  r.Set(node, "method", field, &ref->method);
-  r.Set(node, "fku_px", field, &ref->fku_px);
-  r.Set(node, "fkv_px", field, &ref->fkv_px);
-  r.Set(node, "phi_deg", field, &ref->phi_deg);
-  r.Set(node, "u0_px", field, &ref->u0_px);
-  r.Set(node, "v0_px", field, &ref->v0_px);
-  r.Set(node, "x_C", field, &ref->x_c);
-  r.Set(node, "theta_err_below", field, &ref->theta_err_below);
-}
-
 // Applies the scenario mapping `node` onto *s (fields absent from `node` keep their values).
 void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& field,
                    ScenarioConfig* s) {
-  r.CheckKeys(node, field,
-              {"name", "description", "case", "duration_s", "seed", "paired_sweep", "trials",
-               "truth", "image_size", "points", "motion", "measurements", "noise", "rendering",
-               "methods", "tracking", "reference", "sweep_point", "report"});
-  r.If(node, "image_size", field, [&](auto n, auto f) {
-    if (!n.IsSequence() || n.size() != 2) r.Fail(n, f, "expected [width, height]");
-    s->image_width = r.Int(n[0], f + "[0]");
-    s->image_height = r.Int(n[1], f + "[1]");
-    if (s->image_width < 1 || s->image_height < 1) r.Fail(n, f, "must be positive");
-    if (s->image_width > kMaxImageSide || s->image_height > kMaxImageSide ||
-        static_cast<double>(s->image_width) * s->image_height > kMaxImagePixels) {
-      r.Fail(n, f,
-             "[" + std::to_string(s->image_width) + ", " + std::to_string(s->image_height) +
-                 "] px is larger than any camera calibrated here (at most " +
-                 std::to_string(kMaxImageSide) + " px per side and " +
-                 std::to_string(static_cast<int>(kMaxImagePixels / 1e6)) +
-                 " Mpx; the renderer's ray table alone would need " +
-                 std::to_string(static_cast<long>(16.0 * (s->image_width + 1.0) *
-                                                  (s->image_height + 1.0) / (1 << 20))) +
-                 " MiB)");
-    }
-  });
-  r.Set(node, "name", field, &s->name);
-  r.Set(node, "description", field, &s->description);
-  r.If(node, "case", field, [&](auto n, auto f) {
-    s->calibration_case = r.Choice(n, f, {"fixed_camera", "moving_camera"}) == "fixed_camera"
-                              ? CalibrationCase::kFixedCamera
-                              : CalibrationCase::kMovingCamera;
-    // A preset motion inherited from a base follows the case.
-    if (!s->motion_preset.empty()) {
-      s->motion = *ThesisMotionPreset(s->motion_preset, s->calibration_case);
-    }
-  });
-  r.If(node, "duration_s", field, [&](auto n, auto f) {
-    s->duration_s = r.Double(n, f);
-    if (!(s->duration_s > 0 && std::isfinite(s->duration_s))) {
-      r.Fail(n, f, "must be positive and finite");
-    }
-  });
-  r.If(node, "seed", field, [&](auto n, auto f) { s->seed = r.Unsigned(n, f); });
-  r.Set(node, "paired_sweep", field, &s->paired_sweep);
-  r.If(node, "trials", field, [&](auto n, auto f) {
-    const long trials = r.Integer(n, f);
-    if (trials < 1) r.Fail(n, f, "must be >= 1, got " + std::to_string(trials));
-    if (trials > kMaxTrials) {
-      r.Fail(n, f, "at most " + std::to_string(kMaxTrials) + " per scenario (split the seeds)");
-    }
-    s->trials = static_cast<int>(trials);
-  });
-  r.If(node, "truth", field, [&](auto n, auto f) {
-    ParseCamera(r, n, f, &s->truth, {"changes"});
-    r.If(n, "changes", f, [&](auto m, auto g) { ParseChanges(r, m, g, s); });
-  });
-  r.If(node, "tracking", field, [&](auto n, auto f) { ParseTracking(r, n, f, &s->tracking); });
-  r.If(node, "points", field, [&](auto n, auto f) { ParsePoints(r, n, f, s); });
-  r.If(node, "motion", field, [&](auto n, auto f) { ParseMotion(r, n, f, s); });
-  r.If(node, "measurements", field, [&](auto n, auto f) {
-    r.CheckKeys(n, f, {"detections", "sample_rate_hz", "eval_rate_hz", "outside_image"});
-    r.If(n, "detections", f, [&](auto m, auto g) {
-      s->detections = r.Choice(m, g, {"oracle", "rendered"});
-    });
-    r.If(n, "outside_image", f, [&](auto m, auto g) {
-      s->outside_image = r.Choice(m, g, {"fail", "keep"});
-    });
-    r.Set(n, "sample_rate_hz", f, &s->measurements.sample_rate_hz);
-    r.Set(n, "eval_rate_hz", f, &s->measurements.eval_rate_hz);
-    std::string why;
-    OracleOptions check = s->measurements;
-    check.noise = NoiseOptions();
-    if (!check.Check(&why)) r.Fail(n, f, why);
-  });
-  r.If(node, "noise", field, [&](auto n, auto f) {
-    r.CheckKeys(n, f,
-                {"point_sigma_m", "pixel_sigma_px", "hold_s", "hold_frames", "tag_radial_bias_px"});
-    NoiseOptions& noise = s->measurements.noise;
-    r.Set(n, "point_sigma_m", f, &noise.point_sigma_m);
-    r.Set(n, "pixel_sigma_px", f, &noise.pixel_sigma_px);
-    r.Set(n, "hold_s", f, &noise.hold_s);
-    r.Set(n, "hold_frames", f, &noise.hold_frames);
-    r.Set(n, "tag_radial_bias_px", f, &noise.tag_radial_bias_px);
-    std::string why;
-    if (!noise.Check(&why)) r.Fail(n, f, why);
-  });
-  r.If(node, "rendering", field,
-       [&](auto n, auto f) { config_internal::ParseRendering(r, n, f, &s->rendering); });
-  r.If(node, "methods", field, [&](auto n, auto f) { config_internal::ParseMethods(r, n, f, s); });
-  r.If(node, "reference", field, [&](auto n, auto f) { ParseReference(r, n, f, &s->reference); });
-  r.If(node, "report", field, [&](auto n, auto f) {
-    r.CheckKeys(n, f, {"role"});
-    r.If(n, "role", f, [&](auto m, auto g) { s->report.role = r.Choice(m, g, ReportRoles()); });
-  });
-  r.If(node, "sweep_point", field, [&](auto n, auto f) {  // Written by ResolvedYaml.
-    r.CheckKeys(n, f, {"sweep", "index", "measurement_index", "params"});
-    SweepPoint& p = s->sweep_point;
-    r.Set(n, "sweep", f, &p.sweep);
-    r.Set(n, "index", f, &p.index);
-    r.Set(n, "measurement_index", f, &p.measurement_index);
-    r.Set(n, "params", f, &p.params);
-  });
+  config_internal::ReadFields(
+      r, node, field, [s](FieldVisitor& v) { Visit(v, *s); }, s);
+  // A preset motion inherited from a base follows the case.
+  if (node["case"].IsDefined() && !s->motion_preset.empty()) {
+    s->motion = *ThesisMotionPreset(s->motion_preset, s->calibration_case);
+  }
 }
+
+void config_internal::ParsePoints(const Reader& r, const YAML::Node& node, const std::string& field,
+                                  PointsConfig* p) {
+  ParsePointsSection(r, node, field, p);
+}
+
+namespace {
 
 using config_internal::LoadYaml;
 using config_internal::ReadFile;
@@ -403,14 +199,15 @@ YAML::Node EffectiveSection(const YAML::Node& root, const std::string& path, con
 
 void Finish(const Reader& r, const YAML::Node& at, const std::string& field, ScenarioConfig* s) {
   if (s->name.empty()) r.Fail(at, field + ".name", "missing: every scenario needs a name");
-  if (s->points_preset == "random") {
+  PointsConfig& points = s->points;
+  if (points.form == PointsForm::kRandom) {
     // The geometry belongs to the scenario: the same points in every trial.
     Rng rng(s->seed, RngStream::kScene);
-    s->points.clear();
-    for (int i = 0; i < s->points_count; ++i) {
+    points.xyz.clear();
+    for (int i = 0; i < points.count; ++i) {
       Eigen::Vector3d p;
-      for (int c = 0; c < 3; ++c) p[c] = rng.Uniform(s->random_min[c], s->random_max[c]);
-      s->points.push_back(p);
+      for (int c = 0; c < 3; ++c) p[c] = rng.Uniform(points.random_min[c], points.random_max[c]);
+      points.xyz.push_back(p);
     }
   }
   std::string why;

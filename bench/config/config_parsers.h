@@ -7,19 +7,79 @@
 #include <string>
 #include <vector>
 
+#include "bench/config/fields.h"
 #include "bench/config/scenario.h"
 #include "bench/config/yaml_reader.h"
 
 namespace calibench {
 namespace config_internal {
 
-// {intrinsics, R_C, x_C, allow_improper_rotation}: the truth and the adaptive initial guess. The
-// truth's section may also hold `changes` (extra_keys), parsed by the caller.
-void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& field, CameraSpec* c,
-                 const std::vector<std::string>& extra_keys = {});
-// `changes`, when given, is written as the map's `changes` list.
-void EmitCamera(YAML::Emitter& out, const CameraSpec& c,
-                const std::vector<CalibrationChange>* changes = nullptr);
+// The YAML visitors of the declarations (fields.h, scenario_fields.cc; config_fields_io.cc).
+
+// The keys `visit` declares (the "did you mean" list of its mapping).
+std::vector<std::string> DeclaredKeys(const std::function<void(FieldVisitor&)>& visit);
+
+// Reads the fields `visit` declares from the mapping `node` (unknown keys are errors naming the
+// closest declared one); fields whose key is absent keep their values. `context` is the scenario
+// the custom sections (methods, truth.changes) are read into; null outside a scenario.
+void ReadFields(const Reader& r, const YAML::Node& node, const std::string& field,
+                const std::function<void(FieldVisitor&)>& visit, ScenarioConfig* context);
+
+// Writes every field `visit` declares as a mapping (`flow`: on one line).
+void WriteFields(YAML::Emitter& out, const std::function<void(FieldVisitor&)>& visit, bool flow,
+                 const ScenarioConfig* context);
+
+// Reads the fields present in `node` without checking its keys (the caller did).
+class FieldReader final : public FieldVisitor {
+ public:
+  FieldReader(const Reader& r, YAML::Node node, std::string field, ScenarioConfig* context)
+      : r_(r), node_(std::move(node)), field_(std::move(field)), context_(context) {}
+  bool Reads() const override { return true; }
+  void Field(const FieldSpec& f, double* v) override;
+  void Field(const FieldSpec& f, int* v) override;
+  void Field(const FieldSpec& f, uint64_t* v) override;
+  void Field(const FieldSpec& f, bool* v) override;
+  void Field(const FieldSpec& f, std::string* v) override;
+  void Field(const FieldSpec& f, std::string* v, const Choices& choices) override;
+  void Field(const FieldSpec& f, Eigen::Vector3d* v) override;
+  void Field(const FieldSpec& f, Eigen::Matrix3d* v) override;
+  void Field(const FieldSpec& f, std::vector<Eigen::Vector3d>* v) override;
+  void Field(const FieldSpec& f, int* first, int* second) override;
+  void Section(const FieldSpec& f, const SectionOps& ops) override;
+  void List(const FieldSpec& f, const ListOps& ops) override;
+  void Field(const FieldSpec& f, PointsConfig* v) override;
+  void Field(const FieldSpec& f, std::vector<MethodInstance>* v) override;
+  void Field(const FieldSpec& f, std::vector<CalibrationChange>* v) override;
+  void Check(const char* key, const std::function<bool(std::string*)>& ok) override;
+  void Exclusive(const char* key, const std::vector<const char*>& others,
+                 const char* reason) override;
+
+ private:
+  template <typename F>
+  void At(const FieldSpec& f, F read) {
+    r_.If(node_, f.key, field_, read);
+  }
+  void Checked(const FieldSpec& f, const YAML::Node& n, const std::string& field, double value);
+
+  const Reader& r_;
+  YAML::Node node_;
+  std::string field_;
+  ScenarioConfig* context_;
+};
+
+// {intrinsics, R_C, x_C, allow_improper_rotation}: the truth and the adaptive initial guess
+// (Visit(FieldVisitor&, CameraSpec&)).
+void ParseCamera(const Reader& r, const YAML::Node& node, const std::string& field, CameraSpec* c);
+void EmitCamera(YAML::Emitter& out, const CameraSpec& c);
+
+// points: (config_io.cc) one of its forms, resolved into p->xyz (random: drawn in Finish).
+void ParsePoints(const Reader& r, const YAML::Node& node, const std::string& field,
+                 PointsConfig* p);
+void EmitPoints(YAML::Emitter& out, const PointsConfig& p);
+// truth.changes (config_io.cc): [{kind: step, at_s, ...} | {kind: ramp, from_s, to_s, ...}].
+void ParseChanges(const Reader& r, const YAML::Node& node, const std::string& field,
+                  ScenarioConfig* s);
+void EmitChanges(YAML::Emitter& out, const std::vector<CalibrationChange>& changes);
 
 // `methods:` (config_methods.cc): a list of instances, or the map form applied onto s->methods.
 void ParseMethods(const Reader& r, const YAML::Node& node, const std::string& field,
@@ -29,18 +89,6 @@ void EmitMethods(YAML::Emitter& out, const ScenarioConfig& s);
 // A sweep axis `methods.NAME...` must name an instance of the swept scenario.
 void CheckSweptMethod(const Reader& r, const YAML::Node& at, const std::string& field,
                       const std::string& name, const ScenarioConfig& swept);
-
-// {family, tag_rows, tag_cols, tag_size_m, tag_spacing, first_id, black_tag_border (default 1),
-//  corner_squares (default false), origin: [3], rpy_deg: [3]};
-// *rpy_deg gets the angles as written (0 when absent).
-void ParseAprilGrid(const Reader& r, const YAML::Node& node, const std::string& field,
-                    AprilGrid* grid, Eigen::Vector3d* rpy_deg);
-// rendering: {supersample, blur_sigma_px, blur_grid, noise_sigma_gray, background_gray, black_gray,
-//             white_gray, threads, corner_refinement,
-//             detector: {quad_decimate, quad_sigma, refine_edges, decode_sharpening, threads,
-//                        max_hamming}}
-void ParseRendering(const Reader& r, const YAML::Node& node, const std::string& field,
-                    RenderedSourceOptions* options);
 
 // One axis of `sweep:`: a dotted scenario field and its values (YAML nodes, any type).
 struct SweepAxis {

@@ -14,11 +14,12 @@ namespace config_internal {
 namespace {
 
 // The scenario keys an axis may start with ("name" keys the rows; sweep_point is ours).
-const std::set<std::string>& SweepableKeys() {
-  static const std::set<std::string> keys = {
-      "description", "case",       "duration_s", "seed",      "trials",
-      "truth",       "image_size", "points",     "motion",    "measurements",
-      "noise",       "rendering",  "methods",    "reference", "tracking"};
+// The top-level scenario fields a sweep axis may start with (declared: scenario_fields.cc).
+const std::set<std::string>& SweepableFields() {
+  static const std::set<std::string> keys = [] {
+    const std::vector<std::string> list = SweepableKeys();
+    return std::set<std::string>(list.begin(), list.end());
+  }();
   return keys;
 }
 
@@ -142,7 +143,7 @@ std::vector<SweepAxis> ParseSweep(const Reader& r, const YAML::Node& node) {
       if (part.empty())
         r.Fail(item["field"], f + ".field", "empty component in '" + axis.field + "'");
     }
-    if (!SweepableKeys().count(axis.path[0])) {
+    if (!SweepableFields().count(axis.path[0])) {
       r.Fail(item["field"], f + ".field",
              "'" + axis.path[0] + "' is not a scenario field that can be swept");
     }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <variant>
 
 #include "core/random.h"
 
@@ -28,7 +29,7 @@ SceneTruth ScenarioConfig::MakeScene(uint64_t trial_seed) const {
   scene.parent_from_cam = truth.ParentFromCam();
   scene.allow_improper_rotation = truth.allow_improper_rotation;
   scene.changes = truth_changes;
-  scene.points = points;
+  scene.points = points.xyz;
   scene.duration_s = duration_s;
   Motion::Options motion_options;
   motion_options.duration_s = duration_s;
@@ -51,13 +52,13 @@ SceneTruth ScenarioConfig::MakeScene(uint64_t trial_seed) const {
 std::vector<BoardLayout> ScenarioConfig::BoardLayouts() const {
   std::vector<BoardLayout> layouts;
   int first = 0;
-  for (const PlanarBoard& b : boards) {
-    layouts.push_back({b.CornersInBoard(), b.points_from_board, first});
-    first += b.NumCorners();
+  for (const PlacedBoard& b : points.boards) {
+    layouts.push_back({b.board.CornersInBoard(), b.board.points_from_board, first});
+    first += b.board.NumCorners();
   }
-  for (const AprilGrid& g : aprilgrids) {
-    layouts.push_back({g.CornersInBoard(), g.points_from_board, first});
-    first += 4 * g.NumTags();
+  for (const PlacedAprilGrid& g : points.aprilgrids) {
+    layouts.push_back({g.grid.CornersInBoard(), g.grid.points_from_board, first});
+    first += 4 * g.grid.NumTags();
   }
   return layouts;
 }
@@ -81,7 +82,7 @@ RenderedSourceOptions ScenarioConfig::RenderingOptions() const {
 
 OracleOptions ScenarioConfig::OracleSourceOptions() const {
   OracleOptions o = measurements;
-  if (outside_image == "fail") {
+  if (outside_image == OutsideImage::kFail) {
     o.require_in_image_width = image_width;
     o.require_in_image_height = image_height;
   }
@@ -113,7 +114,7 @@ bool ScenarioConfig::Check(std::string* why) const {
   if (!CheckRotation(truth.r_c, 1e-9, truth.allow_improper_rotation, &reason)) {
     return fail("truth.R_C", reason);
   }
-  if (points.empty()) return fail("points", "at least one feature point is needed");
+  if (points.xyz.empty()) return fail("points", "at least one feature point is needed");
   for (size_t i = 0; i < truth_changes.size(); ++i) {
     if (!truth_changes[i].Check(duration_s, &reason)) {
       return fail("truth.changes[" + std::to_string(i) + "]", reason);
@@ -124,7 +125,7 @@ bool ScenarioConfig::Check(std::string* why) const {
   if (!motion.Check(&reason)) return fail("motion", reason);
   if (!measurements.Check(&reason)) return fail("measurements", reason);
   if (measurements.noise.tag_radial_bias_px != 0 &&
-      (aprilgrids.empty() || !boards.empty() || detections != "oracle")) {
+      (points.aprilgrids.empty() || !points.boards.empty() || detections != Detections::kOracle)) {
     return fail("noise.tag_radial_bias_px",
                 "needs oracle detections of a target made of AprilGrids only (its points are the "
                 "tags' corners, 4 by 4)");
@@ -142,18 +143,18 @@ bool ScenarioConfig::Check(std::string* why) const {
         << " s, more than " << kMaxFramesPerTrial << " per trial";
     return fail(field, msg.str());
   }
-  if (detections == "rendered") {
-    if (aprilgrids.empty()) {
+  if (detections == Detections::kRendered) {
+    if (points.aprilgrids.empty()) {
       return fail("points",
                   "detections: rendered needs AprilTag targets: points: {aprilgrids: [...]}");
     }
     if (!(measurements.sample_rate_hz > 0)) {
       return fail("measurements.sample_rate_hz", "detections: rendered needs a frame rate > 0");
     }
-    if (rendering.corner_error_grid >= static_cast<int>(aprilgrids.size())) {
+    if (rendering.corner_error_grid >= static_cast<int>(points.aprilgrids.size())) {
       return fail("rendering.corner_error_grid", std::to_string(rendering.corner_error_grid) +
                                                      " names no grid (the scenario has " +
-                                                     std::to_string(aprilgrids.size()) +
+                                                     std::to_string(points.aprilgrids.size()) +
                                                      " aprilgrids, indexed from 0)");
     }
     if (measurements.noise.Active()) {
@@ -162,8 +163,6 @@ bool ScenarioConfig::Check(std::string* why) const {
                   "(rendering.noise_sigma_gray, blur_sigma_px); remove noise.*");
     }
     if (!RenderingOptions().Check(&reason)) return fail("rendering", reason);
-  } else if (detections != "oracle") {
-    return fail("measurements.detections", "must be oracle or rendered, got '" + detections + "'");
   }
   if (image_width < 1 || image_height < 1 || image_width > kMaxImageSide ||
       image_height > kMaxImageSide ||
@@ -223,48 +222,109 @@ std::vector<MethodInstance> ScenarioConfig::DefaultMethods() {
   return methods;
 }
 
+std::vector<PlanarBoard> PointsConfig::Boards() const {
+  std::vector<PlanarBoard> list;
+  for (const PlacedBoard& b : boards) list.push_back(b.board);
+  return list;
+}
+
+std::vector<AprilGrid> PointsConfig::AprilGrids() const {
+  std::vector<AprilGrid> list;
+  for (const PlacedAprilGrid& g : aprilgrids) list.push_back(g.grid);
+  return list;
+}
+
+bool operator==(const PointsConfig& a, const PointsConfig& b) {
+  if (a.xyz != b.xyz || a.boards.size() != b.boards.size() ||
+      a.aprilgrids.size() != b.aprilgrids.size()) {
+    return false;
+  }
+  for (size_t i = 0; i < a.boards.size(); ++i) {
+    if (!(a.boards[i].board == b.boards[i].board) || a.boards[i].rpy_deg != b.boards[i].rpy_deg) {
+      return false;
+    }
+  }
+  for (size_t i = 0; i < a.aprilgrids.size(); ++i) {
+    if (!(a.aprilgrids[i].grid == b.aprilgrids[i].grid) ||
+        a.aprilgrids[i].rpy_deg != b.aprilgrids[i].rpy_deg) {
+      return false;
+    }
+  }
+  return true;
+}
+
 namespace {
-
-bool SameTwist(const TwistProfile& a, const TwistProfile& b) {
-  return a.v_const == b.v_const && a.v_cos == b.v_cos && a.v_sin == b.v_sin &&
-         a.w_const == b.w_const && a.w_cos == b.w_cos && a.w_sin == b.w_sin &&
-         a.frequency_rad_s == b.frequency_rad_s && a.frame == b.frame;
-}
-
-bool SameOracle(const OracleOptions& a, const OracleOptions& b) {
-  const NoiseOptions &n = a.noise, &m = b.noise;
-  return a.sample_rate_hz == b.sample_rate_hz && a.eval_rate_hz == b.eval_rate_hz &&
-         a.require_in_image_width == b.require_in_image_width &&
-         a.require_in_image_height == b.require_in_image_height &&
-         n.point_sigma_m == m.point_sigma_m && n.pixel_sigma_px == m.pixel_sigma_px &&
-         n.hold_s == m.hold_s && n.hold_frames == m.hold_frames &&
-         n.tag_radial_bias_px == m.tag_radial_bias_px;
-}
-
-bool SameRendering(const RenderedSourceOptions& a, const RenderedSourceOptions& b) {
-  const RenderOptions &r = a.render, &s = b.render;
-  const FrameDetectorOptions &d = a.detection, &e = b.detection;
-  const AprilTagOptions &t = d.detector, &u = e.detector;
-  const CornerRefineOptions &c = d.refine, &f = e.refine;
-  return a.frame_rate_hz == b.frame_rate_hz && a.threads == b.threads && r.width == s.width &&
-         r.height == s.height && r.supersample == s.supersample &&
-         r.blur_sigma_px == s.blur_sigma_px && r.blur_grid == s.blur_grid &&
-         r.noise_sigma_gray == s.noise_sigma_gray && r.background_gray == s.background_gray &&
-         r.black_gray == s.black_gray && r.white_gray == s.white_gray &&
-         d.refinement == e.refinement && d.min_border_distance_px == e.min_border_distance_px &&
-         a.corner_error_clip_px == b.corner_error_clip_px &&
-         a.corner_error_part == b.corner_error_part && a.corner_error_grid == b.corner_error_grid &&
-         t.family == u.family && t.quad_decimate == u.quad_decimate &&
-         t.quad_sigma == u.quad_sigma && t.refine_edges == u.refine_edges &&
-         t.decode_sharpening == u.decode_sharpening && t.threads == u.threads &&
-         t.max_hamming == u.max_hamming && t.black_border_bits == u.black_border_bits &&
-         c.samples_per_edge == f.samples_per_edge && c.corner_margin == f.corner_margin &&
-         c.max_search_px == f.max_search_px && c.max_correction_px == f.max_correction_px &&
-         c.width_at_border == f.width_at_border;
-}
 
 // NaN == NaN here: an unset reference figure equals an unset one.
 bool SameValue(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+// Every declared field's value, in declaration order (equality of two configurations).
+class Flatten final : public FieldVisitor {
+ public:
+  using Value =
+      std::variant<double, long, uint64_t, bool, std::string, Eigen::Vector3d, Eigen::Matrix3d,
+                   std::vector<Eigen::Vector3d>, const PointsConfig*,
+                   const std::vector<MethodInstance>*, const std::vector<CalibrationChange>*>;
+  std::vector<Value> values;
+
+  void Field(const FieldSpec& f, double* v) override { Add(f, *v); }
+  void Field(const FieldSpec& f, int* v) override { Add(f, static_cast<long>(*v)); }
+  void Field(const FieldSpec& f, uint64_t* v) override { Add(f, *v); }
+  void Field(const FieldSpec& f, bool* v) override { Add(f, *v); }
+  void Field(const FieldSpec& f, std::string* v) override { Add(f, *v); }
+  void Field(const FieldSpec& f, std::string* v, const Choices&) override { Add(f, *v); }
+  void Field(const FieldSpec& f, Eigen::Vector3d* v) override { Add(f, *v); }
+  void Field(const FieldSpec& f, Eigen::Matrix3d* v) override { Add(f, *v); }
+  void Field(const FieldSpec& f, std::vector<Eigen::Vector3d>* v) override { Add(f, *v); }
+  void Field(const FieldSpec& f, int* first, int* second) override {
+    Add(f, static_cast<long>(*first));
+    Add(f, static_cast<long>(*second));
+  }
+  void Section(const FieldSpec& f, const SectionOps& ops) override {
+    if (!(f.flags & kNotCompared)) ops.visit(*this);
+  }
+  void List(const FieldSpec& f, const ListOps& ops) override {
+    if (f.flags & kNotCompared) return;
+    values.emplace_back(static_cast<long>(ops.size));
+    for (size_t i = 0; i < ops.size; ++i) ops.visit(i, *this);
+  }
+  void Field(const FieldSpec& f, PointsConfig* v) override { Add(f, v); }
+  void Field(const FieldSpec& f, std::vector<MethodInstance>* v) override { Add(f, v); }
+  void Field(const FieldSpec& f, std::vector<CalibrationChange>* v) override { Add(f, v); }
+
+  static bool Same(const Value& a, const Value& b) {
+    if (a.index() != b.index()) return false;
+    if (const double* x = std::get_if<double>(&a)) return SameValue(*x, std::get<double>(b));
+    if (const auto* x = std::get_if<Eigen::Vector3d>(&a)) {
+      const Eigen::Vector3d& y = std::get<Eigen::Vector3d>(b);
+      for (int i = 0; i < 3; ++i)
+        if (!SameValue((*x)[i], y[i])) return false;
+      return true;
+    }
+    if (const auto* x = std::get_if<const PointsConfig*>(&a)) {
+      return **x == *std::get<const PointsConfig*>(b);
+    }
+    if (const auto* x = std::get_if<const std::vector<MethodInstance>*>(&a)) {
+      return **x == *std::get<const std::vector<MethodInstance>*>(b);
+    }
+    if (const auto* x = std::get_if<const std::vector<CalibrationChange>*>(&a)) {
+      return **x == *std::get<const std::vector<CalibrationChange>*>(b);
+    }
+    return a == b;
+  }
+
+ private:
+  template <typename T>
+  void Add(const FieldSpec& f, const T& v) {
+    if (!(f.flags & kNotCompared)) values.emplace_back(v);
+  }
+};
+
+std::vector<Flatten::Value> Values(const ScenarioConfig& s) {
+  Flatten flatten;
+  Visit(flatten, const_cast<ScenarioConfig&>(s));  // NOLINT: Flatten only reads.
+  return std::move(flatten.values);
+}
 
 }  // namespace
 
@@ -290,24 +350,12 @@ bool operator==(const SweepPoint& a, const SweepPoint& b) {
 // How the points and the motion were written (a preset, a random box) is not compared: the
 // resolved YAML writes the points and the twist themselves, which are.
 bool operator==(const ScenarioConfig& a, const ScenarioConfig& b) {
-  return a.name == b.name && a.description == b.description &&
-         a.calibration_case == b.calibration_case && a.duration_s == b.duration_s &&
-         a.seed == b.seed && a.paired_sweep == b.paired_sweep && a.trials == b.trials &&
-         a.truth == b.truth && a.truth_changes == b.truth_changes &&
-         a.tracking.enabled == b.tracking.enabled &&
-         a.tracking.report_rate_hz == b.tracking.report_rate_hz &&
-         a.tracking.band_samples == b.tracking.band_samples &&
-         a.tracking.metrics.tolerance == b.tracking.metrics.tolerance &&
-         a.tracking.metrics.steady_fraction == b.tracking.metrics.steady_fraction &&
-         a.image_width == b.image_width && a.image_height == b.image_height &&
-         a.boards == b.boards && a.aprilgrids == b.aprilgrids &&
-         a.board_rpy_deg == b.board_rpy_deg && a.aprilgrid_rpy_deg == b.aprilgrid_rpy_deg &&
-         a.points == b.points && SameTwist(a.motion, b.motion) &&
-         a.motion_random_phase == b.motion_random_phase && a.detections == b.detections &&
-         a.outside_image == b.outside_image && SameOracle(a.measurements, b.measurements) &&
-         SameRendering(a.rendering, b.rendering) && a.methods == b.methods &&
-         a.reference == b.reference && a.sweep_point == b.sweep_point &&
-         a.report.role == b.report.role;
+  const std::vector<Flatten::Value> x = Values(a), y = Values(b);
+  if (x.size() != y.size()) return false;
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (!Flatten::Same(x[i], y[i])) return false;
+  }
+  return true;
 }
 
 }  // namespace calibench

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/config/fields.h"
 #include "core/measurements.h"
 #include "core/scene.h"
 #include "core/target.h"
@@ -76,6 +77,44 @@ struct ReportConfig {
 // adaptive gain), dynamic (a calibration that changes).
 const std::vector<std::string>& ReportRoles();
 
+enum class Detections { kOracle, kRendered };
+enum class OutsideImage { kFail, kKeep };
+// How the points were given: an explicit list, a preset, a random box, boards or AprilGrids.
+enum class PointsForm { kList, kThesis, kRandom, kBoards, kAprilGrids };
+const EnumNames<Detections>& DetectionsNames();
+const EnumNames<OutsideImage>& OutsideImageNames();
+const EnumNames<PointsForm>& PointsFormNames();
+const char* ToString(Detections d);
+
+// A board or grid with the rpy_deg it was given (the resolved YAML writes these, not angles
+// recovered from the rotation, which may differ in the last digit and would not round-trip).
+struct PlacedBoard {
+  PlanarBoard board;
+  Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();
+};
+struct PlacedAprilGrid {
+  AprilGrid grid;
+  Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();
+};
+
+// points: exactly one of {preset: thesis, count}, {list}, {random: {count, min, max}}, {boards},
+// {aprilgrids}; `xyz` holds the resolved points in every form (random: drawn from the seed once the
+// scenario is read).
+struct PointsConfig {
+  PointsForm form = PointsForm::kList;
+  int count = 10;  // thesis / random: how many points.
+  Eigen::Vector3d random_min = Eigen::Vector3d::Zero(), random_max = Eigen::Vector3d::Zero();
+  std::vector<PlacedBoard> boards;          // The points are the rig's corners.
+  std::vector<PlacedAprilGrid> aprilgrids;  // The tags' corners.
+  std::vector<Eigen::Vector3d> xyz;
+
+  std::vector<PlanarBoard> Boards() const;
+  std::vector<AprilGrid> AprilGrids() const;
+};
+// The points, boards and grids (how they were written, a preset or a box, is not compared: the
+// resolved YAML writes the points themselves).
+bool operator==(const PointsConfig& a, const PointsConfig& b);
+
 struct ScenarioConfig {
   std::string name;
   std::string description;
@@ -90,17 +129,7 @@ struct ScenarioConfig {
   std::vector<std::string> truth_change_marks;   // file:line:col of each (for messages).
   TrackingConfig tracking;
   int image_width = 640, image_height = 480;  // For zhang's initialisation.
-  // "thesis", "random", "boards", "aprilgrids" or empty (explicit list).
-  std::string points_preset;
-  std::vector<PlanarBoard> boards;    // points: {boards: [...]}: the points are the rig's corners.
-  std::vector<AprilGrid> aprilgrids;  // points: {aprilgrids: [...]}: the tags' corners.
-  // The rpy_deg each board / grid was given (the resolved YAML writes these, not angles recovered
-  // from the rotation, which may differ in the last digit and would not round-trip exactly).
-  std::vector<Eigen::Vector3d> board_rpy_deg, aprilgrid_rpy_deg;
-  // points: {random: {count, min, max}}: uniform in the box, drawn once from the config seed.
-  Eigen::Vector3d random_min = Eigen::Vector3d::Zero(), random_max = Eigen::Vector3d::Zero();
-  int points_count = 10;  // With a preset: how many of its points (the first ones).
-  std::vector<Eigen::Vector3d> points;
+  PointsConfig points;
   std::string motion_preset;  // A ThesisMotionPreset name or empty (explicit twist).
   TwistProfile motion;        // Frame already resolved from the case.
   // motion.random_phase: each trial's twist starts at its own phase of the profile's period
@@ -109,10 +138,10 @@ struct ScenarioConfig {
 
   // oracle: exact projections + noise (OracleSource); rendered: frames rendered at
   // measurements.sample_rate_hz, detected and matched (RenderedSource; needs aprilgrids).
-  std::string detections = "oracle";
+  Detections detections = Detections::kOracle;
   // oracle: a projection outside image_size is an error (fail: the trial fails, naming the point)
   // or measured anyway (keep: the thesis's model, with no image bound).
-  std::string outside_image = "fail";
+  OutsideImage outside_image = OutsideImage::kFail;
   OracleOptions measurements;       // sample rate, eval rate and noise (noise: oracle only).
   RenderedSourceOptions rendering;  // rendered: frame_rate_hz = measurements.sample_rate_hz.
 
@@ -150,11 +179,32 @@ struct ScenarioConfig {
   static std::vector<MethodInstance> DefaultMethods();
   // The rendering options with the scenario's frame rate and image size filled in.
   RenderedSourceOptions RenderingOptions() const;
-  // The oracle options, with the image bound in force when outside_image is "fail".
+  // The oracle options, with the image bound in force when outside_image is fail.
   OracleOptions OracleSourceOptions() const;
   bool Check(std::string* why) const;
 };
-// Every field equal (the methods by their options' key): what a configuration must read back to.
+// Every declared field equal (the methods by their options' key): what a configuration must read
+// back to.
 bool operator==(const ScenarioConfig& a, const ScenarioConfig& b);
+
+// The declarations of the scenario format (scenario_fields.cc).
+void Visit(FieldVisitor& v, ScenarioConfig& s);
+void Visit(FieldVisitor& v, CameraSpec& c);
+void Visit(FieldVisitor& v, CameraIntrinsics& k);
+void Visit(FieldVisitor& v, TrackingConfig& t);
+void Visit(FieldVisitor& v, Reference& r);
+void Visit(FieldVisitor& v, ReportConfig& r);
+void Visit(FieldVisitor& v, SweepPoint& p);
+void Visit(FieldVisitor& v, NoiseOptions& n);
+void Visit(FieldVisitor& v, RenderedSourceOptions& o);
+void Visit(FieldVisitor& v, AprilTagOptions& a);
+void Visit(FieldVisitor& v, PlacedBoard& b);
+void Visit(FieldVisitor& v, PlacedAprilGrid& g);
+// The keys of `points:` (its grammar is read by hand: config_io.cc).
+void Visit(FieldVisitor& v, PointsConfig& p);
+// The keys of `points.random`.
+void VisitRandomBox(FieldVisitor& v, PointsConfig& p);
+// The top-level keys that a sweep axis may start with.
+std::vector<std::string> SweepableKeys();
 
 }  // namespace calibench

@@ -117,6 +117,7 @@ BENCHMARK(BM_DetectCApi)->Unit(benchmark::kMillisecond);
 struct Rig {
   ScenarioConfig scenario;
   SceneTruth scene;
+  std::vector<AprilGrid> grids;  // The renderer keeps a reference.
   std::unique_ptr<SceneRenderer> renderer;
   std::vector<double> times;
   static const Rig& Get() {
@@ -131,8 +132,9 @@ struct Rig {
       }
       r.scenario = config.scenarios.at(0);
       r.scene = r.scenario.MakeScene();
-      r.renderer = SceneRenderer::Create(r.scene, r.scenario.aprilgrids,
-                                         r.scenario.RenderingOptions().render, &why);
+      r.grids = r.scenario.points.AprilGrids();
+      r.renderer =
+          SceneRenderer::Create(r.scene, r.grids, r.scenario.RenderingOptions().render, &why);
       r.times = FrameTimes(r.scenario.measurements.sample_rate_hz, r.scenario.duration_s);
       return r;
     }();
@@ -142,7 +144,7 @@ struct Rig {
 
 void BM_RigPipeline(benchmark::State& state) {
   const Rig& rig = Rig::Get();
-  const auto detector = FrameDetector::Create(rig.scenario.aprilgrids,
+  const auto detector = FrameDetector::Create(rig.scenario.points.AprilGrids(),
                                               rig.scenario.RenderingOptions().detection, nullptr);
   GrayImage image;
   std::vector<BoardView> views;

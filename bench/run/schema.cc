@@ -134,7 +134,7 @@ std::string SweepsJson(const RunConfig& config, const std::string& indent) {
     if (fresh) {
       order.push_back(name);
       w.role = s.report.role;
-      w.detections = s.detections;
+      w.detections = ToString(s.detections);
       w.axes = AxisFields(s.sweep_point.params);
     }
     ++w.points;

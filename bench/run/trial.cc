@@ -17,9 +17,9 @@ std::unique_ptr<MeasurementSource> MakeSource(const ScenarioConfig& s, const Sce
                                               RunRow* base, std::string* why) {
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<MeasurementSource> source;
-  if (s.detections == "rendered") {
+  if (s.detections == Detections::kRendered) {
     auto rendered =
-        RenderedSource::Create(scene, s.aprilgrids, s.RenderingOptions(), base->seed, why);
+        RenderedSource::Create(scene, s.points.AprilGrids(), s.RenderingOptions(), base->seed, why);
     if (rendered) {
       const DetectionStats& stats = rendered->stats();
       base->detect_rate = stats.DetectionRate();
@@ -43,7 +43,7 @@ RunRow BaseRow(const ScenarioConfig& s, int trial) {
   base.sweep = s.sweep_point.sweep.empty() ? s.name : s.sweep_point.sweep;
   base.point = s.sweep_point.index;
   base.params = s.sweep_point.params;
-  base.n_points = static_cast<int>(s.points.size());
+  base.n_points = static_cast<int>(s.points.xyz.size());
   base.trial = trial;
   base.seed = s.TrialSeedOf(trial);
   return base;
@@ -239,7 +239,7 @@ class ScenarioTrial {
   void FillCrlb(const MethodInstance& instance, ScenarioShared* shared, RunRow* row) {
     const std::optional<Parametrisation> model = instance.method->BoundParametrisation();
     const NoiseOptions& noise = s_.measurements.noise;
-    const bool rendered = s_.detections == "rendered";
+    const bool rendered = s_.detections == Detections::kRendered;
     const double sigma_px = rendered ? row->corner_rms_px / std::sqrt(2.0) : noise.pixel_sigma_px;
     if (!model || !(sigma_px > 0) || noise.point_sigma_m > 0) return;
     const std::string key = std::string(ToString(model->model)) +

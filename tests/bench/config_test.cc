@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "bench/config/config_io.h"
+#include "methods/options.h"
 #include "tests/common/scenario_yaml.h"
 
 namespace calibench {
@@ -28,7 +29,7 @@ TEST(Config, MinimalScenarioLoadsWithDefaults) {
   std::string why;
   ASSERT_TRUE(LoadRunConfigFromString(Scenario(), "test.yaml", &config, &why)) << why;
   const ScenarioConfig& s = config.scenarios.at(0);
-  EXPECT_EQ(s.points.size(), 10u);
+  EXPECT_EQ(s.points.xyz.size(), 10u);
   EXPECT_EQ(MethodOption(s, "adaptive", "alpha"), "1000");
   ASSERT_EQ(s.EnabledMethods().size(), 1u);  // The map form's default: adaptive only.
   EXPECT_EQ(s.EnabledMethods()[0]->name, "adaptive");
@@ -105,7 +106,7 @@ TEST(Config, ThesisEntryPointLoadsEverySimulationAndVariant) {
   ASSERT_EQ(config.scenarios.size(), 17u + 15u);  // sims 1-17, proper variants of cameras 2, 3.
   const ScenarioConfig& sim07 = config.scenarios[6];
   EXPECT_EQ(sim07.name, "sim07");
-  EXPECT_EQ(sim07.points.size(), 5u);
+  EXPECT_EQ(sim07.points.xyz.size(), 5u);
   EXPECT_TRUE(sim07.truth.allow_improper_rotation);
   EXPECT_NEAR(sim07.truth.r_c.determinant(), -1, 1e-12);
   EXPECT_EQ(sim07.reference.fku_px, 868.0);
@@ -118,7 +119,7 @@ TEST(Config, ThesisEntryPointLoadsEverySimulationAndVariant) {
   EXPECT_EQ(proper.name, "sim07-proper");
   EXPECT_NEAR(proper.truth.r_c.determinant(), 1, 1e-12);
   EXPECT_FALSE(proper.truth.allow_improper_rotation);
-  EXPECT_EQ(proper.points.size(), 5u);  // Inherited through base:.
+  EXPECT_EQ(proper.points.xyz.size(), 5u);  // Inherited through base:.
 }
 
 // Every config of the project, resolved and read back, equals itself field by field (operator==
@@ -171,14 +172,14 @@ TEST(Config, BatchMethodsAndRandomPointsParse) {
             std::string::npos);
   ASSERT_TRUE(LoadRunConfig(kThesisDir + "../batch/crlb50.yaml", &config, &why)) << why;
   const ScenarioConfig& s = config.scenarios[0];
-  ASSERT_EQ(s.points.size(), 150u);
-  for (const Eigen::Vector3d& p : s.points) {
+  ASSERT_EQ(s.points.xyz.size(), 150u);
+  for (const Eigen::Vector3d& p : s.points.xyz) {
     EXPECT_GE(p.y(), 15.0);
     EXPECT_LE(p.y(), 30.0);
   }
   RunConfig again;
   ASSERT_TRUE(LoadRunConfig(kThesisDir + "../batch/crlb50.yaml", &again, &why));
-  EXPECT_EQ(again.scenarios[0].points, s.points);  // Drawn from the seed: reproducible.
+  EXPECT_EQ(again.scenarios[0].points.xyz, s.points.xyz);  // Drawn from the seed: reproducible.
 }
 
 // The rendered-detection configs load, round-trip through the resolved YAML, and the rendered
@@ -189,10 +190,10 @@ TEST(Config, RenderedScenariosLoadRoundTripAndRefuseMisuse) {
   ASSERT_TRUE(LoadRunConfig(kThesisDir + "../rendered/all.yaml", &config, &why)) << why;
   ASSERT_EQ(config.scenarios.size(), 4u);
   const ScenarioConfig& r = config.scenarios[0];
-  EXPECT_EQ(r.detections, "rendered");
-  ASSERT_EQ(r.aprilgrids.size(), 2u);
-  EXPECT_EQ(r.points.size(), 2u * 4 * 20);
-  EXPECT_EQ(r.aprilgrids[1].first_id, 20);
+  EXPECT_EQ(r.detections, Detections::kRendered);
+  ASSERT_EQ(r.points.aprilgrids.size(), 2u);
+  EXPECT_EQ(r.points.xyz.size(), 2u * 4 * 20);
+  EXPECT_EQ(r.points.aprilgrids[1].grid.first_id, 20);
   EXPECT_EQ(r.rendering.detection.detector.quad_decimate, 2.0);
   EXPECT_EQ(r.RenderingOptions().frame_rate_hz, 30.0);
   EXPECT_EQ(config.scenarios[2].measurements.noise.hold_frames, 0);
@@ -236,14 +237,34 @@ TEST(Config, AprilGridBorderDefaultsToOneBitAndRoundTrips) {
                "black_tag_border: 2}]}\n"),
       "grids.yaml", &config, &why))
       << why;
-  const auto& grids = config.scenarios[0].aprilgrids;
+  const auto& grids = config.scenarios[0].points.aprilgrids;
   ASSERT_EQ(grids.size(), 2u);
-  EXPECT_EQ(grids[0].black_tag_border, 1);
-  EXPECT_EQ(grids[1].black_tag_border, 2);
+  EXPECT_EQ(grids[0].grid.black_tag_border, 1);
+  EXPECT_EQ(grids[1].grid.black_tag_border, 2);
   EXPECT_NE(ResolvedYaml(config).find("black_tag_border: 2"), std::string::npos);
   RunConfig again;
   ASSERT_TRUE(LoadRunConfigFromString(ResolvedYaml(config), "resolved.yaml", &again, &why)) << why;
-  EXPECT_EQ(again.scenarios[0].aprilgrids[1].black_tag_border, 2);
+  EXPECT_EQ(again.scenarios[0].points.aprilgrids[1].grid.black_tag_border, 2);
+}
+
+// Every registered type's options go through the YAML writer and parser unchanged (the type list
+// comes from the registry: a new type is covered by being registered).
+TEST(Config, EveryMethodTypeRoundTripsThroughTheResolvedYaml) {
+  std::string methods = "  methods:\n";
+  for (const MethodType& t : MethodTypes()) {
+    methods += "    - {name: my_" + t.name + ", type: " + t.name + "}\n";
+  }
+  RunConfig config, again;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfigFromString(Scenario(methods), "m.yaml", &config, &why)) << why;
+  const ScenarioConfig& s = config.scenarios.at(0);
+  ASSERT_EQ(s.methods.size(), MethodTypes().size());
+  ASSERT_TRUE(LoadRunConfigFromString(ResolvedYaml(config), "r.yaml", &again, &why)) << why;
+  EXPECT_TRUE(again.scenarios.at(0) == s);
+  for (size_t i = 0; i < s.methods.size(); ++i) {
+    EXPECT_EQ(OptionsKey(*again.scenarios[0].methods[i].method), OptionsKey(*s.methods[i].method))
+        << s.methods[i].type;
+  }
 }
 
 TEST(Config, DuplicateScenarioNamesAreRefused) {

@@ -42,7 +42,7 @@ TEST(RenderedRows, CornerRmsAndItsCramerRaoFloor) {
   EXPECT_LT(per_axis, kMaxOverFloor * r.corner_crlb_px);
 
   ScenarioConfig oracle = rendered;
-  oracle.detections = "oracle";
+  oracle.detections = Detections::kOracle;
   oracle.measurements.noise.pixel_sigma_px = 0.1;
   const std::vector<RunRow> oracle_rows = RunTrial(oracle, 0);
   ASSERT_EQ(oracle_rows.size(), 1u);

@@ -150,7 +150,7 @@ TEST(Runner, DegenerateHandEyeIsReported) {
 TEST(Runner, BadScenarioGivesAFailedRowNotACrash) {
   ScenarioConfig s = NoisyShortScenario();
   s.trials = 1;
-  s.points.push_back({0, -50, 0});  // Behind the camera.
+  s.points.xyz.push_back({0, -50, 0});  // Behind the camera.
   const std::vector<RunRow> rows = RunTrial(s, 0);
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].status, "failed");

@@ -48,7 +48,7 @@ TEST(Sweep, ExpandsTheCartesianProductWithMethodAxesFastest) {
     EXPECT_EQ(s.sweep_point.measurement_index, i / 3);
     EXPECT_DOUBLE_EQ(s.measurements.noise.pixel_sigma_px, sigma[i]);
     EXPECT_DOUBLE_EQ(std::stod(MethodOption(s, "adaptive", "alpha")), alpha[i]);
-    EXPECT_EQ(s.points.size(), 30u);
+    EXPECT_EQ(s.points.xyz.size(), 30u);
     EXPECT_EQ(s.points, config.scenarios[0].points)
         << "geometry is the scenario's, not the point's";
   }
@@ -120,8 +120,8 @@ TEST(Sweep, RangesAndWholeSectionFields) {
                  "  - {field: points.count, values: [4, 6]}\n  - {field: motion.preset, values: "
                  "[small, large]}\n");
   ASSERT_EQ(c.scenarios.size(), 4u);
-  EXPECT_EQ(c.scenarios[0].points.size(), 4u);
-  EXPECT_EQ(c.scenarios[3].points.size(), 6u);
+  EXPECT_EQ(c.scenarios[0].points.xyz.size(), 4u);
+  EXPECT_EQ(c.scenarios[3].points.xyz.size(), 6u);
   EXPECT_EQ(c.scenarios[1].motion_preset, "large");
   // The resolved configuration reads back to the same sweep points.
   RunConfig again;

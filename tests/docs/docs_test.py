@@ -4,9 +4,10 @@
 Checks, from the sources (regular expressions, no compilation):
   (a) every subcommand and long flag of the CLI (CLI11 add_subcommand / add_option / add_flag in
       bench/app/*.cc) appears in docs/cli.md;
-  (b) every YAML key the scenario and target parsers accept (the CheckKeys lists and key vectors of
-      bench/config/*.cc, the sweepable fields, and the method options of VisitOptions in
-      methods/*.cc) appears in docs/configuration.md;
+  (b) every YAML key the scenario and target parsers accept (the field declarations, CheckKeys
+      lists and key vectors of bench/config/*.cc, and the method options of VisitOptions in
+      methods/*.cc) appears in docs/configuration.md (its reference part is generated:
+      tests/docs/config_reference_test.sh checks that it is current);
   (c) every CSV column (the metric table's quantities and their err_/std_/crlb_/est_/true_
       columns, metrics/metric_table.cc; the column declarations of bench/run/*.cc; the CSV headers
       written by bench/app/*.cc) appears in docs/outputs.md;
@@ -131,6 +132,13 @@ def config_keys():
         if m:
             for lst in braced_lists(m.group(1)):
                 keys.update(lst)
+    # The declarations of the scenario format (Visit per struct, scenario_fields.cc): the key of
+    # every FieldSpec handed to a visitor.
+    for path in sources("bench/config/*.cc"):
+        text = strip_comments(read(path))
+        keys.update(re.findall(
+            r"\b(?:Field|Section|List|VisitEnum|VisitSection|VisitList|Refused)\s*\(\s*"
+            r"(?:[A-Za-z_]\w*\s*,\s*)?\{?\s*\"([A-Za-z0-9_]+)\"", text))
     # Method options: VisitOptions of every method type (and the shared online options).
     for path in sources("methods/*.cc") + sources("methods/*.h"):
         text = strip_comments(read(path))

@@ -1,0 +1,560 @@
+// The scenario format, declared once (fields.h): each field's YAML key, member, type, default (the
+// member's initializer), unit, doc and check. The parser, the writer, equality, the key lists of
+// "did you mean", the sweepable keys and docs/configuration.md are derived from these functions.
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "bench/config/scenario.h"
+#include "core/synthetic.h"
+#include "core/tag_family.h"
+#include "metrics/tracking.h"
+
+namespace calibench {
+namespace {
+
+bool PositiveFinite(double v, std::string* why) {
+  if (v > 0 && std::isfinite(v)) return true;
+  *why = "must be positive and finite";
+  return false;
+}
+
+std::string Integer(double v) { return std::to_string(static_cast<long>(v)); }
+
+const EnumNames<CalibrationCase>& CaseNames() {
+  static const EnumNames<CalibrationCase> names{
+      {{CalibrationCase::kFixedCamera, "fixed_camera"},
+       {CalibrationCase::kMovingCamera, "moving_camera"}}};
+  return names;
+}
+
+const EnumNames<LensFamily>& ScenarioLensFamilies() {
+  static const EnumNames<LensFamily> names{
+      {{LensFamily::kRadTan, "radtan"},
+       {LensFamily::kEquidistant, "equidistant"},
+       {LensFamily::kUnified, "unified"},
+       {LensFamily::kEucm, "eucm"},
+       {LensFamily::kDoubleSphere, "double-sphere"}},
+      "lens family"};
+  return names;
+}
+
+const EnumNames<CornerRefinement>& RefinementNames() {
+  static const EnumNames<CornerRefinement> names{{{CornerRefinement::kPhotometric, "photometric"},
+                                                  {CornerRefinement::kEdgeFit, "edge_fit"},
+                                                  {CornerRefinement::kNone, "none"}},
+                                                 "refinement"};
+  return names;
+}
+
+const EnumNames<RenderedSourceOptions::CornerErrorPart>& CornerErrorParts() {
+  using P = RenderedSourceOptions::CornerErrorPart;
+  static const EnumNames<P> names = [] {
+    EnumNames<P> n;
+    n.noun = "part";
+    for (P p : {P::kAll, P::kX, P::kY, P::kTagTranslation, P::kTagShape}) {
+      static std::vector<std::string> storage;  // Names outlive the table.
+      storage.reserve(8);
+      storage.push_back(CornerErrorPartName(p));
+      n.entries.emplace_back(p, storage.back().c_str());
+    }
+    return n;
+  }();
+  return names;
+}
+
+// The frame of a twist as written; auto: world for a fixed camera, body for a moving one.
+enum class MotionFrame { kAuto, kBody, kWorld };
+const EnumNames<MotionFrame>& MotionFrameNames() {
+  static const EnumNames<MotionFrame> names{
+      {{MotionFrame::kAuto, "auto"}, {MotionFrame::kBody, "body"}, {MotionFrame::kWorld, "world"}}};
+  return names;
+}
+
+void VisitMotion(FieldVisitor& v, ScenarioConfig& s) {
+  v.Field({"preset", "",
+           "A thesis motion (body twist for a moving camera; the equivalent spatial "
+           "twist for a fixed one) instead of the components.",
+           "", nullptr, kNotWritten | kNotCompared},
+          &s.motion_preset, Choices{ThesisMotionPresetNames()});
+  TwistProfile& m = s.motion;
+  v.Field({"v_const", "m/s", "Linear velocity: v(t) = v_const + v_cos cos(ft) + v_sin sin(ft)."},
+          &m.v_const);
+  v.Field({"v_cos", "m/s", "Linear velocity, cosine term."}, &m.v_cos);
+  v.Field({"v_sin", "m/s", "Linear velocity, sine term."}, &m.v_sin);
+  v.Field({"w_const", "rad/s", "Angular velocity, likewise."}, &m.w_const);
+  v.Field({"w_cos", "rad/s", "Angular velocity, cosine term."}, &m.w_cos);
+  v.Field({"w_sin", "rad/s", "Angular velocity, sine term."}, &m.w_sin);
+  v.Field({"frequency_rad_s", "rad/s", "f above."}, &m.frequency_rad_s);
+  MotionFrame frame = v.Reads()                                ? MotionFrame::kAuto
+                      : m.frame == TwistProfile::Frame::kWorld ? MotionFrame::kWorld
+                                                               : MotionFrame::kBody;
+  VisitEnum(
+      v,
+      {"frame", "", "Frame of the twist; auto: world for a fixed camera, body for a moving one."},
+      &frame, MotionFrameNames());
+  v.Field({"random_phase", "",
+           "Each trial starts the profile at its own phase (drawn from the "
+           "trial seed), so trials differ in their views, not only in noise."},
+          &s.motion_random_phase);
+  v.Exclusive(
+      "preset",
+      {"v_const", "v_cos", "v_sin", "w_const", "w_cos", "w_sin", "frequency_rad_s", "frame"},
+      "give either a preset or the components");
+  v.Check(nullptr, [&s, frame](std::string* why) {
+    const bool fixed = s.calibration_case == CalibrationCase::kFixedCamera;
+    if (!s.motion_preset.empty()) {
+      s.motion = *ThesisMotionPreset(s.motion_preset, s.calibration_case);
+      return true;
+    }
+    s.motion.frame = frame == MotionFrame::kWorld || (frame == MotionFrame::kAuto && fixed)
+                         ? TwistProfile::Frame::kWorld
+                         : TwistProfile::Frame::kBody;
+    return s.motion.Check(why);
+  });
+}
+
+void VisitMeasurements(FieldVisitor& v, ScenarioConfig& s) {
+  VisitEnum(v,
+            {"detections", "",
+             "oracle: exact projections plus `noise`; rendered: frames rendered, detected with "
+             "AprilTag 3, refined and matched (needs `aprilgrids`)."},
+            &s.detections, DetectionsNames());
+  v.Field({"sample_rate_hz", "Hz",
+           "0: continuous measurements; > 0: frames at this rate, held between samples.", "≥ 0"},
+          &s.measurements.sample_rate_hz);
+  v.Field({"eval_rate_hz", "Hz",
+           "Continuous sources: the frame grid the batch methods and the metrics use."},
+          &s.measurements.eval_rate_hz);
+  VisitEnum(v,
+            {"outside_image", "",
+             "Oracle: a projection outside `image_size` fails the trial (naming point, time and "
+             "pixel), or is measured anyway (`keep`: the thesis's model)."},
+            &s.outside_image, OutsideImageNames());
+  v.Check(nullptr, [&s](std::string* why) {
+    OracleOptions check = s.measurements;
+    check.noise = NoiseOptions();
+    return check.Check(why);
+  });
+}
+
+void VisitTruth(FieldVisitor& v, ScenarioConfig& s) {
+  Visit(v, s.truth);
+  v.Field({"changes", "",
+           "Changes of the calibration over time: steps and ramps (hand-written table below).", "",
+           nullptr, kOmitUnset},
+          &s.truth_changes);
+}
+
+void VisitTolerance(FieldVisitor& v, TrackingOptions& t) {
+  for (int q = 0; q < kTrackQuantities; ++q) {
+    const char* name = TrackQuantityNames()[q];
+    const bool angle = std::string(name).find("_deg") != std::string::npos;
+    v.Field({name, angle ? "deg" : "px", "Re-convergence tolerance of this tracked quantity."},
+            &t.tolerance[q]);
+  }
+}
+
+}  // namespace
+
+const EnumNames<Detections>& DetectionsNames() {
+  static const EnumNames<Detections> names{
+      {{Detections::kOracle, "oracle"}, {Detections::kRendered, "rendered"}}};
+  return names;
+}
+
+const EnumNames<OutsideImage>& OutsideImageNames() {
+  static const EnumNames<OutsideImage> names{
+      {{OutsideImage::kFail, "fail"}, {OutsideImage::kKeep, "keep"}}};
+  return names;
+}
+
+const EnumNames<PointsForm>& PointsFormNames() {
+  static const EnumNames<PointsForm> names{{{PointsForm::kList, "list"},
+                                            {PointsForm::kThesis, "thesis"},
+                                            {PointsForm::kRandom, "random"},
+                                            {PointsForm::kBoards, "boards"},
+                                            {PointsForm::kAprilGrids, "aprilgrids"}}};
+  return names;
+}
+
+const char* ToString(Detections d) { return DetectionsNames().Name(d); }
+
+void Visit(FieldVisitor& v, ScenarioConfig& s) {
+  v.Field({"name", "", "Keys the result rows (`scenario` column). Required.", "", nullptr,
+           kNotSweepable},
+          &s.name);
+  v.Field({"description", "", "Free text."}, &s.description);
+  VisitEnum(v,
+            {"case", "",
+             "Thesis calibration case: the camera rides a moving body (parent = body), or is fixed "
+             "in the world and the points move."},
+            &s.calibration_case, CaseNames());
+  v.Field({"duration_s", "s", "Length of a trial.", "> 0, finite", PositiveFinite}, &s.duration_s);
+  v.Field({"seed", "", "Base seed of every random draw."}, &s.seed);
+  v.Field({"paired_sweep", "",
+           "true: every sweep point runs the same trials (seeds), so rows pair trial by trial "
+           "across points (diagnostics).",
+           "", nullptr, kNotSweepable},
+          &s.paired_sweep);
+  v.Field({"trials", "", "Monte Carlo trials.", "≥ 1, ≤ 1000000",
+           [](double n, std::string* why) {
+             if (n < 1) return *why = "must be >= 1, got " + Integer(n), false;
+             if (n > kMaxTrials) {
+               *why = "at most " + std::to_string(kMaxTrials) + " per scenario (split the seeds)";
+               return false;
+             }
+             return true;
+           }},
+          &s.trials);
+  SectionOps truth;
+  truth.visit = [&s](FieldVisitor& w) { VisitTruth(w, s); };
+  v.Section({"truth", "", "The true camera at t = 0 and its changes over time."}, truth);
+  v.Field({"image_size", "px",
+           "[width, height] (at most 16384 px a side and 64 Mpx; zhang's initialisation, the "
+           "image bound of oracle measurements, the rendered frames)."},
+          &s.image_width, &s.image_height);
+  v.Check("image_size", [&s](std::string* why) {
+    if (s.image_width < 1 || s.image_height < 1) return *why = "must be positive", false;
+    if (s.image_width > kMaxImageSide || s.image_height > kMaxImageSide ||
+        static_cast<double>(s.image_width) * s.image_height > kMaxImagePixels) {
+      *why = "[" + std::to_string(s.image_width) + ", " + std::to_string(s.image_height) +
+             "] px is larger than any camera calibrated here (at most " +
+             std::to_string(kMaxImageSide) + " px per side and " +
+             std::to_string(static_cast<int>(kMaxImagePixels / 1e6)) +
+             " Mpx; the renderer's ray table alone would need " +
+             std::to_string(static_cast<long>(16.0 * (s.image_width + 1.0) *
+                                              (s.image_height + 1.0) / (1 << 20))) +
+             " MiB)";
+      return false;
+    }
+    return true;
+  });
+  v.Field({"points", "",
+           "The feature points: exactly one of `preset`, `list`, `random`, `boards`, "
+           "`aprilgrids`. Replaces a base's section as a whole."},
+          &s.points);
+  SectionOps motion;
+  motion.visit = [&s](FieldVisitor& w) { VisitMotion(w, s); };
+  motion.reset = [&s] {
+    s.motion = TwistProfile();
+    s.motion_random_phase = false;
+    s.motion_preset.clear();
+  };
+  v.Section({"motion", "",
+             "The body (moving camera) or world (fixed camera) twist. Replaces a base's section as "
+             "a whole."},
+            motion);
+  SectionOps measurements;
+  measurements.visit = [&s](FieldVisitor& w) { VisitMeasurements(w, s); };
+  v.Section({"measurements", "", "How the methods see the points."}, measurements);
+  VisitSection(v, {"noise", "", "Noise of oracle measurements."}, &s.measurements.noise);
+  VisitSection(v,
+               {"rendering", "",
+                "Renderer and detector of rendered measurements (`detections: rendered`); the "
+                "frame rate is `measurements.sample_rate_hz`, the image size `image_size`."},
+               &s.rendering);
+  v.Field({"methods", "",
+           "The method instances, in row order: a list, or a map that updates the defaults "
+           "([methods](#methods))."},
+          &s.methods);
+  VisitSection(v,
+               {"tracking", "",
+                "Estimates over time: recorded when the truth has `changes`, or when `enabled`."},
+               &s.tracking);
+  SectionOps reference;
+  reference.visit = [&s](FieldVisitor& w) { Visit(w, s.reference); };
+  reference.reset = [&s] { s.reference = Reference(); };
+  reference.written = s.reference.Any() || !s.reference.source.empty();
+  v.Section({"reference", "",
+             "Published figures printed beside ours in `table.md` (all optional). Replaces a "
+             "base's section as a whole."},
+            reference);
+  VisitSection(
+      v,
+      {"report", "", "Which question of the report the rows answer.", "", nullptr, kNotSweepable},
+      &s.report, /*flow=*/true, /*written=*/!s.report.role.empty());
+  VisitSection(
+      v,
+      {"sweep_point", "", "Written by calibench into `config.resolved.yaml`; not for users.", "",
+       nullptr, kNotSweepable},
+      &s.sweep_point, false, s.sweep_point.measurement_index >= 0);
+}
+
+void Visit(FieldVisitor& v, CameraSpec& c) {
+  VisitSection(v, {"intrinsics", "", "The intrinsics."}, &c.intrinsics, /*flow=*/true);
+  v.Field({"R_C", "",
+           "Camera orientation in its parent frame (`parent_from_cam` rotation), a 3x3 list of "
+           "rows; must be a rotation."},
+          &c.r_c);
+  v.Field({"x_C", "m", "Camera position in its parent frame."}, &c.x_c);
+  v.Field({"allow_improper_rotation", "",
+           "Accept det(R_C) = -1 (to reproduce a source that printed such a matrix)."},
+          &c.allow_improper_rotation);
+  v.Check("R_C", [&c](std::string* why) {
+    return CheckRotation(c.r_c, 1e-9, c.allow_improper_rotation, why);
+  });
+}
+
+void Visit(FieldVisitor& v, CameraIntrinsics& k) {
+  v.Refused("k5",
+            "no lens model has k5: the equidistant (fisheye, Kannala-Brandt) model has k1..k4, as "
+            "OpenCV's cv::fisheye and Kalibr's equidistant; radtan has k1 k2 p1 p2 k3");
+  v.Field({"fku_px", "px", "f·ku, focal length in horizontal pixels."}, &k.fku_px);
+  v.Field({"fkv_px", "px", "f·kv, focal length in vertical pixels."}, &k.fkv_px);
+  v.Field({"phi_deg", "deg", "Angle between the sensor axes (90: no skew).", "in (0, 180)"},
+          &k.phi_deg);
+  v.Field({"u0_px", "px", "Principal point, horizontal (pixel-centre convention)."}, &k.u0_px);
+  v.Field({"v0_px", "px", "Principal point, vertical."}, &k.v0_px);
+  v.Field({"k1", "", "Radial term (radtan: of r²; equidistant: of θ²)."}, &k.k1);
+  v.Field({"k2", "", "Radial term (radtan: of r⁴; equidistant: of θ⁴)."}, &k.k2);
+  v.Field({"p1", "", "Tangential term (radtan only)."}, &k.p1);
+  v.Field({"p2", "", "Tangential term (radtan only)."}, &k.p2);
+  v.Field({"k3", "", "radtan: r⁶; equidistant: θ⁶."}, &k.k3);
+  v.Field({"k4", "", "equidistant only: θ⁸.", "", nullptr, kOmitUnset}, &k.k4);
+  VisitEnum(v,
+            {"lens_family", "",
+             "The projection and how k1..k4, ξ, α and β are read "
+             "([camera-models.md](camera-models.md)).",
+             "", nullptr, kOmitUnset},
+            &k.family, ScenarioLensFamilies());
+  v.Field({"xi", "", "unified (≥ 0) and double-sphere (> -1): the (first) sphere's offset ξ.", "",
+           nullptr, kOmitUnset},
+          &k.xi);
+  v.Field({"alpha", "", "eucm and double-sphere: the weight α of the last projection.", "in [0, 1]",
+           nullptr, kOmitUnset},
+          &k.alpha);
+  // Written for eucm only (its default 1 is the sphere), so that other families' files stay short.
+  v.Field({"beta", "", "eucm only: the ellipsoid's shape β (1: a sphere).", "> 0", nullptr,
+           k.family == LensFamily::kEucm ? 0u : kNotWritten},
+          &k.beta);
+  v.Check(nullptr, [&k](std::string* why) { return k.Check(why); });
+}
+
+void Visit(FieldVisitor& v, TrackingConfig& t) {
+  v.Field({"enabled", "", "Record tracks without truth changes too."}, &t.enabled);
+  v.Field({"report_rate_hz", "Hz", "Report times: 0 = every frame; else k / rate.", "≥ 0"},
+          &t.report_rate_hz);
+  v.Field(
+      {"band_samples", "",
+       "At most this many report times per trial in track_errors.csv / track_bands.csv.", "≥ 2"},
+      &t.band_samples);
+  v.Field({"steady_fraction", "", "The last part of each segment that `steady_err` is taken over."},
+          &t.metrics.steady_fraction);
+  SectionOps tolerance;
+  tolerance.visit = [&t](FieldVisitor& w) { VisitTolerance(w, t.metrics); };
+  tolerance.flow = true;
+  v.Section({"tolerance", "", "Re-convergence tolerance per tracked quantity."}, tolerance);
+  v.Check(nullptr, [&t](std::string* why) { return t.Check(why); });
+}
+
+void Visit(FieldVisitor& v, Reference& r) {
+  v.Field({"source", "", "e.g. \"thesis sim 7\"."}, &r.source);
+  v.Field({"method", "", "The instance it describes (default: the first enabled one).", "", nullptr,
+           kOmitUnset},
+          &r.method);
+  v.Field({"fku_px", "px", "Published f·ku.", "", nullptr, kOmitUnset}, &r.fku_px);
+  v.Field({"fkv_px", "px", "Published f·kv.", "", nullptr, kOmitUnset}, &r.fkv_px);
+  v.Field({"phi_deg", "deg", "Published φ.", "", nullptr, kOmitUnset}, &r.phi_deg);
+  v.Field({"u0_px", "px", "Published u0.", "", nullptr, kOmitUnset}, &r.u0_px);
+  v.Field({"v0_px", "px", "Published v0.", "", nullptr, kOmitUnset}, &r.v0_px);
+  v.Field({"theta_err_below", "", "\"exact\": the source reports ‖θ̃‖ below this.", "", nullptr,
+           kOmitUnset},
+          &r.theta_err_below);
+  v.Field({"x_C", "m", "Published camera position.", "", nullptr, kOmitUnset}, &r.x_c);
+}
+
+void Visit(FieldVisitor& v, ReportConfig& r) {
+  v.Field({"role", "",
+           "The report question these rows answer (written to schema.json; the report never "
+           "matches sweep names).",
+           "", nullptr, kOmitUnset},
+          &r.role, Choices{ReportRoles()});
+}
+
+void Visit(FieldVisitor& v, SweepPoint& p) {
+  v.Field({"sweep", "", "The swept scenario's name."}, &p.sweep);
+  v.Field({"index", "", "Position in the sweep's product."}, &p.index);
+  v.Field({"measurement_index", "", "Position among the measurement points."},
+          &p.measurement_index);
+  v.Field({"params", "", "field=value;... of the point."}, &p.params);
+}
+
+void Visit(FieldVisitor& v, NoiseOptions& n) {
+  v.Field({"point_sigma_m", "m", "Std of the Gaussian added to each point coordinate.", "≥ 0"},
+          &n.point_sigma_m);
+  v.Field({"pixel_sigma_px", "px", "Std of the Gaussian added to u and v.", "≥ 0"},
+          &n.pixel_sigma_px);
+  v.Field({"hold_s", "s", "Continuous sources: each draw is held this long."}, &n.hold_s);
+  v.Field({"hold_frames", "frames",
+           "Sampled sources: one draw per this many frames; 0: one draw for the whole run.", "≥ 0"},
+          &n.hold_frames);
+  v.Field({"tag_radial_bias_px", "px",
+           "Deterministic detector-like error: every AprilGrid corner moves this far along its "
+           "tag's diagonal, outward (negative: inward)."},
+          &n.tag_radial_bias_px);
+  v.Check(nullptr, [&n](std::string* why) { return n.Check(why); });
+}
+
+void Visit(FieldVisitor& v, RenderedSourceOptions& o) {
+  RenderOptions& ro = o.render;
+  v.Field({"supersample", "samples", "n×n area samples in pixels that straddle an edge."},
+          &ro.supersample);
+  v.Field({"blur_sigma_px", "px", "Gaussian PSF; 0: none.", "≥ 0"}, &ro.blur_sigma_px);
+  v.Field({"blur_grid", "",
+           "The blur is computed on a grid this many times finer than the pixels; 0: automatic "
+           "(ceil(3/σ), at most 8); 1: blur the pixels."},
+          &ro.blur_grid);
+  v.Field(
+      {"noise_sigma_gray", "gray levels", "Gaussian image noise before 8-bit quantisation.", "≥ 0"},
+      &ro.noise_sigma_gray);
+  v.Field({"background_gray", "gray levels", "Background level."}, &ro.background_gray);
+  v.Field({"black_gray", "gray levels", "Level of the tags' black."}, &ro.black_gray);
+  v.Field({"white_gray", "gray levels", "Level of the tags' white."}, &ro.white_gray);
+  v.Field({"threads", "", "Frames produced in parallel; 0: all cores. Results do not depend on it.",
+           "≥ 0",
+           [](double n, std::string* why) {
+             return n >= 0 || (*why = "must be >= 0 (0: all cores)", false);
+           }},
+          &o.threads);
+  VisitEnum(v, {"corner_refinement", "", "Sub-pixel corner refinement after AprilTag 3."},
+            &o.detection.refinement, RefinementNames());
+  v.Field(
+      {"min_border_distance_px", "px", "Tags closer to the image border are dropped (counted)."},
+      &o.detection.min_border_distance_px);
+  v.Field({"corner_error_clip_px", "px",
+           "Diagnostic: each detected corner is reported at its exact projection plus its error "
+           "shortened to this length (0: exact corners of the same detections).",
+           "≥ 0",
+           [](double x, std::string* why) {
+             return x >= 0 ||
+                    (*why = "must be >= 0 (.inf, the default: the detected corners)", false);
+           }},
+          &o.corner_error_clip_px);
+  VisitEnum(v,
+            {"corner_error_part", "",
+             "Diagnostic: which part of each corner's error is kept (x/y component, its tag's "
+             "mean error, or the rest)."},
+            &o.corner_error_part, CornerErrorParts());
+  v.Field({"corner_error_grid", "",
+           "Diagnostic: only this grid's corners keep their errors; -1: every grid.", "≥ -1",
+           [](double g, std::string* why) {
+             return g >= -1 ||
+                    (*why = "must be a grid's index (0, 1, ...) or -1 (every grid)", false);
+           }},
+          &o.corner_error_grid);
+  VisitSection(v, {"detector", "", "AprilTag 3 options."}, &o.detection.detector, /*flow=*/true);
+  v.Check(nullptr, [&o](std::string* why) { return o.render.Check(why); });
+  v.Check(nullptr, [&o](std::string* why) { return o.detection.Check(why); });
+}
+
+void Visit(FieldVisitor& v, AprilTagOptions& a) {
+  v.Field({"quad_decimate", "", "Image decimation for quad detection (1: full resolution)."},
+          &a.quad_decimate);
+  v.Field({"quad_sigma", "px", "Gaussian blur before quad detection."}, &a.quad_sigma);
+  v.Field({"refine_edges", "", "AprilTag's own edge refinement."}, &a.refine_edges);
+  v.Field({"decode_sharpening", "", "AprilTag's decode sharpening."}, &a.decode_sharpening);
+  v.Field({"threads", "", "AprilTag's threads."}, &a.threads);
+  v.Field({"max_hamming", "bits", "Bits corrected at most (2 raises false positives)."},
+          &a.max_hamming);
+  v.Check(nullptr, [&a](std::string* why) { return a.Check(why); });
+}
+
+void Visit(FieldVisitor& v, PlacedBoard& b) {
+  v.Field({"rows", "", "Corners per column."}, &b.board.rows);
+  v.Field({"cols", "", "Corners per row."}, &b.board.cols);
+  v.Field({"spacing_m", "m", "Corner pitch."}, &b.board.spacing_m);
+  v.Field({"origin", "m", "Board origin in the points frame."},
+          &b.board.points_from_board.translation);
+  v.Field({"rpy_deg", "deg", "Board orientation in the points frame (roll, pitch, yaw)."},
+          &b.rpy_deg);
+  v.Check(nullptr, [&b](std::string* why) {
+    b.board.points_from_board.rotation = FromRollPitchYawDeg(b.rpy_deg);
+    return b.board.Check(why);
+  });
+}
+
+void Visit(FieldVisitor& v, PlacedAprilGrid& p) {
+  AprilGrid& g = p.grid;
+  v.Field({"family", "", "AprilTag family."}, &g.family, Choices{TagFamily::Names()});
+  v.Field({"tag_rows", "", "Tags per column."}, &g.tag_rows);
+  v.Field({"tag_cols", "", "Tags per row."}, &g.tag_cols);
+  v.Field({"tag_size_m", "m", "Edge of a tag's black square, border included (Kalibr's tagSize)."},
+          &g.tag_size_m);
+  v.Field(
+      {"tag_spacing", "", "Gap between tags as a fraction of `tag_size_m` (Kalibr's tagSpacing)."},
+      &g.tag_spacing);
+  v.Field({"first_id", "", "Id of the bottom-left tag (Kalibr's codeOffset)."}, &g.first_id);
+  v.Field(
+      {"black_tag_border", "bits", "1: AprilTag 3's layout; 2: Kalibr's printed grids.", "1 or 2"},
+      &g.black_tag_border);
+  v.Field({"corner_squares", "", "Kalibr's black squares at the tag corners."}, &g.corner_squares);
+  v.Field({"origin", "m", "Grid origin in the points frame."}, &g.points_from_board.translation);
+  v.Field({"rpy_deg", "deg", "Grid orientation in the points frame (roll, pitch, yaw)."},
+          &p.rpy_deg);
+  v.Check(nullptr, [&p](std::string* why) {
+    p.grid.points_from_board.rotation = FromRollPitchYawDeg(p.rpy_deg);
+    return p.grid.Check(why);
+  });
+}
+
+void Visit(FieldVisitor& v, PointsConfig& p) {
+  std::string preset = "thesis";
+  v.Field({"preset", "", "The thesis's feature points."}, &preset, Choices{{"thesis"}});
+  v.Field({"count", "", "With `preset`: how many of them (the first ones).", "1 to 10"}, &p.count);
+  v.Field({"list", "m",
+           "Explicit [x, y, z] points (in the points frame: world for a moving camera, body for "
+           "a fixed one)."},
+          &p.xyz);
+  SectionOps random;
+  random.visit = [&p](FieldVisitor& w) { VisitRandomBox(w, p); };
+  random.flow = true;
+  v.Section({"random", "",
+             "Points uniform in the box [min, max], drawn once from the scenario "
+             "seed. All three keys required."},
+            random);
+  VisitList(v,
+            {"boards", "", "Planar chessboard-like boards (a rig); their corners are the points."},
+            &p.boards);
+  VisitList(v,
+            {"aprilgrids", "",
+             "Kalibr AprilGrids (needed for `detections: rendered`); their tag corners are the "
+             "points."},
+            &p.aprilgrids);
+}
+
+void VisitRandomBox(FieldVisitor& v, PointsConfig& p) {
+  v.Field({"count", "", "How many points.", "1 to 100000"}, &p.count);
+  v.Field({"min", "m", "Lower corner of the box."}, &p.random_min);
+  v.Field({"max", "m", "Upper corner of the box."}, &p.random_max);
+}
+
+std::vector<std::string> SweepableKeys() {
+  class Keys final : public FieldVisitor {
+   public:
+    std::vector<std::string> keys;
+    void Add(const FieldSpec& f) {
+      if (!(f.flags & kNotSweepable)) keys.emplace_back(f.key);
+    }
+    void Field(const FieldSpec& f, double*) override { Add(f); }
+    void Field(const FieldSpec& f, int*) override { Add(f); }
+    void Field(const FieldSpec& f, uint64_t*) override { Add(f); }
+    void Field(const FieldSpec& f, bool*) override { Add(f); }
+    void Field(const FieldSpec& f, std::string*) override { Add(f); }
+    void Field(const FieldSpec& f, std::string*, const Choices&) override { Add(f); }
+    void Field(const FieldSpec& f, Eigen::Vector3d*) override { Add(f); }
+    void Field(const FieldSpec& f, Eigen::Matrix3d*) override { Add(f); }
+    void Field(const FieldSpec& f, std::vector<Eigen::Vector3d>*) override { Add(f); }
+    void Field(const FieldSpec& f, int*, int*) override { Add(f); }
+    void Section(const FieldSpec& f, const SectionOps&) override { Add(f); }
+    void List(const FieldSpec& f, const ListOps&) override { Add(f); }
+    void Field(const FieldSpec& f, PointsConfig*) override { Add(f); }
+    void Field(const FieldSpec& f, std::vector<MethodInstance>*) override { Add(f); }
+    void Field(const FieldSpec& f, std::vector<CalibrationChange>*) override { Add(f); }
+  } keys;
+  ScenarioConfig s;
+  Visit(keys, s);
+  return keys.keys;
+}
+
+}  // namespace calibench
