@@ -1,5 +1,6 @@
 """Markdown of the report: tables (pandas' to_markdown) and the formats of numbers and tests."""
 import math
+import numbers
 
 import pandas as pd
 
@@ -13,7 +14,8 @@ def markdown(rows, columns):
 
 
 def finite(x):
-    return x is not None and isinstance(x, (int, float)) and math.isfinite(x)
+    # numbers.Real also holds numpy's integers (a CSV column of whole numbers reads as int64).
+    return isinstance(x, numbers.Real) and math.isfinite(x)
 
 
 def num(x, digits=3):

@@ -6,6 +6,7 @@ mutation of the code it was seen to catch.
 Run: PYTHONPATH=python /usr/bin/python3 tests/bench/report_stats_test.py
 (ctest: calibench_bench_report_stats_test, labels bench and report).
 """
+import io
 import itertools
 import math
 import unittest
@@ -14,6 +15,7 @@ import numpy as np
 import pandas as pd
 
 from calibench_report import stats as rs
+from calibench_report import tables
 
 
 def signed_rank_exact_p(d):
@@ -196,6 +198,16 @@ class CoverageTest(unittest.TestCase):
         lo = next(k for k in range(101) if binomial_cdf(k, 100, 0.95) >= 0.025)
         hi = next(k for k in range(101) if binomial_cdf(k, 100, 0.95) >= 0.975)
         self.assertEqual(rs.coverage_band(100), (lo / 100, hi / 100))
+
+
+class NumberFormatTest(unittest.TestCase):
+    def test_whole_numbers_read_from_a_csv_are_printed(self):
+        # A CSV column of whole numbers reads as int64: the corner study's tag_px and tilt_deg.
+        # Mutation seen: finite() accepting only Python's int and float printed them as "–".
+        frame = pd.read_csv(io.StringIO("tag_px,tilt_deg,blur\n32,0,0.5\n"))
+        self.assertEqual([tables.num(frame[c].iloc[0]) for c in frame], ["32", "0", "0.5"])
+        self.assertEqual(tables.num(float("nan")), "–")
+        self.assertEqual(tables.num(None), "–")
 
 
 if __name__ == "__main__":
