@@ -16,6 +16,7 @@ import pandas as pd
 
 from calibench_report import stats as rs
 from calibench_report import tables
+from calibench_report.sections import corner_bias
 
 
 def signed_rank_exact_p(d):
@@ -208,6 +209,18 @@ class NumberFormatTest(unittest.TestCase):
         self.assertEqual([tables.num(frame[c].iloc[0]) for c in frame], ["32", "0", "0.5"])
         self.assertEqual(tables.num(float("nan")), "–")
         self.assertEqual(tables.num(None), "–")
+
+
+class CornerStudyMatchTest(unittest.TestCase):
+    def test_the_matching_fit_is_lens_aware_then_photometric_never_the_saddle(self):
+        # Mutation seen: "the last stage" picked the saddle on corner-square cases (57 of 91
+        # cases within the study's bounds instead of 84).
+        cases = pd.DataFrame({"case": [0, 0, 0, 1, 1, 1, 1, 2],
+                              "stage": ["raw", "photometric", "saddle", "raw", "photometric",
+                                        "lens_aware", "saddle", "raw"]})
+        picked = corner_bias.matched(cases)
+        self.assertEqual(list(zip(picked.case, picked.stage)),
+                         [(0, "photometric"), (1, "lens_aware"), (2, "raw")])
 
 
 if __name__ == "__main__":
