@@ -200,7 +200,7 @@ INSTANTIATE_TEST_SUITE_P(
                    {"scenario.rendering.corner_error_grid", "a grid's index"}},
         ConfigCase{"corner_error_grid_past_the_grids",
                    "base: " + std::string(CALIBENCH_SOURCE_DIR) +
-                       "/configs/sweeps/rig.yaml\nscenario:\n  measurements: {detections: "
+                       "/tests/fixtures/rig.yaml\nscenario:\n  measurements: {detections: "
                        "rendered}\n  noise: {pixel_sigma_px: 0}\n  rendering: "
                        "{corner_error_grid: 2}\n",
                    {"scenario.rendering.corner_error_grid", "2 names no grid",

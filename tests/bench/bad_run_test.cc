@@ -293,7 +293,7 @@ TEST(BadImages, WrongSpacingIsFlaggedByTheReprojectionError) {
 TEST(BadImages, DetectFramesRefusesFramesOfAnotherSizeThanTheCamera) {
   RunConfig config;
   std::string why;
-  ASSERT_TRUE(LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/rendered/sim03_rig.yaml",
+  ASSERT_TRUE(LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/tests/fixtures/sim03_rig.yaml",
                             &config, &why))
       << why;
   ScenarioConfig s = config.scenarios[0];

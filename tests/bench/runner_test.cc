@@ -27,7 +27,7 @@ TEST(Csv, QuotesFieldsThatNeedIt) {
 ScenarioConfig NoisyShortScenario() {
   RunConfig config;
   std::string why;
-  EXPECT_TRUE(LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/thesis/sim17.yaml",
+  EXPECT_TRUE(LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/tests/fixtures/thesis/sim17.yaml",
                             &config, &why))
       << why;
   ScenarioConfig s = config.scenarios.at(0);
@@ -62,7 +62,7 @@ ScenarioConfig LoadOne(const std::string& relative) {
 
 // Noise-free thesis sim 3: adaptive, dlt and ceres all recover the truth (1e-6 relative).
 TEST(Runner, AllMethodsRecoverTheTruthOnNoiseFreeData) {
-  ScenarioConfig s = LoadOne("configs/thesis/sim03.yaml");
+  ScenarioConfig s = LoadOne("tests/fixtures/thesis/sim03.yaml");
   EnableOnly(&s, {"adaptive", "dlt", "ceres"});
   const std::vector<RunRow> rows = RunTrial(s, 0);
   ASSERT_EQ(rows.size(), 3u);
@@ -82,7 +82,7 @@ TEST(Runner, AllMethodsRecoverTheTruthOnNoiseFreeData) {
 
 // With pixel noise, ceres reports standard deviations and the CRLB is filled in; they agree.
 TEST(Runner, CeresRowsCarryStdAndCrlb) {
-  ScenarioConfig s = LoadOne("configs/batch/crlb50.yaml");
+  ScenarioConfig s = LoadOne("tests/fixtures/crlb50.yaml");
   s.trials = 1;
   s.FindMethod("adaptive")->enabled = false;
   const std::vector<RunRow> rows = RunTrial(s, 0);
@@ -101,7 +101,7 @@ TEST(Runner, CeresRowsCarryStdAndCrlb) {
 class RigRecovery : public ::testing::TestWithParam<CalibrationCase> {};
 
 TEST_P(RigRecovery, EveryBatchMethodRecoversTheTruth) {
-  ScenarioConfig s = LoadOne("configs/batch/rig_moving.yaml");
+  ScenarioConfig s = LoadOne("tests/fixtures/rig_moving.yaml");
   s.trials = 1;
   s.measurements.noise = NoiseOptions();
   s.FindMethod("adaptive")->enabled = false;
@@ -135,7 +135,7 @@ INSTANTIATE_TEST_SUITE_P(BothCases, RigRecovery,
 
 // Rotation about one fixed axis cannot determine a hand-eye problem: a failed row that says so.
 TEST(Runner, DegenerateHandEyeIsReported) {
-  ScenarioConfig s = LoadOne("configs/batch/rig_moving.yaml");
+  ScenarioConfig s = LoadOne("tests/fixtures/rig_moving.yaml");
   s.trials = 1;
   EnableOnly(&s, {"zhang", "zhang_handeye"});
   s.motion.w_cos.setZero();
@@ -157,13 +157,13 @@ TEST(Runner, BadScenarioGivesAFailedRowNotACrash) {
   EXPECT_NE(rows[0].message.find("behind the camera"), std::string::npos) << rows[0].message;
 }
 
-// configs/examples/double_sphere.yaml (a 190 deg lens, oracle corners, 0.1 px noise): the pinhole
+// tests/fixtures/double_sphere.yaml (configs/examples/; a 190 deg lens, oracle corners, 0.1 px noise): the pinhole
 // methods refuse the lens with the reason and the trial goes on; zhang's wide start and ceres
 // recover f within kWideFocalTolPx. Measured |f.ku error| 0.51 px (zhang) and 0.51 px (ceres, std
 // 0.30) on trial 0; 1.5 px is 5 of ceres' std.
 constexpr double kWideFocalTolPx = 1.5;
 TEST(Runner, PinholeMethodsRefuseAWideLensAndTheOthersCalibrateIt) {
-  ScenarioConfig s = LoadOne("configs/examples/double_sphere.yaml");
+  ScenarioConfig s = LoadOne("tests/fixtures/double_sphere.yaml");
   s.trials = 1;
   const std::vector<RunRow> rows = RunTrial(s, 0);
   int refused = 0;

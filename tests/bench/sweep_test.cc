@@ -97,14 +97,14 @@ std::string SweepError(const std::string& sweep) {
   RunConfig config;
   std::string why;
   EXPECT_FALSE(LoadRunConfigFromString(
-      "base: ../../../configs/thesis/sim03.yaml\nscenario: {name: e}\nsweep:\n" + sweep,
+      "base: ../../fixtures/thesis/sim03.yaml\nscenario: {name: e}\nsweep:\n" + sweep,
       std::string(CALIBENCH_SOURCE_DIR) + "/tests/bench/sweeps/x.yaml", &config, &why));
   return why;
 }
 
 TEST(Sweep, RangesAndWholeSectionFields) {
   const std::string head =
-      "base: ../../../configs/thesis/sim03.yaml\nscenario: {name: r}\nsweep:\n";
+      "base: ../../fixtures/thesis/sim03.yaml\nscenario: {name: r}\nsweep:\n";
   // Linear range: 0, 0.25, ..., 1 (5 values; the end is included despite rounding).
   RunConfig c =
       FromString(head + "  - {field: noise.pixel_sigma_px, range: {from: 0, to: 1, step: 0.25}}\n");
@@ -170,14 +170,14 @@ TEST(Sweep, GroupSharesMeasurementsAndBatchRows) {
   EXPECT_EQ(rows[1].fku_px, rows[7].fku_px);
 }
 
-// configs/examples/named_instances.yaml: two adaptive gains and two ceres refinements side by side.
+// tests/fixtures/named_instances.yaml (configs/examples/): two adaptive gains and two ceres refinements side by side.
 // Every trial is one task (one measurement pass) giving 4 distinct rows per sweep point; the axis
 // on adaptive-a100 re-runs that instance only, and the other three are copied at later points.
 TEST(Sweep, NamedInstancesGiveTheirOwnRowsAndShareTheMeasurements) {
   RunConfig config;
   std::string why;
   ASSERT_TRUE(LoadRunConfig(
-      std::string(CALIBENCH_SOURCE_DIR) + "/configs/examples/named_instances.yaml", &config, &why))
+      std::string(CALIBENCH_SOURCE_DIR) + "/tests/fixtures/named_instances.yaml", &config, &why))
       << why;
   ASSERT_EQ(config.scenarios.size(), 3u);
   for (ScenarioConfig& s : config.scenarios) {
@@ -218,7 +218,7 @@ TEST(Sweep, NamedInstancesGiveTheirOwnRowsAndShareTheMeasurements) {
 // override of one instance leaves the others as they are.
 TEST(Sweep, MapFormConfiguresInstancesByName) {
   const RunConfig c = FromString(
-      "base: ../../../configs/sweeps/rig.yaml\nscenario:\n  name: m\n"
+      "base: ../../fixtures/rig.yaml\nscenario:\n  name: m\n"
       "  methods: {zhang: {max_views: 12}, ceres: {loss: cauchy}}\n");
   const ScenarioConfig& s = c.scenarios.at(0);
   ASSERT_EQ(s.methods.size(), MethodTypes().size() + 2);  // One per type, and rig.yaml's twins.
@@ -235,7 +235,7 @@ TEST(Sweep, MapFormConfiguresInstancesByName) {
 // motion.random_phase: a trial's scene comes from its seed (the same seed, the same motion;
 // another seed, another phase of the same profile); without it every trial has one motion.
 TEST(Sweep, RandomPhaseGivesEachTrialItsOwnViews) {
-  const RunConfig c = FromString("base: ../../../configs/sweeps/rig.yaml\nscenario: {name: p}\n");
+  const RunConfig c = FromString("base: ../../fixtures/rig.yaml\nscenario: {name: p}\n");
   const ScenarioConfig& s = c.scenarios.at(0);
   ASSERT_TRUE(s.motion_random_phase);
   const auto pose_at = [&](int trial) {
@@ -253,7 +253,7 @@ TEST(Sweep, RandomPhaseGivesEachTrialItsOwnViews) {
 // refused.
 TEST(Sweep, MapFormAddsATypedInstance) {
   const RunConfig c = FromString(
-      "base: ../../../configs/sweeps/rig.yaml\nscenario:\n  name: m\n"
+      "base: ../../fixtures/rig.yaml\nscenario:\n  name: m\n"
       "  methods: {twin: {type: ceres, init: zhang, views: init}}\n");
   const MethodInstance* twin = c.scenarios.at(0).FindMethod("twin");
   ASSERT_NE(twin, nullptr);
@@ -263,7 +263,7 @@ TEST(Sweep, MapFormAddsATypedInstance) {
   RunConfig refused;
   std::string error;
   EXPECT_FALSE(LoadRunConfigFromString(
-      "base: ../../../configs/sweeps/rig.yaml\nscenario:\n  name: m\n"
+      "base: ../../fixtures/rig.yaml\nscenario:\n  name: m\n"
       "  methods: {ceres: {type: dlt}}\n",
       std::string(CALIBENCH_SOURCE_DIR) + "/tests/bench/sweeps/x.yaml", &refused, &error));
   EXPECT_NE(error.find("methods.ceres.type: 'ceres' is already an instance of type ceres"),
