@@ -26,17 +26,37 @@ class AdaptiveMethod final : public Method {
   std::unique_ptr<Method> Clone() const override { return std::make_unique<AdaptiveMethod>(*this); }
 
   void VisitOptions(OptionVisitor* v) override {
-    v->Field("alpha", &options_.alpha);
-    v->Field("gamma0", &options_.gamma0);
-    v->Field("rtol", &options_.rtol);
-    v->Field("max_step_s", &options_.max_step_s);
-    v->Field("initial_step_s", &options_.initial_step_s);
-    v->Field("max_steps", &options_.max_steps);
-    v->Field("forgetting_beta", &options_.forgetting_beta);
-    v->Field("forgetting_gain_bound", &options_.forgetting_gain_bound);
-    v->Field("reset_threshold", &options_.reset_threshold);
-    v->Field("reset_gamma", &options_.reset_gamma);
-    v->Field("initial", &initial_);
+    v->Field({"alpha", "", "Adaptation gain α of eq. 2.16 (the thesis: 1000; ≥ 100 to converge)."},
+             &options_.alpha);
+    v->Field({"gamma0", "", "Initial gain matrix Γ(0) = gamma0 · I (the thesis: 1)."},
+             &options_.gamma0);
+    v->Field({"rtol", "", "Relative error tolerance of the Dormand–Prince integrator's steps."},
+             &options_.rtol);
+    v->Field({"max_step_s", "s", "Longest integrator step."}, &options_.max_step_s);
+    v->Field({"initial_step_s", "s",
+              "First trial step of the integrator (the system is stiff at t = 0); the step "
+              "controller adapts it at once."},
+             &options_.initial_step_s);
+    v->Field({"max_steps", "",
+              "Cap on integrator steps, accepted and rejected; exceeding it fails the run."},
+             &options_.max_steps);
+    v->Field({"forgetting_beta", "1/s",
+              "Exponential forgetting rate β of the information, toward Γ(0): a memory of 1/β "
+              "s; 0: none (the thesis's law)."},
+             &options_.forgetting_beta);
+    v->Field({"forgetting_gain_bound", "",
+              "Bounded-gain forgetting: the rate β scaled by (1 − tr Γ / this), clipped at 0; "
+              "`.inf`: unbounded."},
+             &options_.forgetting_gain_bound);
+    v->Field({"reset_threshold", "",
+              "Covariance resetting: Γ ← reset_gamma · I when λ_min(Γ) ≤ this, then the "
+              "integrator restarts; 0: never."},
+             &options_.reset_threshold);
+    v->Field({"reset_gamma", "", "Gain a covariance reset sets Γ to (times I); 0: gamma0."},
+             &options_.reset_gamma);
+    v->Field(
+        {"initial", "", "Initial guess θ̂(0), as a camera (default: the thesis's, appendix B.1)."},
+        &initial_);
   }
 
   bool Check(std::string* why) const override {

@@ -31,14 +31,26 @@ class CeresMethod final : public Method {
   std::unique_ptr<Method> Clone() const override { return std::make_unique<CeresMethod>(*this); }
 
   void VisitOptions(OptionVisitor* v) override {
-    v->Field("init", &init_, {});
-    v->Field("model", &options_.model);
-    v->Field("estimate_skew", &options_.estimate_skew);
-    v->Field("loss", &options_.loss, {"none", "huber", "cauchy"});
-    v->Field("loss_scale_px", &options_.loss_scale_px);
-    v->Field("max_iterations", &options_.max_iterations);
-    v->Field("autodiff", &options_.autodiff);
-    v->Field("views", &views_, {"frames", "init"});
+    v->Field({"init", "",
+              "The method it starts from: an instance of the scenario, or a type's default (dlt, "
+              "zhang)."},
+             &init_, {});
+    v->Field({"model", "", "Lens model of the refinement."}, &options_.model);
+    v->Field({"estimate_skew", "", "Estimate the skew angle φ; false fixes φ = 90°."},
+             &options_.estimate_skew);
+    v->Field({"loss", "", "Robust loss on the reprojection residuals."}, &options_.loss,
+             {"none", "huber", "cauchy"});
+    v->Field({"loss_scale_px", "px", "Scale of the robust loss."}, &options_.loss_scale_px);
+    v->Field({"max_iterations", "", "Cap on the Ceres solver's iterations."},
+             &options_.max_iterations);
+    v->Field({"autodiff", "",
+              "Jacobians by ceres::Jet automatic differentiation (the reference) instead of the "
+              "analytic ones."},
+             &options_.autodiff);
+    v->Field({"views", "",
+              "frames: every frame, one shared pose; init: exactly the views its init used, one "
+              "pose per view (the twin of a planar-target calibration)."},
+             &views_, {"frames", "init"});
     online_.Visit(v);
   }
   bool Check(std::string* why) const override {

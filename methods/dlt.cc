@@ -14,7 +14,10 @@ class DltMethod final : public Method {
  public:
   std::unique_ptr<Method> Clone() const override { return std::make_unique<DltMethod>(*this); }
   void VisitOptions(OptionVisitor* v) override {
-    v->Field("min_planarity_ratio", &options_.min_planarity_ratio);
+    v->Field({"min_planarity_ratio", "",
+              "The pooled points count as coplanar (refused) when the smallest singular value of "
+              "their centred scatter is below this fraction of the largest."},
+             &options_.min_planarity_ratio);
     online_.Visit(v);
   }
   bool Check(std::string* why) const override { return options_.Check(why) && online_.Check(why); }

@@ -63,21 +63,40 @@ class EkfMethod final : public Method {
   std::unique_ptr<Method> Clone() const override { return std::make_unique<EkfMethod>(*this); }
 
   void VisitOptions(OptionVisitor* v) override {
-    v->Field("init", &init_, {});
-    v->Field("init_window_s", &init_window_s_);
-    v->Field("estimate_skew", &estimate_skew_);
-    v->Field("pixel_sigma_px", &pixel_sigma_px_);
-    v->Field("iterations", &iterations_);
-    v->Field("q_focal_px2_s", &q_focal_);
-    v->Field("q_center_px2_s", &q_center_);
-    v->Field("q_skew_rad2_s", &q_skew_);
-    v->Field("q_rotation_rad2_s", &q_rotation_);
-    v->Field("q_position_m2_s", &q_position_);
-    v->Field("p0_focal_px", &p0_focal_);
-    v->Field("p0_center_px", &p0_center_);
-    v->Field("p0_skew_deg", &p0_skew_deg_);
-    v->Field("p0_rotation_deg", &p0_rotation_deg_);
-    v->Field("p0_position_m", &p0_position_);
+    v->Field({"init", "",
+              "The method it starts from, solved on the first init_window_s: an instance of the "
+              "scenario, or a type's default (dlt, zhang, ceres)."},
+             &init_, {});
+    v->Field({"init_window_s", "s",
+              "The start's data: the first seconds of the trial; the filter runs on the frames "
+              "after it."},
+             &init_window_s_);
+    v->Field({"estimate_skew", "",
+              "Estimate the skew angle φ; false keeps the start's φ, with zero variance."},
+             &estimate_skew_);
+    v->Field({"pixel_sigma_px", "px", "Measurement noise std per pixel coordinate."},
+             &pixel_sigma_px_);
+    v->Field({"iterations", "", "Updates per frame: 1, the EKF; more, the iterated EKF (≤ 20)."},
+             &iterations_);
+    v->Field({"q_focal_px2_s", "px²/s", "Random-walk variance per second of f·ku and f·kv."},
+             &q_focal_);
+    v->Field({"q_center_px2_s", "px²/s", "Random-walk variance per second of u0 and v0."},
+             &q_center_);
+    v->Field({"q_skew_rad2_s", "rad²/s", "Random-walk variance per second of φ."}, &q_skew_);
+    v->Field({"q_rotation_rad2_s", "rad²/s",
+              "Random-walk variance per second of each axis of the extrinsic rotation (ROVIO: "
+              "1e-8)."},
+             &q_rotation_);
+    v->Field({"q_position_m2_s", "m²/s", "Random-walk variance per second of each axis of x_C."},
+             &q_position_);
+    v->Field({"p0_focal_px", "px", "Initial std of f·ku and f·kv about the start."}, &p0_focal_);
+    v->Field({"p0_center_px", "px", "Initial std of u0 and v0 about the start."}, &p0_center_);
+    v->Field({"p0_skew_deg", "deg", "Initial std of φ about the start."}, &p0_skew_deg_);
+    v->Field({"p0_rotation_deg", "deg",
+              "Initial std of each axis of the extrinsic rotation about the start."},
+             &p0_rotation_deg_);
+    v->Field({"p0_position_m", "m", "Initial std of each axis of x_C about the start."},
+             &p0_position_);
   }
 
   bool Check(std::string* why) const override {

@@ -17,10 +17,12 @@
 //   EstimateSink  estimates over time, as the method produces them, and named series of its own
 //                 state (the harness turns them into ||theta~||(t), convergence times, curves).
 //
-// Options: each type reads and writes its options through one function, VisitOptions(), called
-// with a visitor that reads them (the config I/O, from YAML: methods never see YAML), writes them
-// (the resolved configuration), or turns them into text (options.h: the key that decides whether
-// two sweep points may share a result). Check() validates them after reading.
+// Options: each type declares its options once, in one function, VisitOptions(): per option its
+// key, unit and one-line doc (OptionSpec) and the member. It is called with a visitor that reads
+// them (the config I/O, from YAML: methods never see YAML), writes them (the resolved
+// configuration), turns them into text (options.h: the key that decides whether two sweep points
+// may share a result) or documents them (`calibench config-reference` and `calibench methods`,
+// bench/config/config_reference.h). Check() validates them after reading.
 #pragma once
 
 #include <Eigen/Core>
@@ -43,23 +45,32 @@
 
 namespace calibench {
 
-// Reads or writes one option: `key` is its name in configs. An implementation that reads leaves
-// *value untouched when the key is absent and reports a bad value itself (naming file, line and
-// field); one that writes only reads *value.
+// One option's declaration, given once at its VisitOptions call: `key` is its name in configs,
+// `unit` its unit ("" when none; "s", "px", "deg", ... as the key's suffix says), `doc` one line
+// saying what it does (the reference, docs/configuration.md, and `calibench methods` print both).
+struct OptionSpec {
+  const char* key;
+  const char* unit = "";
+  const char* doc = "";
+};
+
+// Reads or writes one option. An implementation that reads leaves *value untouched when the key
+// is absent and reports a bad value itself (naming file, line and field); one that writes only
+// reads *value.
 class OptionVisitor {
  public:
   virtual ~OptionVisitor() = default;
-  virtual void Field(const char* key, double* value) = 0;
-  virtual void Field(const char* key, int* value) = 0;
-  virtual void Field(const char* key, long* value) = 0;
-  virtual void Field(const char* key, bool* value) = 0;
+  virtual void Field(const OptionSpec& spec, double* value) = 0;
+  virtual void Field(const OptionSpec& spec, int* value) = 0;
+  virtual void Field(const OptionSpec& spec, long* value) = 0;
+  virtual void Field(const OptionSpec& spec, bool* value) = 0;
   // A string; when `choices` is not empty it must be one of them.
-  virtual void Field(const char* key, std::string* value,
+  virtual void Field(const OptionSpec& spec, std::string* value,
                      const std::vector<std::string>& choices) = 0;
-  virtual void Field(const char* key, LensModel* value) = 0;
-  virtual void Field(const char* key, CameraSpec* value) = 0;  // intrinsics, R_C, x_C, ...
+  virtual void Field(const OptionSpec& spec, LensModel* value) = 0;
+  virtual void Field(const OptionSpec& spec, CameraSpec* value) = 0;  // intrinsics, R_C, x_C, ...
   // Seconds, or the word `all` (infinity): a window length.
-  virtual void FieldOrAll(const char* key, double* seconds) = 0;
+  virtual void FieldOrAll(const OptionSpec& spec, double* seconds) = 0;
 };
 
 // The frames of a trial's source as views of the parent frame (what batch methods pool).

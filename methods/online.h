@@ -26,8 +26,11 @@ struct OnlineOptions {
 
   bool Online() const { return window_s > 0; }
   void Visit(OptionVisitor* v) {
-    v->FieldOrAll("window_s", &window_s);
-    v->Field("every_s", &every_s);
+    v->FieldOrAll({"window_s", "s",
+                   "Online mode: solve on the frames of the last window_s seconds; 0: static "
+                   "(one solve on the whole trial); `all`: the growing window."},
+                  &window_s);
+    v->Field({"every_s", "s", "Online mode: time between solves."}, &every_s);
   }
   bool Check(std::string* why) const;
 };

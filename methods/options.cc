@@ -19,23 +19,23 @@ std::string Exact(double v) { return FormatNumber(v, 17); }
 // Appends key=value for every option.
 class KeyWriter final : public OptionVisitor {
  public:
-  void Field(const char* key, double* v) override { Add(key, Exact(*v)); }
-  void Field(const char* key, int* v) override { Add(key, std::to_string(*v)); }
-  void Field(const char* key, long* v) override { Add(key, std::to_string(*v)); }
-  void Field(const char* key, bool* v) override { Add(key, *v ? "true" : "false"); }
-  void Field(const char* key, std::string* v, const std::vector<std::string>&) override {
-    Add(key, *v);
+  void Field(const OptionSpec& spec, double* v) override { Add(spec.key, Exact(*v)); }
+  void Field(const OptionSpec& spec, int* v) override { Add(spec.key, std::to_string(*v)); }
+  void Field(const OptionSpec& spec, long* v) override { Add(spec.key, std::to_string(*v)); }
+  void Field(const OptionSpec& spec, bool* v) override { Add(spec.key, *v ? "true" : "false"); }
+  void Field(const OptionSpec& spec, std::string* v, const std::vector<std::string>&) override {
+    Add(spec.key, *v);
   }
-  void Field(const char* key, LensModel* v) override { Add(key, ToString(*v)); }
-  void FieldOrAll(const char* key, double* v) override {
-    Add(key, std::isinf(*v) ? "all" : Exact(*v));
+  void Field(const OptionSpec& spec, LensModel* v) override { Add(spec.key, ToString(*v)); }
+  void FieldOrAll(const OptionSpec& spec, double* v) override {
+    Add(spec.key, std::isinf(*v) ? "all" : Exact(*v));
   }
-  void Field(const char* key, CameraSpec* c) override {
+  void Field(const OptionSpec& spec, CameraSpec* c) override {
     std::string camera;
     for (double p : c->intrinsics.Params()) camera += Exact(p) + " ";
     for (int i = 0; i < 9; ++i) camera += Exact(c->r_c(i / 3, i % 3)) + " ";
     for (int i = 0; i < 3; ++i) camera += Exact(c->x_c[i]) + " ";
-    Add(key, camera + (c->allow_improper_rotation ? "improper" : "proper"));
+    Add(spec.key, camera + (c->allow_improper_rotation ? "improper" : "proper"));
   }
   std::string text;
 
@@ -49,44 +49,45 @@ class KeyWriter final : public OptionVisitor {
 class TextSetter final : public OptionVisitor {
  public:
   TextSetter(std::string key, std::string value) : key_(std::move(key)), value_(std::move(value)) {}
-  void Field(const char* key, double* v) override {
-    if (!Mine(key)) return;
+  void Field(const OptionSpec& spec, double* v) override {
+    if (!Mine(spec.key)) return;
     char* end = nullptr;
     const double parsed = std::strtod(value_.c_str(), &end);
     if (value_.empty() || *end != '\0') return Fail("expected a number");
     *v = parsed;
   }
-  void Field(const char* key, int* v) override {
+  void Field(const OptionSpec& spec, int* v) override {
     long parsed = 0;
-    if (Mine(key) && Integer(&parsed)) *v = static_cast<int>(parsed);
+    if (Mine(spec.key) && Integer(&parsed)) *v = static_cast<int>(parsed);
   }
-  void Field(const char* key, long* v) override {
+  void Field(const OptionSpec& spec, long* v) override {
     long parsed = 0;
-    if (Mine(key) && Integer(&parsed)) *v = parsed;
+    if (Mine(spec.key) && Integer(&parsed)) *v = parsed;
   }
-  void Field(const char* key, bool* v) override {
-    if (!Mine(key)) return;
+  void Field(const OptionSpec& spec, bool* v) override {
+    if (!Mine(spec.key)) return;
     if (value_ == "true" || value_ == "false") {
       *v = value_ == "true";
     } else {
       Fail("expected true or false");
     }
   }
-  void Field(const char* key, std::string* v, const std::vector<std::string>& choices) override {
-    if (!Mine(key)) return;
+  void Field(const OptionSpec& spec, std::string* v,
+             const std::vector<std::string>& choices) override {
+    if (!Mine(spec.key)) return;
     if (!choices.empty() && std::find(choices.begin(), choices.end(), value_) == choices.end()) {
       return Fail("not one of the allowed values");
     }
     *v = value_;
   }
-  void Field(const char* key, LensModel* v) override {
-    if (Mine(key) && !ParseLensModel(value_, v)) Fail("not a lens model");
+  void Field(const OptionSpec& spec, LensModel* v) override {
+    if (Mine(spec.key) && !ParseLensModel(value_, v)) Fail("not a lens model");
   }
-  void Field(const char* key, CameraSpec*) override {
-    if (Mine(key)) Fail("a camera cannot be set from text");
+  void Field(const OptionSpec& spec, CameraSpec*) override {
+    if (Mine(spec.key)) Fail("a camera cannot be set from text");
   }
-  void FieldOrAll(const char* key, double* v) override {
-    if (!Mine(key)) return;
+  void FieldOrAll(const OptionSpec& spec, double* v) override {
+    if (!Mine(spec.key)) return;
     if (value_ == "all") {
       *v = std::numeric_limits<double>::infinity();
       return;

@@ -33,9 +33,15 @@ struct ZhangSettings {
   OnlineOptions online;
 
   void Visit(OptionVisitor* v) {
-    v->Field("model", &model);
-    v->Field("view_stride", &view_stride);
-    v->Field("max_views", &max_views);
+    v->Field({"model", "",
+              "Lens model of the calibration (`pinhole-equi`: cv::fisheye::calibrate; unified, "
+              "eucm, double-sphere: the wide start)."},
+             &model);
+    v->Field({"view_stride", "", "Use every view_stride-th frame."}, &view_stride);
+    v->Field({"max_views", "",
+              "Cap on (frame, board) views, reached by a larger stride (calibrateCamera grows as "
+              "N^2.5); 0: all."},
+             &max_views);
     online.Visit(v);
   }
   bool Check(std::string* why) const {

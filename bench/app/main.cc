@@ -518,6 +518,12 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
       "config-reference",
       "Print the scenario format's reference (Markdown) from its declarations: the generated part "
       "of docs/configuration.md");
+  std::string methods_type;
+  CLI::App* methods = app.add_subcommand(
+      "methods",
+      "List the method types (description, enabled by default) and their options: type, default, "
+      "unit, meaning (Markdown)");
+  methods->add_option("--type", methods_type, "Only this method type");
   CLI11_PARSE(app, argc, argv);
   if (verbose) calibench::ConfigureSolverLogging(argv[0], true);
   try {
@@ -546,6 +552,15 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
     if (target->parsed()) return calibench::WriteTarget(target_args);
     if (config_reference->parsed()) {
       std::cout << calibench::ConfigurationReference();
+      return 0;
+    }
+    if (methods->parsed()) {
+      std::string text, why;
+      if (!calibench::MethodsReference(methods_type, &text, &why)) {
+        std::cerr << "calibench: methods: " << why << "\n";
+        return 2;
+      }
+      std::cout << text;
       return 0;
     }
     if (calibrate->parsed()) {

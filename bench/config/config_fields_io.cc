@@ -184,13 +184,9 @@ void FieldReader::Field(const FieldSpec& f, std::string* v, const Choices& choic
         return;
       }
     }
-    std::string list, best;
-    size_t best_distance = 3;
-    for (const std::string& c : choices.names) {
-      list += (list.empty() ? "" : ", ") + c;
-      const size_t d = EditDistance(value, c);
-      if (d < best_distance) best_distance = d, best = c;
-    }
+    std::string list;
+    for (const std::string& c : choices.names) list += (list.empty() ? "" : ", ") + c;
+    const std::string best = ClosestName(value, choices.names);
     std::string reason = *choices.noun ? "unknown " + std::string(choices.noun) + " '" + value +
                                              "' (one of: " + list + ")"
                                        : "'" + value + "' is not one of: " + list;

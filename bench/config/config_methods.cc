@@ -16,16 +16,16 @@ namespace {
 // Collects the option keys of a method (the allowed keys of its entry).
 class KeyCollector final : public OptionVisitor {
  public:
-  void Field(const char* key, double*) override { keys.emplace_back(key); }
-  void Field(const char* key, int*) override { keys.emplace_back(key); }
-  void Field(const char* key, long*) override { keys.emplace_back(key); }
-  void Field(const char* key, bool*) override { keys.emplace_back(key); }
-  void Field(const char* key, std::string*, const std::vector<std::string>&) override {
-    keys.emplace_back(key);
+  void Field(const OptionSpec& spec, double*) override { keys.emplace_back(spec.key); }
+  void Field(const OptionSpec& spec, int*) override { keys.emplace_back(spec.key); }
+  void Field(const OptionSpec& spec, long*) override { keys.emplace_back(spec.key); }
+  void Field(const OptionSpec& spec, bool*) override { keys.emplace_back(spec.key); }
+  void Field(const OptionSpec& spec, std::string*, const std::vector<std::string>&) override {
+    keys.emplace_back(spec.key);
   }
-  void Field(const char* key, LensModel*) override { keys.emplace_back(key); }
-  void Field(const char* key, CameraSpec*) override { keys.emplace_back(key); }
-  void FieldOrAll(const char* key, double*) override { keys.emplace_back(key); }
+  void Field(const OptionSpec& spec, LensModel*) override { keys.emplace_back(spec.key); }
+  void Field(const OptionSpec& spec, CameraSpec*) override { keys.emplace_back(spec.key); }
+  void FieldOrAll(const OptionSpec& spec, double*) override { keys.emplace_back(spec.key); }
   std::vector<std::string> keys;
 };
 
@@ -34,29 +34,30 @@ class YamlOptionReader final : public OptionVisitor {
  public:
   YamlOptionReader(const Reader& r, const YAML::Node& node, std::string field)
       : r_(r), node_(node), field_(std::move(field)) {}
-  void Field(const char* key, double* v) override { r_.Set(node_, key, field_, v); }
-  void Field(const char* key, int* v) override { r_.Set(node_, key, field_, v); }
-  void Field(const char* key, long* v) override {
-    r_.If(node_, key, field_,
+  void Field(const OptionSpec& spec, double* v) override { r_.Set(node_, spec.key, field_, v); }
+  void Field(const OptionSpec& spec, int* v) override { r_.Set(node_, spec.key, field_, v); }
+  void Field(const OptionSpec& spec, long* v) override {
+    r_.If(node_, spec.key, field_,
           [&](const YAML::Node& n, const std::string& f) { *v = r_.Integer(n, f); });
   }
-  void Field(const char* key, bool* v) override { r_.Set(node_, key, field_, v); }
-  void Field(const char* key, std::string* v, const std::vector<std::string>& choices) override {
-    r_.If(node_, key, field_, [&](const YAML::Node& n, const std::string& f) {
+  void Field(const OptionSpec& spec, bool* v) override { r_.Set(node_, spec.key, field_, v); }
+  void Field(const OptionSpec& spec, std::string* v,
+             const std::vector<std::string>& choices) override {
+    r_.If(node_, spec.key, field_, [&](const YAML::Node& n, const std::string& f) {
       *v = choices.empty() ? r_.String(n, f) : r_.Choice(n, f, choices);
     });
   }
-  void Field(const char* key, LensModel* v) override {
-    r_.If(node_, key, field_, [&](const YAML::Node& n, const std::string& f) {
+  void Field(const OptionSpec& spec, LensModel* v) override {
+    r_.If(node_, spec.key, field_, [&](const YAML::Node& n, const std::string& f) {
       ParseLensModel(r_.Choice(n, f, LensModelNames()), v);
     });
   }
-  void Field(const char* key, CameraSpec* v) override {
-    r_.If(node_, key, field_,
+  void Field(const OptionSpec& spec, CameraSpec* v) override {
+    r_.If(node_, spec.key, field_,
           [&](const YAML::Node& n, const std::string& f) { ParseCamera(r_, n, f, v); });
   }
-  void FieldOrAll(const char* key, double* v) override {
-    r_.If(node_, key, field_, [&](const YAML::Node& n, const std::string& f) {
+  void FieldOrAll(const OptionSpec& spec, double* v) override {
+    r_.If(node_, spec.key, field_, [&](const YAML::Node& n, const std::string& f) {
       *v = n.IsScalar() && n.Scalar() == "all" ? std::numeric_limits<double>::infinity()
                                                : r_.Double(n, f);
     });
@@ -72,22 +73,30 @@ class YamlOptionReader final : public OptionVisitor {
 class YamlOptionWriter final : public OptionVisitor {
  public:
   explicit YamlOptionWriter(YAML::Emitter* out) : out_(*out) {}
-  void Field(const char* key, double* v) override { out_ << YAML::Key << key << YAML::Value << *v; }
-  void Field(const char* key, int* v) override { out_ << YAML::Key << key << YAML::Value << *v; }
-  void Field(const char* key, long* v) override { out_ << YAML::Key << key << YAML::Value << *v; }
-  void Field(const char* key, bool* v) override { out_ << YAML::Key << key << YAML::Value << *v; }
-  void Field(const char* key, std::string* v, const std::vector<std::string>&) override {
-    out_ << YAML::Key << key << YAML::Value << *v;
+  void Field(const OptionSpec& spec, double* v) override {
+    out_ << YAML::Key << spec.key << YAML::Value << *v;
   }
-  void Field(const char* key, LensModel* v) override {
-    out_ << YAML::Key << key << YAML::Value << ToString(*v);
+  void Field(const OptionSpec& spec, int* v) override {
+    out_ << YAML::Key << spec.key << YAML::Value << *v;
   }
-  void Field(const char* key, CameraSpec* v) override {
-    out_ << YAML::Key << key << YAML::Value;
+  void Field(const OptionSpec& spec, long* v) override {
+    out_ << YAML::Key << spec.key << YAML::Value << *v;
+  }
+  void Field(const OptionSpec& spec, bool* v) override {
+    out_ << YAML::Key << spec.key << YAML::Value << *v;
+  }
+  void Field(const OptionSpec& spec, std::string* v, const std::vector<std::string>&) override {
+    out_ << YAML::Key << spec.key << YAML::Value << *v;
+  }
+  void Field(const OptionSpec& spec, LensModel* v) override {
+    out_ << YAML::Key << spec.key << YAML::Value << ToString(*v);
+  }
+  void Field(const OptionSpec& spec, CameraSpec* v) override {
+    out_ << YAML::Key << spec.key << YAML::Value;
     EmitCamera(out_, *v);
   }
-  void FieldOrAll(const char* key, double* v) override {
-    out_ << YAML::Key << key << YAML::Value;
+  void FieldOrAll(const OptionSpec& spec, double* v) override {
+    out_ << YAML::Key << spec.key << YAML::Value;
     if (std::isinf(*v)) {
       out_ << "all";
     } else {

@@ -1,12 +1,13 @@
 // The reference of the scenario format (`calibench config-reference`, the generated part of
 // docs/configuration.md): tables written from the declarations (scenario_fields.cc) and from the
-// VisitOptions of every registered method type.
+// VisitOptions of every registered method type; the latter alone is `calibench methods`.
 #include "bench/config/config_reference.h"
 
 #include <cmath>
 #include <sstream>
 
 #include "bench/config/scenario.h"
+#include "bench/config/yaml_reader.h"
 #include "core/format.h"
 #include "methods/method.h"
 
@@ -37,6 +38,17 @@ struct Row {
   std::string key, type, default_value;
   std::string unit = "", doc = "";
 };
+
+// The table of a mapping's keys or of a method type's options.
+std::string Table(const std::vector<Row>& rows) {
+  std::ostringstream out;
+  out << "| key | type | default | unit | meaning |\n|---|---|---|---|---|\n";
+  for (const Row& r : rows) {
+    out << "| `" << r.key << "` | " << r.type << " | " << r.default_value << " | "
+        << (r.unit.empty() ? "–" : r.unit) << " | " << r.doc << " |\n";
+  }
+  return out.str();
+}
 
 // One mapping's table, then the tables of its nested mappings (headings `path`).
 class DocVisitor final : public FieldVisitor {
@@ -100,11 +112,7 @@ class DocVisitor final : public FieldVisitor {
     std::ostringstream out;
     out << std::string(level_, '#') << " " << path_ << "\n\n";
     if (!doc.empty()) out << doc << "\n\n";
-    out << "| key | type | default | unit | meaning |\n|---|---|---|---|---|\n";
-    for (const Row& r : rows_) {
-      out << "| `" << r.key << "` | " << r.type << " | " << r.default_value << " | "
-          << (r.unit.empty() ? "–" : r.unit) << " | " << r.doc << " |\n";
-    }
+    out << Table(rows_);
     for (const std::string& n : notes_) out << "\n" << n << "\n";
     out << "\n" << nested_;
     return out.str();
@@ -134,35 +142,65 @@ class DocVisitor final : public FieldVisitor {
   std::string nested_;
 };
 
-// A method type's options, from its VisitOptions.
+// A method type's options, from its VisitOptions: each declaration's key, unit and doc, and the
+// default (the value a new instance holds).
 class OptionDoc final : public OptionVisitor {
  public:
   std::vector<Row> rows;
-  void Field(const char* key, double* v) override { rows.push_back({key, "number", Number(*v)}); }
-  void Field(const char* key, int* v) override {
-    rows.push_back({key, "integer", std::to_string(*v)});
+  void Field(const OptionSpec& o, double* v) override { Add(o, "number", Number(*v)); }
+  void Field(const OptionSpec& o, int* v) override { Add(o, "integer", std::to_string(*v)); }
+  void Field(const OptionSpec& o, long* v) override { Add(o, "integer", std::to_string(*v)); }
+  void Field(const OptionSpec& o, bool* v) override { Add(o, "bool", *v ? "true" : "false"); }
+  void Field(const OptionSpec& o, std::string* v,
+             const std::vector<std::string>& choices) override {
+    Add(o, choices.empty() ? "instance or type name" : OneOf(choices), Code(*v));
   }
-  void Field(const char* key, long* v) override {
-    rows.push_back({key, "integer", std::to_string(*v)});
+  void Field(const OptionSpec& o, LensModel* v) override {
+    Add(o, "lens model", Code(ToString(*v)));
   }
-  void Field(const char* key, bool* v) override {
-    rows.push_back({key, "bool", *v ? "true" : "false"});
+  void Field(const OptionSpec& o, CameraSpec*) override {
+    Add(o, "camera mapping (as `truth`)", "–");
   }
-  void Field(const char* key, std::string* v, const std::vector<std::string>& choices) override {
-    rows.push_back({key, choices.empty() ? "instance or type name" : OneOf(choices), Code(*v)});
+  void FieldOrAll(const OptionSpec& o, double* v) override {
+    Add(o, "number or `all`", std::isinf(*v) ? "`all`" : Number(*v));
   }
-  void Field(const char* key, LensModel* v) override {
-    rows.push_back({key, "lens model", Code(ToString(*v))});
-  }
-  void Field(const char* key, CameraSpec*) override {
-    rows.push_back({key, "camera mapping (as `truth`)", "–"});
-  }
-  void FieldOrAll(const char* key, double* v) override {
-    rows.push_back({key, "number or `all`", std::isinf(*v) ? "`all`" : Number(*v)});
+
+ private:
+  void Add(const OptionSpec& o, const std::string& type, const std::string& default_value) {
+    rows.push_back({o.key, type, default_value, o.unit, o.doc});
   }
 };
 
 }  // namespace
+
+std::string MethodTypeReference(const MethodType& type) {
+  const std::unique_ptr<Method> method = type.create();
+  OptionDoc doc;
+  method->VisitOptions(&doc);
+  return "**" + type.name + "** (" + (type.enabled_by_default ? "enabled" : "disabled") +
+         " by default): " + type.description + ".\n\n" + Table(doc.rows);
+}
+
+bool MethodsReference(const std::string& type, std::string* text, std::string* why) {
+  std::string out;
+  for (const MethodType& t : MethodTypes()) {
+    if (!type.empty() && t.name != type) continue;
+    out += (out.empty() ? "" : "\n") + MethodTypeReference(t);
+  }
+  if (!out.empty()) {
+    *text = out;
+    return true;
+  }
+  std::vector<std::string> names;
+  for (const MethodType& t : MethodTypes()) names.push_back(t.name);
+  const std::string best = config_internal::ClosestName(type, names);
+  if (why) {
+    *why = "unknown method type '" + type + "'" +
+           (best.empty() ? "" : " (did you mean '" + best + "'?)") +
+           "; registered types: " + MethodTypeNames();
+  }
+  return false;
+}
 
 std::string ConfigurationReference() {
   ScenarioConfig defaults;
@@ -176,17 +214,7 @@ std::string ConfigurationReference() {
          "Each type's options, from its `VisitOptions` ([methods.md](methods.md) explains "
          "them). Instance keys and the two forms of `methods:` are described below the "
          "generated part.\n\n";
-  for (const MethodType& t : MethodTypes()) {
-    const std::unique_ptr<Method> m = t.create();
-    OptionDoc doc;
-    m->VisitOptions(&doc);
-    out << "**" << t.name << "**" << (t.enabled_by_default ? " (enabled by default)" : "") << ": "
-        << t.description << ".\n\n| key | type | default |\n|---|---|---|\n";
-    for (const Row& r : doc.rows) {
-      out << "| `" << r.key << "` | " << r.type << " | " << r.default_value << " |\n";
-    }
-    out << "\n";
-  }
+  for (const MethodType& t : MethodTypes()) out << MethodTypeReference(t) << "\n";
   std::string text = out.str();
   while (text.size() > 1 && text[text.size() - 1] == '\n' && text[text.size() - 2] == '\n') {
     text.pop_back();

@@ -88,6 +88,18 @@ inline size_t EditDistance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+// The name of `names` closest to a misspelt `value` (edit distance at most 2), or "": the
+// "did you mean" of a message.
+inline std::string ClosestName(const std::string& value, const std::vector<std::string>& names) {
+  std::string best;
+  size_t best_distance = 3;
+  for (const std::string& n : names) {
+    const size_t d = EditDistance(value, n);
+    if (d < best_distance) best_distance = d, best = n;
+  }
+  return best;
+}
+
 // Parses one file's nodes, naming the file and the dotted field path in every error.
 class Reader {
  public:

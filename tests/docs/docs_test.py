@@ -139,10 +139,11 @@ def config_keys():
         keys.update(re.findall(
             r"\b(?:Field|Section|List|VisitEnum|VisitSection|VisitList|Refused)\s*\(\s*"
             r"(?:[A-Za-z_]\w*\s*,\s*)?\{?\s*\"([A-Za-z0-9_]+)\"", text))
-    # Method options: VisitOptions of every method type (and the shared online options).
+    # Method options: VisitOptions of every method type (and the shared online options): the key
+    # of every OptionSpec, `Field({"key", "unit", "doc"}, &member)`.
     for path in sources("methods/*.cc") + sources("methods/*.h"):
         text = strip_comments(read(path))
-        keys.update(re.findall(r"\bField(?:OrAll)?\s*\(\s*\"([A-Za-z0-9_]+)\"", text))
+        keys.update(re.findall(r"\bField(?:OrAll)?\s*\(\s*\{?\s*\"([A-Za-z0-9_]+)\"", text))
     # Tracked quantities (tracking.tolerance keys) are the metric table's tracked names.
     keys.update(name for name, _, tracked in metric_entries() if tracked)
     return keys

@@ -5,10 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <regex>
 #include <set>
+#include <utility>
 
 #include "methods/options.h"
 #include "tests/common/method_input.h"
+#include "tests/common/option_specs.h"
 
 namespace calibench {
 namespace {
@@ -101,6 +104,59 @@ TEST(Registry, SetOptionChangesExactlyThatOption) {
   EXPECT_NE(OptionsKey(*ceres).find("model=pinhole-k2;"), std::string::npos);
   EXPECT_FALSE(SetOption(ceres.get(), "model", "fisheye", &why));
   EXPECT_FALSE(SetOption(ceres.get(), "loss", "l1", &why));
+}
+
+// Key suffixes and the unit each names (the house rule "units in names"), longest first: a
+// variance rate `q_focal_px2_s` is px²/s, not s.
+const std::vector<std::pair<std::string, std::string>>& UnitSuffixes() {
+  static const std::vector<std::pair<std::string, std::string>> suffixes = {
+      {"_px2_s", "px²/s"}, {"_rad2_s", "rad²/s"}, {"_m2_s", "m²/s"}, {"_s", "s"},
+      {"_px", "px"},       {"_deg", "deg"},       {"_hz", "Hz"},     {"_m", "m"}};
+  return suffixes;
+}
+
+// The unit `key`'s suffix names; "" when it names none.
+std::string UnitOfSuffix(const std::string& key) {
+  for (const auto& [suffix, unit] : UnitSuffixes()) {
+    if (key.size() > suffix.size() &&
+        key.compare(key.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      return unit;
+    }
+  }
+  return "";
+}
+
+// Every option of every registered type is documented: a snake_case key, a one-line doc (the
+// reference's table cell: no newline, no '|'), and the unit its key's suffix names; a unit that a
+// suffix stands for is only declared on keys with that suffix. Checked by hand: emptying the doc
+// of adaptive's `alpha` or giving `max_step_s` the unit "ms" fails this test.
+TEST(Registry, EveryOptionHasADocAndTheUnitOfItsKey) {
+  const std::regex snake_case("[a-z][a-z0-9]*(_[a-z0-9]+)*");
+  std::set<std::string> suffix_units;
+  for (const auto& entry : UnitSuffixes()) suffix_units.insert(entry.second);
+  for (const MethodType& t : MethodTypes()) {
+    const std::vector<OptionSpec> specs = OptionSpecs(*t.create());
+    EXPECT_FALSE(specs.empty()) << t.name;
+    std::set<std::string> keys;
+    for (const OptionSpec& o : specs) {
+      ASSERT_NE(o.key, nullptr) << t.name;
+      ASSERT_NE(o.unit, nullptr) << t.name << "." << o.key;
+      ASSERT_NE(o.doc, nullptr) << t.name << "." << o.key;
+      const std::string key = o.key, unit = o.unit, doc = o.doc;
+      const std::string where = t.name + "." + key;
+      EXPECT_TRUE(keys.insert(key).second) << where << " declared twice";
+      EXPECT_TRUE(std::regex_match(key, snake_case)) << where << ": not snake_case";
+      EXPECT_FALSE(doc.empty()) << where << ": no doc";
+      EXPECT_EQ(doc.find_first_of("\n|"), std::string::npos) << where << ": " << doc;
+      const std::string expected = UnitOfSuffix(key);
+      if (!expected.empty()) {
+        EXPECT_EQ(unit, expected) << where << ": its key's suffix names " << expected;
+      } else {
+        EXPECT_EQ(suffix_units.count(unit), 0u)
+            << where << ": unit " << unit << " without its suffix in the key";
+      }
+    }
+  }
 }
 
 TEST(Registry, InstancesCopyDeeply) {
