@@ -12,26 +12,11 @@ namespace config_internal {
 namespace {
 
 // The declared keys (and the refused ones with their reasons) of a mapping.
-class KeyCollector final : public FieldVisitor {
+class KeyCollector final : public SpecVisitor {
  public:
   std::vector<std::string> keys;
   std::vector<std::pair<std::string, std::string>> refused;
-  void Add(const FieldSpec& f) { keys.emplace_back(f.key); }
-  void Field(const FieldSpec& f, double*) override { Add(f); }
-  void Field(const FieldSpec& f, int*) override { Add(f); }
-  void Field(const FieldSpec& f, uint64_t*) override { Add(f); }
-  void Field(const FieldSpec& f, bool*) override { Add(f); }
-  void Field(const FieldSpec& f, std::string*) override { Add(f); }
-  void Field(const FieldSpec& f, std::string*, const Choices&) override { Add(f); }
-  void Field(const FieldSpec& f, Eigen::Vector3d*) override { Add(f); }
-  void Field(const FieldSpec& f, Eigen::Matrix3d*) override { Add(f); }
-  void Field(const FieldSpec& f, std::vector<Eigen::Vector3d>*) override { Add(f); }
-  void Field(const FieldSpec& f, int*, int*) override { Add(f); }
-  void Section(const FieldSpec& f, const SectionOps&) override { Add(f); }
-  void List(const FieldSpec& f, const ListOps&) override { Add(f); }
-  void Field(const FieldSpec& f, PointsConfig*) override { Add(f); }
-  void Field(const FieldSpec& f, std::vector<MethodInstance>*) override { Add(f); }
-  void Field(const FieldSpec& f, std::vector<CalibrationChange>*) override { Add(f); }
+  void Spec(const FieldSpec& f) override { keys.emplace_back(f.key); }
   void Refused(const char* key, const char* reason) override { refused.emplace_back(key, reason); }
 };
 

@@ -92,6 +92,28 @@ class FieldVisitor {
   virtual void Refused(const char* /*key*/, const char* /*reason*/) {}
 };
 
+// A visitor that sees only each field's declaration (its FieldSpec), whatever its type: key
+// lists and other walks over the declarations derive from it and implement Spec().
+class SpecVisitor : public FieldVisitor {
+ public:
+  virtual void Spec(const FieldSpec& f) = 0;
+  void Field(const FieldSpec& f, double*) override { Spec(f); }
+  void Field(const FieldSpec& f, int*) override { Spec(f); }
+  void Field(const FieldSpec& f, uint64_t*) override { Spec(f); }
+  void Field(const FieldSpec& f, bool*) override { Spec(f); }
+  void Field(const FieldSpec& f, std::string*) override { Spec(f); }
+  void Field(const FieldSpec& f, std::string*, const Choices&) override { Spec(f); }
+  void Field(const FieldSpec& f, Eigen::Vector3d*) override { Spec(f); }
+  void Field(const FieldSpec& f, Eigen::Matrix3d*) override { Spec(f); }
+  void Field(const FieldSpec& f, std::vector<Eigen::Vector3d>*) override { Spec(f); }
+  void Field(const FieldSpec& f, int*, int*) override { Spec(f); }
+  void Section(const FieldSpec& f, const SectionOps&) override { Spec(f); }
+  void List(const FieldSpec& f, const ListOps&) override { Spec(f); }
+  void Field(const FieldSpec& f, PointsConfig*) override { Spec(f); }
+  void Field(const FieldSpec& f, std::vector<MethodInstance>*) override { Spec(f); }
+  void Field(const FieldSpec& f, std::vector<CalibrationChange>*) override { Spec(f); }
+};
+
 // An enum class through its name table (YAML spelling, in declaration order).
 template <typename E>
 struct EnumNames {

@@ -29,13 +29,12 @@ const EnumNames<CalibrationCase>& CaseNames() {
 }
 
 const EnumNames<LensFamily>& ScenarioLensFamilies() {
-  static const EnumNames<LensFamily> names{
-      {{LensFamily::kRadTan, "radtan"},
-       {LensFamily::kEquidistant, "equidistant"},
-       {LensFamily::kUnified, "unified"},
-       {LensFamily::kEucm, "eucm"},
-       {LensFamily::kDoubleSphere, "double-sphere"}},
-      "lens family"};
+  static const EnumNames<LensFamily> names{{{LensFamily::kRadTan, "radtan"},
+                                            {LensFamily::kEquidistant, "equidistant"},
+                                            {LensFamily::kUnified, "unified"},
+                                            {LensFamily::kEucm, "eucm"},
+                                            {LensFamily::kDoubleSphere, "double-sphere"}},
+                                           "lens family"};
   return names;
 }
 
@@ -530,27 +529,12 @@ void VisitRandomBox(FieldVisitor& v, PointsConfig& p) {
 }
 
 std::vector<std::string> SweepableKeys() {
-  class Keys final : public FieldVisitor {
+  class Keys final : public SpecVisitor {
    public:
     std::vector<std::string> keys;
-    void Add(const FieldSpec& f) {
+    void Spec(const FieldSpec& f) override {
       if (!(f.flags & kNotSweepable)) keys.emplace_back(f.key);
     }
-    void Field(const FieldSpec& f, double*) override { Add(f); }
-    void Field(const FieldSpec& f, int*) override { Add(f); }
-    void Field(const FieldSpec& f, uint64_t*) override { Add(f); }
-    void Field(const FieldSpec& f, bool*) override { Add(f); }
-    void Field(const FieldSpec& f, std::string*) override { Add(f); }
-    void Field(const FieldSpec& f, std::string*, const Choices&) override { Add(f); }
-    void Field(const FieldSpec& f, Eigen::Vector3d*) override { Add(f); }
-    void Field(const FieldSpec& f, Eigen::Matrix3d*) override { Add(f); }
-    void Field(const FieldSpec& f, std::vector<Eigen::Vector3d>*) override { Add(f); }
-    void Field(const FieldSpec& f, int*, int*) override { Add(f); }
-    void Section(const FieldSpec& f, const SectionOps&) override { Add(f); }
-    void List(const FieldSpec& f, const ListOps&) override { Add(f); }
-    void Field(const FieldSpec& f, PointsConfig*) override { Add(f); }
-    void Field(const FieldSpec& f, std::vector<MethodInstance>*) override { Add(f); }
-    void Field(const FieldSpec& f, std::vector<CalibrationChange>*) override { Add(f); }
   } keys;
   ScenarioConfig s;
   Visit(keys, s);
