@@ -14,7 +14,7 @@ namespace {
 
 // Zhang (MSR-TR-98-71), complete calibration with skew and k1, k2, as published:
 // alpha 832.5010, beta 832.5309, gamma 0.2046, u0 303.9584, v0 206.5879, k1 -0.228601,
-// k2 0.190353. The issue asks for 0.1% on intrinsics and 1% on k1, k2.
+// k2 0.190353.
 TEST(CalibrateFromPoints, ZhangDataMatchesPublishedResults) {
   PointData data;
   std::string why;
@@ -27,18 +27,29 @@ TEST(CalibrateFromPoints, ZhangDataMatchesPublishedResults) {
   const CalibrateReport report = CalibrateFromPoints(data, options);
   ASSERT_TRUE(report.IsUsable()) << report.ceres.message;
   const CameraIntrinsics& k = report.ceres.intrinsics;
-  constexpr double kIntrinsicsRelTol = 1e-3, kDistortionRelTol = 1e-2;
-  EXPECT_NEAR(k.fku_px, 832.5010, kIntrinsicsRelTol * 832.5010);
-  EXPECT_NEAR(k.fkv_px, 832.5309, kIntrinsicsRelTol * 832.5309);
-  EXPECT_NEAR(k.u0_px, 303.9584, kIntrinsicsRelTol * 303.9584);
-  EXPECT_NEAR(k.v0_px, 206.5879, kIntrinsicsRelTol * 206.5879);
+  // Both solutions minimise the same cost (reprojection, skew + k1, k2) on the same points:
+  // Zhang's solver and ceres stop at slightly different points of a flat optimum (the RMS agrees to
+  // 1e-4 px). Measured (docs/results/real-data.md): f*ku -1.2e-3, f*kv -1.3e-3, u0 +5e-4,
+  // v0 -2.7e-3 px (worst relative 1.3e-5), gamma -1.0e-4, k1 -5e-7, k2 +1.1e-6; the published
+  // figures are rounded to 5e-5 px and 5e-7. The bounds are ~4x the worst measured: 0.01 px is
+  // 1/65 of the smallest statistical sd (v0 0.66 px), so a moved optimum (one corner of 1280
+  // 0.5 px off, a view dropped, a half-pixel convention) fails it. Absolute px: a relative bound on
+  // u0 and v0 would depend on where the pixel origin is. (The issue asked for 0.1 % and 1 %: far
+  // looser.)
+  constexpr double kPublishedAgreementPx = 0.01, kGammaTol = 5e-4, kDistortionTol = 5e-6;
+  EXPECT_NEAR(k.fku_px, 832.5010, kPublishedAgreementPx);
+  EXPECT_NEAR(k.fkv_px, 832.5309, kPublishedAgreementPx);
+  EXPECT_NEAR(k.u0_px, 303.9584, kPublishedAgreementPx);
+  EXPECT_NEAR(k.v0_px, 206.5879, kPublishedAgreementPx);
   const double gamma = k.Matrix()(0, 1);  // Zhang's skew term.
-  EXPECT_NEAR(gamma, 0.2046, 0.01);
-  EXPECT_NEAR(k.k1, -0.228601, kDistortionRelTol * 0.228601);
-  EXPECT_NEAR(k.k2, 0.190353, kDistortionRelTol * 0.190353);
+  EXPECT_NEAR(gamma, 0.2046, kGammaTol);
+  EXPECT_NEAR(k.k1, -0.228601, kDistortionTol);
+  EXPECT_NEAR(k.k2, 0.190353, kDistortionTol);
   // SOURCE.md: the published calibration reprojects with 0.3364 px RMS per point.
   EXPECT_NEAR(report.ceres.rms_reproj_px, 0.3364, 0.001);
   EXPECT_TRUE(std::isfinite(report.ceres.intrinsics_std[0]));
+  // Mutation checked: data.views[2].pixels[100].x() += 0.5 moves f*ku by 0.013 px, f*kv by 0.013,
+  // k1 by 2e-4: fails here (the RMS check and the old 1e-3 relative bound both pass it).
 }
 
 // OpenCV's regression file carries Bouguet's toolbox results (k1 k2 p1 p2 model).
