@@ -33,7 +33,7 @@ const std::vector<MethodType>& MethodTypes() {
        {"zhang_handeye"},
        MakeZhangMethod},
       {"zhang_handeye",
-       "zhang's intrinsics; extrinsic by cv::calibrateHandEye (Tsai) on board 0",
+       "zhang's intrinsics; extrinsic by hand-eye calibration (Tsai-Lenz) on board 0",
        false,
        {},
        MakeZhangHandEyeMethod},
