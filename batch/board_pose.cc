@@ -1,5 +1,6 @@
 #include "batch/board_pose.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
@@ -45,6 +46,41 @@ bool BoardPoseFromRays(const View& view, const std::vector<Eigen::Vector3d>& ray
     if (why) *why = "a pose needs at least " + std::string(planar ? "4" : "6") + " points";
     return false;
   }
+  // The points must not be collinear, nor all but one of them (see the header comment).
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    if (!view.points[i].allFinite()) {
+      if (why) *why = "point " + std::to_string(i) + " is not finite";
+      return false;
+    }
+    centroid += view.points[i] / static_cast<double>(n);
+  }
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& p : view.points) {
+    scatter += (p - centroid) * (p - centroid).transpose();
+  }
+  // Collinear when sqrt(l1 / l2) <= kMinPointSpreadRatio for scatter - w d d^T (w d d^T: the
+  // downdate that takes a point d - centroid out of the set).
+  const auto collinear = [&scatter](const Eigen::Vector3d& d, double w) {
+    const Eigen::Vector3d spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(
+                                       scatter - w * d * d.transpose(), Eigen::EigenvaluesOnly)
+                                       .eigenvalues();
+    return !(spread[1] > kMinPointSpreadRatio * kMinPointSpreadRatio * spread[2]);
+  };
+  if (collinear(Eigen::Vector3d::Zero(), 0.0)) {
+    if (why) *why = "the points are collinear: the pose is not determined";
+    return false;
+  }
+  const double w = static_cast<double>(n) / static_cast<double>(n - 1);
+  for (size_t k = 0; k < n; ++k) {
+    if (collinear(view.points[k] - centroid, w)) {
+      if (why) {
+        *why = "all the points but point " + std::to_string(k) +
+               " are collinear: the pose is not determined";
+      }
+      return false;
+    }
+  }
   // Q: the mean ray to the axis.
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& r : rays) mean += r.normalized();
@@ -78,6 +114,10 @@ bool BoardPoseFromRays(const View& view, const std::vector<Eigen::Vector3d>& ray
     if (options.refine) cv::solvePnPRefineLM(object, normalised, k, no_distortion, rvec, tvec);
   } catch (const cv::Exception& e) {
     if (why) *why = std::string("cv::solvePnP: ") + e.what();
+    return false;
+  }
+  if (!(cv::checkRange(rvec) && cv::checkRange(tvec))) {
+    if (why) *why = "cv::solvePnP returned a non-finite pose";
     return false;
   }
   cv::Mat r;

@@ -34,17 +34,27 @@ struct BoardPoseOptions {
 };
 
 // cam_from_board of `view` (points in the board frame) seen through `intrinsics`. False with *why
-// for fewer than 4 points (6 off-plane), a pixel outside the lens' valid region or an OpenCV
-// failure.
+// for fewer than 4 points (6 off-plane), collinear points or all but one collinear (see
+// BoardPoseFromRays), a pixel outside the lens' valid region, an OpenCV failure or a non-finite
+// pose.
 bool BoardPoseFromIntrinsics(const View& view, const CameraIntrinsics& intrinsics,
                              Rigid3* cam_from_board, std::string* why,
                              const BoardPoseOptions& options = {});
 
 // cam_from_board of a view from the unit rays of its points (rays[i] for view.points[i]), as the
 // header comment says (BoardPoseFromIntrinsics lifts the pixels, then calls it). False with *why
-// for too few points, a board spanning more than kMaxBoardSpanDeg about its mean ray, or an OpenCV
-// failure.
+// for too few points, a non-finite point, collinear points, a board spanning more than
+// kMaxBoardSpanDeg about its mean ray, an OpenCV failure, or a non-finite pose (solvePnP can
+// "succeed" with NaN). Collinear points leave the turn about their line free, and all but one on a
+// line leave the homography of a planar set (IPPE's, and SOLVEPNP_ITERATIVE's for coplanar
+// points) undetermined; both are refused. With l1 <= l2 the two largest eigenvalues of a point
+// set's scatter matrix about its centroid (spreads squared), it counts as collinear unless
+// sqrt(l1 / l2) > kMinPointSpreadRatio: its points leave their best-fitting line by more than
+// 1e-6 of their extent along it. Checked for the whole set and for it without each point in turn
+// (one rank-one downdate each). Board coordinates are design values: rounding leaves ~1e-16 where
+// a line was meant, and a board with two rows of points is at ~1e-2 or more.
 constexpr double kMaxBoardSpanDeg = 176.0;
+constexpr double kMinPointSpreadRatio = 1e-6;
 bool BoardPoseFromRays(const View& view, const std::vector<Eigen::Vector3d>& rays,
                        Rigid3* cam_from_board, std::string* why,
                        const BoardPoseOptions& options = {});

@@ -1,8 +1,9 @@
 #include "batch/extrinsic_from_views.h"
 
 #include <Eigen/Eigenvalues>
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <cmath>
 
 namespace calibench {
 
@@ -19,10 +20,31 @@ Rigid3 AveragePoses(const std::vector<Rigid3>& poses) {
 bool HandEyeTsai(const std::vector<Rigid3>& parent_from_points,
                  const std::vector<Rigid3>& cam_from_target, Rigid3* parent_from_cam,
                  std::string* why) {
-  std::vector<cv::Mat> r_g2b, t_g2b, r_t2c, t_t2c;
-  // Tsai's method needs relative rotations about at least two non-parallel axes.
+  const size_t n = cam_from_target.size();
+  if (parent_from_points.size() != n) {
+    if (why) {
+      *why = "hand-eye needs one body pose per board pose: got " +
+             std::to_string(parent_from_points.size()) + " body poses and " + std::to_string(n) +
+             " board poses";
+    }
+    return false;
+  }
+  if (n < 3) {
+    if (why) *why = "hand-eye needs at least 3 views of board 0, got " + std::to_string(n);
+    return false;
+  }
+  for (size_t v = 0; v < n; ++v) {
+    const Rigid3& p = parent_from_points[v];
+    const Rigid3& c = cam_from_target[v];
+    if (!(p.rotation.allFinite() && p.translation.allFinite() && c.rotation.allFinite() &&
+          c.translation.allFinite())) {
+      if (why) *why = "hand-eye: the poses of view " + std::to_string(v) + " are not finite";
+      return false;
+    }
+  }
+  // Tsai's equations need relative rotations about at least two non-parallel axes.
   Eigen::Matrix3d axes = Eigen::Matrix3d::Zero();
-  for (size_t i = 1; i < parent_from_points.size(); ++i) {
+  for (size_t i = 1; i < n; ++i) {
     const Eigen::AngleAxisd rel(parent_from_points[i].rotation *
                                 parent_from_points[i - 1].rotation.transpose());
     if (rel.angle() > 1e-3) axes += rel.axis() * rel.axis().transpose();
@@ -36,37 +58,61 @@ bool HandEyeTsai(const std::vector<Rigid3>& parent_from_points,
     }
     return false;
   }
-  for (size_t i = 0; i < cam_from_target.size(); ++i) {
-    // Moving: parent_from_points = body_from_world, whose inverse is gripper2base (eye-in-hand).
-    // Fixed: parent_from_points = world_from_body, whose inverse is base2gripper (eye-to-hand).
-    const Rigid3 gripper = parent_from_points[i].Inverse();
-    cv::Mat r, t, rc, tc;
-    cv::eigen2cv(Eigen::Matrix3d(gripper.rotation), r);
-    cv::eigen2cv(Eigen::Vector3d(gripper.translation), t);
-    cv::eigen2cv(Eigen::Matrix3d(cam_from_target[i].rotation), rc);
-    cv::eigen2cv(Eigen::Vector3d(cam_from_target[i].translation), tc);
-    r_g2b.push_back(r);
-    t_g2b.push_back(t);
-    r_t2c.push_back(rc);
-    t_t2c.push_back(tc);
+  // The pairs (i < j): A = P_j P_i^-1, B = C_j C_i^-1, A X = X B.
+  std::vector<Rigid3> a, b;
+  const double min_half_cos = std::cos(0.5 * kHandEyeMaxPairTurnDeg * M_PI / 180.0);
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = i + 1; j < n; ++j) {
+      const Rigid3 a_ij = parent_from_points[j] * parent_from_points[i].Inverse();
+      const Rigid3 b_ij = cam_from_target[j] * cam_from_target[i].Inverse();
+      // |w| = cos(theta / 2) of the pair's turn: below min_half_cos, noise would pair q_A with
+      // -q_B.
+      if (std::abs(Eigen::Quaterniond(a_ij.rotation).w()) < min_half_cos) continue;
+      a.push_back(a_ij);
+      b.push_back(b_ij);
+    }
   }
-  if (r_g2b.size() < 3) {
-    if (why) *why = "hand-eye needs at least 3 views of board 0";
+  const std::string unfixed = "hand-eye is degenerate: the relative rotations (of at most " +
+                              std::to_string(kHandEyeMaxPairTurnDeg) +
+                              " deg) do not fix the camera's rotation";
+  if (a.empty()) {
+    if (why) *why = unfixed;
     return false;
   }
-  cv::Mat r_out, t_out;
-  try {
-    cv::calibrateHandEye(r_g2b, t_g2b, r_t2c, t_t2c, r_out, t_out, cv::CALIB_HAND_EYE_TSAI);
-  } catch (const cv::Exception& e) {
-    if (why) *why = std::string("cv::calibrateHandEye: ") + e.what();
+  // Rotation: q_A q_X - q_X q_B = 0, 4 rows a pair, in q = (w, x, y, z).
+  Eigen::MatrixXd m(4 * a.size(), 4);
+  for (size_t k = 0; k < a.size(); ++k) {
+    Eigen::Quaterniond qa(a[k].rotation), qb(b[k].rotation);
+    if (qa.w() < 0) qa.coeffs() = -qa.coeffs();
+    if (qb.w() < 0) qb.coeffs() = -qb.coeffs();
+    const Eigen::Vector3d d = qa.vec() - qb.vec();
+    m.block<4, 4>(4 * k, 0) << qa.w() - qb.w(), -d.transpose(), d,
+        (qa.w() - qb.w()) * Eigen::Matrix3d::Identity() + Hat(qa.vec() + qb.vec());
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(m, Eigen::ComputeFullV);
+  const Eigen::Vector4d sv = svd.singularValues();
+  // A null space of more than one dimension (to a numerical rank of 1e-9): the rotation is free.
+  if (!(sv[2] > 1e-9 * sv[0])) {
+    if (why) *why = unfixed;
     return false;
   }
-  Eigen::Matrix3d r;
-  Eigen::Vector3d t;
-  cv::cv2eigen(r_out, r);
-  cv::cv2eigen(t_out, t);
-  *parent_from_cam = {ProjectToSO3(r), t};
-  return parent_from_cam->rotation.allFinite() && t.allFinite();
+  const Eigen::Vector4d q = svd.matrixV().col(3);
+  const Eigen::Matrix3d r_x =
+      Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+  // Translation (Tsai's step): (R_A - I) t_X = R_X t_B - t_A.
+  Eigen::MatrixXd lhs(3 * a.size(), 3);
+  Eigen::VectorXd rhs(3 * a.size());
+  for (size_t k = 0; k < a.size(); ++k) {
+    lhs.block<3, 3>(3 * k, 0) = a[k].rotation - Eigen::Matrix3d::Identity();
+    rhs.segment<3>(3 * k) = r_x * b[k].translation - a[k].translation;
+  }
+  const Eigen::Vector3d t_x = lhs.colPivHouseholderQr().solve(rhs);
+  *parent_from_cam = {r_x, t_x};
+  if (!(r_x.allFinite() && t_x.allFinite())) {
+    if (why) *why = "hand-eye gave a non-finite pose";
+    return false;
+  }
+  return true;
 }
 
 }  // namespace calibench

@@ -33,7 +33,8 @@ const std::vector<MethodType>& MethodTypes() {
        {"zhang_handeye"},
        MakeZhangMethod},
       {"zhang_handeye",
-       "zhang's intrinsics; extrinsic by cv::calibrateHandEye (Tsai) on board 0",
+       "zhang's intrinsics; extrinsic by hand-eye calibration on board 0 (rotation from the "
+       "quaternion form of AX = XB, translation as Tsai-Lenz)",
        false,
        {},
        MakeZhangHandEyeMethod},

@@ -2,7 +2,7 @@
 // (frame, board) views of a scenario with planar boards, then the constant extrinsic from the
 // per-view board poses (batch/extrinsic_from_views.h):
 //   zhang          by chordal rotation averaging with the known body motion and board placement;
-//   zhang_handeye  by hand-eye calibration (Tsai) on board 0, which needs only the body motion.
+//   zhang_handeye  by hand-eye calibration (Tsai-Lenz) on board 0: only the body motion needed.
 // Both share one calibrateCamera per trial (for equal options). Views: every view_stride-th frame,
 // thinned further to at most max_views (frame, board) views (calibrateCamera grows as N^2.5); a
 // board seen with fewer than kMinViewPoints points in a frame gives no view. The estimate reports

@@ -2,7 +2,7 @@
 """Compare the runs.csv and summary.csv of two calibench run directories.
 
 Usage: compare_runs.py REF_DIR NEW_DIR [--rename MAP] [--approx [SWEEP:]METHOD[=REL] ...]
-                       [--rel 1e-5]
+                       [--except [SWEEP:]METHOD=COLUMN[,COLUMN...] ...] [--rel 1e-5]
 
 Every row of REF must be in NEW with the same bytes in every column REF has; NEW may append
 columns (after REF's last).
@@ -16,8 +16,14 @@ keeps its name.
 Rows of an --approx method (or of a method within one sweep, SWEEP:METHOD) may differ in their
 last digits: numbers must agree to |a - b| <= rel * max(1, |a|, |b|), text exactly; rel is --rel,
 or the entry's own after '='. (cv::calibrateCamera is not bit-reproducible: README,
-"Reproducibility of zhang".) Files may be gzipped (runs.csv.gz). Exit 0 when they agree, 1 with
-the differences listed otherwise.
+"Reproducibility of zhang".)
+--except: the listed columns of a method's rows (or of a method within one sweep) are not compared,
+for a method whose estimates a bug fix changed since REF (the script calling this names the fix):
+in runs.csv those fields of its rows may hold anything, while every other field of the rows is
+compared as above; in summary.csv its rows summarising one of those columns (metric = COLUMN) need
+only exist. Columns are named as today (after --rename); a name REF's runs.csv lacks is an error.
+Files may be gzipped (runs.csv.gz). Exit 0 when they agree, 1 with the differences listed
+otherwise.
 """
 import argparse
 import csv
@@ -69,9 +75,14 @@ def number(text):
 
 
 class Comparison:
-    def __init__(self, approx, rel):
+    def __init__(self, approx, rel, excepted=None):
         self.approx, self.rel = approx, rel
-        self.problems, self.loose = [], 0
+        self.excepted = excepted or {}  # [SWEEP:]METHOD -> the set of columns not compared.
+        self.problems, self.loose, self.skipped = [], 0, 0
+
+    def excepted_columns(self, ref_header, a):
+        method, sweep = ref_header.index("method"), ref_header.index("sweep")
+        return self.excepted.get(f"{a[sweep]}:{a[method]}", self.excepted.get(a[method], set()))
 
     def row(self, name, line, ref_header, a, b, columns):
         """Compares REF row a with NEW row b (b's fields at `columns`, REF's order)."""
@@ -79,9 +90,16 @@ class Comparison:
         tol = self.approx.get(f"{a[sweep]}:{a[method]}", self.approx.get(a[method]))
         is_approx = tol is not None
         tol = self.rel if tol is None or tol < 0 else tol
+        excepted = self.excepted_columns(ref_header, a)
+        if "metric" in ref_header and a[ref_header.index("metric")] in excepted:
+            self.skipped += 1  # summary.csv: a row summarising an excepted column.
+            return
         for c, column in enumerate(ref_header):
             x_text, y_text = a[c], b[columns[c]]
             if x_text == y_text:
+                continue
+            if column in excepted:
+                self.skipped += 1
                 continue
             x, y = number(x_text), number(y_text)
             if is_approx and x is not None and y is not None and (
@@ -124,6 +142,8 @@ def main():
     parser.add_argument("new")
     parser.add_argument("--rename", help="CSV file old,new of the columns renamed since REF")
     parser.add_argument("--approx", action="append", default=[])
+    parser.add_argument("--except", dest="excepted", action="append", default=[],
+                        help="[SWEEP:]METHOD=COLUMN[,COLUMN...]: columns not compared")
     parser.add_argument("--rel", type=float, default=1e-5)
     args = parser.parse_args()
     approx = {}  # [SWEEP:]METHOD -> its tolerance, -1: --rel.
@@ -131,12 +151,24 @@ def main():
         key, _, tol = entry.partition("=")
         approx[key] = float(tol) if tol else -1.0
     rename = read_rename(args.rename) if args.rename else {}
-    comparison = Comparison(approx, args.rel)
+    ref_runs_header = renamed_reference(read(args.ref, "runs.csv"), rename)[0]
+    excepted = {}  # [SWEEP:]METHOD -> the set of columns not compared.
+    for entry in args.excepted:
+        key, _, columns = entry.partition("=")
+        names = {c.strip() for c in columns.split(",") if c.strip()}
+        if not key or not names:
+            raise SystemExit(f"compare_runs: --except {entry}: expected [SWEEP:]METHOD=COLUMN,...")
+        unknown = sorted(names - set(ref_runs_header))
+        if unknown:
+            raise SystemExit(f"compare_runs: --except {entry}: no column {', '.join(unknown)} in "
+                             "the reference's runs.csv")
+        excepted.setdefault(key, set()).update(names)
+    comparison = Comparison(approx, args.rel, excepted)
     for name in ("runs.csv", "summary.csv"):
         ref = renamed_reference(read(args.ref, name), rename)
         new = read(args.new, name)
         before = len(comparison.problems)
-        loose_before = comparison.loose
+        loose_before, skipped_before = comparison.loose, comparison.skipped
         if new[0][: len(ref[0])] != ref[0]:
             missing = [c for c in ref[0] if c not in new[0]]
             comparison.problems.append(
@@ -152,10 +184,15 @@ def main():
             m = original[0].index("metric")
             renamed += len({r[m] for r in original[1:] if r[m] in rename})
         if len(comparison.problems) == before:
+            skipped = comparison.skipped - skipped_before
             print(f"compare_runs: {name}: {len(ref) - 1} reference rows, {len(ref[0])} columns "
                   f"({renamed} names renamed); {comparison.loose - loose_before} fields of "
                   f"{', '.join(args.approx) or 'no method'} within {args.rel:g} relative (or "
-                  "their own), every other field identical")
+                  "their own)"
+                  + (f"; {skipped} {'rows' if name == 'summary.csv' else 'differing fields'} "
+                     f"of the excepted columns ({'; '.join(args.excepted)}) not compared"
+                     if args.excepted else "")
+                  + ", every other field identical")
         else:
             print(f"compare_runs: {name}: checked")
     for p in comparison.problems[:50]:

@@ -118,11 +118,13 @@ TEST_P(RigRecovery, EveryBatchMethodRecoversTheTruth) {
     ASSERT_EQ(r.status, "ok") << r.method << ": " << r.message;
     // Intrinsics: 1e-6 relative, the bar. Extrinsic: dlt and ceres work in double
     // (1e-6); cv::calibrateCamera takes float32 points (~1e-7 relative, 4e-5 px here), which
-    // leaves ~1e-5 deg in its per-view poses and ~1e-4 deg after Tsai's linear hand-eye solve.
+    // leaves ~1e-5 deg in its per-view poses and in both extrinsic estimates (measured <= 1.2e-5
+    // deg: averaging and hand-eye alike; Tsai's own rotation step, singular at this half-turn
+    // mount, needed 2e-4).
     const bool float32 = r.method.rfind("zhang", 0) == 0;
     EXPECT_LT(std::abs(r.err_fku_px) / 822, 1e-6) << r.method;
     EXPECT_LT(std::abs(r.err_v0_px) / 239, 1e-6) << r.method;
-    EXPECT_LT(r.rot_err_deg, float32 ? 2e-4 : 1e-6) << r.method;
+    EXPECT_LT(r.rot_err_deg, float32 ? 5e-5 : 1e-6) << r.method;
     EXPECT_LT(r.xc_err_m, float32 ? 1e-5 : 1e-6) << r.method;
   }
   EXPECT_EQ(rows[1].method, "zhang");
