@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/parametrisation.h"
 #include "core/pose.h"
 #include "core/status.h"
 #include "core/view.h"
@@ -61,6 +62,23 @@ struct RefineOptions {
   std::vector<int> extra_fixed_intrinsics;
   bool Check(std::string* why) const;
 };
+
+// The parametrisation (core/parametrisation.h) a refinement with `options` estimates, and the
+// options for one.
+inline Parametrisation ParametrisationOf(const RefineOptions& options) {
+  Parametrisation p;
+  p.model = options.model;
+  p.estimate_skew = options.estimate_skew;
+  p.shared_pose = options.shared_pose;
+  p.autodiff = options.autodiff;
+  return p;
+}
+inline void ApplyParametrisation(const Parametrisation& p, RefineOptions* options) {
+  options->model = p.model;
+  options->estimate_skew = p.estimate_skew;
+  options->shared_pose = p.shared_pose;
+  options->autodiff = p.autodiff;
+}
 
 struct RefineResult : MethodSummary {
   CameraIntrinsics intrinsics;

@@ -446,6 +446,18 @@ LensFamily FamilyOf(LensModel model) {
   return LensFamily::kRadTan;
 }
 
+LensModel FullModelOf(LensFamily family) {
+  LensModel best = LensModel::kPinhole;
+  size_t most = 0;
+  for (const LensModelInfo& info : LensModels()) {
+    if (info.family == family && info.free_distortion.size() >= most) {
+      best = info.model;
+      most = info.free_distortion.size();
+    }
+  }
+  return best;
+}
+
 const char* ToString(LensModel model) {
   for (const LensModelInfo& info : LensModels()) {
     if (info.model == model) return info.name;

@@ -402,6 +402,8 @@ struct LensModelInfo {
 const std::vector<LensModelInfo>& LensModels();
 const char* ToString(LensModel model);
 LensFamily FamilyOf(LensModel model);
+// The model of `family` that frees every one of its lens parameters (radtan: pinhole-radtan5).
+LensModel FullModelOf(LensFamily family);
 bool ParseLensModel(const std::string& name, LensModel* model);
 std::vector<std::string> LensModelNames();
 // Indices into PinholeSkewCamera's parameter array that stay fixed: phi (index 2) unless the skew

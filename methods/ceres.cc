@@ -67,12 +67,7 @@ class CeresMethod final : public Method {
   std::vector<std::string> Prerequisites() const override { return {init_}; }
   std::optional<Parametrisation> BoundParametrisation() const override {
     if (views_ == "init") return std::nullopt;
-    Parametrisation p;
-    p.model = options_.model;
-    p.estimate_skew = options_.estimate_skew;
-    p.shared_pose = options_.shared_pose;
-    p.autodiff = options_.autodiff;
-    return p;
+    return ParametrisationOf(options_);
   }
 
   MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {

@@ -93,10 +93,7 @@ EstimateMetrics EvaluateEstimate(MethodStatus status, const CameraEstimate& esti
 CrlbStd CramerRaoStd(const std::vector<View>& views, const CameraSpec& truth,
                      const Parametrisation& parametrisation, double pixel_sigma_px) {
   RefineOptions options;
-  options.model = parametrisation.model;
-  options.estimate_skew = parametrisation.estimate_skew;
-  options.shared_pose = parametrisation.shared_pose;
-  options.autodiff = parametrisation.autodiff;
+  ApplyParametrisation(parametrisation, &options);
   CrlbStd bound;
   IntrinsicsCovariance cov;
   bound.valid = IntrinsicsCovarianceAt(views, truth.intrinsics, {truth.ParentFromCam().Inverse()},

@@ -62,18 +62,7 @@ bool WriteText(const std::string& path, const std::string& text, std::string* wh
 
 // The smallest lens model of the family holding every non-zero coefficient.
 LensModel InferLensModel(const CameraIntrinsics& k) {
-  switch (k.family) {
-    case LensFamily::kEquidistant:
-      return LensModel::kPinholeEqui;
-    case LensFamily::kUnified:
-      return LensModel::kUnified;
-    case LensFamily::kEucm:
-      return LensModel::kEucm;
-    case LensFamily::kDoubleSphere:
-      return LensModel::kDoubleSphere;
-    case LensFamily::kRadTan:
-      break;
-  }
+  if (k.family != LensFamily::kRadTan) return FullModelOf(k.family);
   if (k.k3 != 0) return LensModel::kPinholeRadTan5;
   if (k.p1 != 0 || k.p2 != 0) return LensModel::kPinholeRadTan4;
   if (k.k1 != 0 || k.k2 != 0) return LensModel::kPinholeK2;

@@ -56,23 +56,6 @@ std::vector<CameraIntrinsics> Shapes() {
   return {unified, eucm, ds, equi};
 }
 
-// The model that frees every parameter of a wide family.
-LensModel ModelOf(LensFamily family) {
-  switch (family) {
-    case LensFamily::kEquidistant:
-      return LensModel::kPinholeEqui;
-    case LensFamily::kUnified:
-      return LensModel::kUnified;
-    case LensFamily::kEucm:
-      return LensModel::kEucm;
-    case LensFamily::kDoubleSphere:
-      return LensModel::kDoubleSphere;
-    case LensFamily::kRadTan:
-      break;
-  }
-  return LensModel::kPinholeRadTan5;
-}
-
 SyntheticBoardViews WideViews(const CameraIntrinsics& truth, double fov_deg, uint64_t seed,
                               int views = 20) {
   Rng rng(seed);
@@ -130,7 +113,7 @@ TEST(WideInit, EveryWideFamilyAt160And190DegreesLandsWithinItsStd) {
       const CameraIntrinsics truth = Lens(shape, fov);
       const SyntheticBoardViews data = WideViews(truth, fov, ++seed);
       ASSERT_EQ(data.views.size(), 20u);
-      const Fit fit = Calibrate(data.views, ModelOf(truth.family));
+      const Fit fit = Calibrate(data.views, FullModelOf(truth.family));
       const std::string what = std::string(ToString(truth.family)) + " " + std::to_string(fov);
       ASSERT_TRUE(fit.start.IsUsable()) << what << ": " << fit.start.message;
       ASSERT_TRUE(fit.refined.IsUsable()) << what << ": " << fit.refined.message;
@@ -184,7 +167,7 @@ TEST(WideInit, StartsFrom120To220DegreesWithPartialBoards) {
       const SyntheticBoardViews data = MakeWideBoardViews(truth, o, &rng);
       size_t partial = 0;
       for (const View& v : data.views) partial += v.points.size() < 48;
-      const Fit fit = Calibrate(data.views, ModelOf(truth.family));
+      const Fit fit = Calibrate(data.views, FullModelOf(truth.family));
       const std::string what = std::string(ToString(truth.family)) + " " + std::to_string(fov);
       ASSERT_TRUE(fit.start.IsUsable()) << what << ": " << fit.start.message;
       ASSERT_TRUE(fit.refined.IsUsable()) << what << ": " << fit.refined.message;

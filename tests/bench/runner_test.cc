@@ -159,10 +159,10 @@ TEST(Runner, BadScenarioGivesAFailedRowNotACrash) {
   EXPECT_NE(rows[0].message.find("behind the camera"), std::string::npos) << rows[0].message;
 }
 
-// tests/fixtures/double_sphere.yaml (configs/examples/; a 190 deg lens, oracle corners, 0.1 px noise): the pinhole
-// methods refuse the lens with the reason and the trial goes on; zhang's wide start and ceres
-// recover f within kWideFocalTolPx. Measured |f.ku error| 0.51 px (zhang) and 0.51 px (ceres, std
-// 0.30) on trial 0; 1.5 px is 5 of ceres' std.
+// tests/fixtures/double_sphere.yaml (configs/examples/; a 190 deg lens, oracle corners, 0.1 px
+// noise): the pinhole methods refuse the lens with the reason and the trial goes on; zhang's wide
+// start and ceres recover f within kWideFocalTolPx. Measured |f.ku error| 0.51 px (zhang) and 0.51
+// px (ceres, std 0.30) on trial 0; 1.5 px is 5 of ceres' std.
 constexpr double kWideFocalTolPx = 1.5;
 TEST(Runner, PinholeMethodsRefuseAWideLensAndTheOthersCalibrateIt) {
   ScenarioConfig s = LoadOne("tests/fixtures/double_sphere.yaml");

@@ -103,8 +103,7 @@ std::string SweepError(const std::string& sweep) {
 }
 
 TEST(Sweep, RangesAndWholeSectionFields) {
-  const std::string head =
-      "base: ../../fixtures/thesis/sim03.yaml\nscenario: {name: r}\nsweep:\n";
+  const std::string head = "base: ../../fixtures/thesis/sim03.yaml\nscenario: {name: r}\nsweep:\n";
   // Linear range: 0, 0.25, ..., 1 (5 values; the end is included despite rounding).
   RunConfig c =
       FromString(head + "  - {field: noise.pixel_sigma_px, range: {from: 0, to: 1, step: 0.25}}\n");
@@ -170,9 +169,10 @@ TEST(Sweep, GroupSharesMeasurementsAndBatchRows) {
   EXPECT_EQ(rows[1].fku_px, rows[7].fku_px);
 }
 
-// tests/fixtures/named_instances.yaml (configs/examples/): two adaptive gains and two ceres refinements side by side.
-// Every trial is one task (one measurement pass) giving 4 distinct rows per sweep point; the axis
-// on adaptive-a100 re-runs that instance only, and the other three are copied at later points.
+// tests/fixtures/named_instances.yaml (configs/examples/): two adaptive gains and two ceres
+// refinements side by side. Every trial is one task (one measurement pass) giving 4 distinct rows
+// per sweep point; the axis on adaptive-a100 re-runs that instance only, and the other three are
+// copied at later points.
 TEST(Sweep, NamedInstancesGiveTheirOwnRowsAndShareTheMeasurements) {
   RunConfig config;
   std::string why;

@@ -251,6 +251,21 @@ TEST(UnprojectPixel, InvertsProjectPoint) {
   }
 }
 
+// FullModelOf: the model that frees every lens parameter of a family (what a camera file of that
+// family is read as, and what a fit of a wide family estimates). Against the table above: a rule
+// that took a family's first model would give pinhole for radtan and fail.
+TEST(LensModels, FullModelOfFreesEveryParameterOfTheFamily) {
+  const std::pair<LensFamily, const char*> expected[] = {
+      {LensFamily::kRadTan, "pinhole-radtan5"},
+      {LensFamily::kEquidistant, "pinhole-equi"},
+      {LensFamily::kUnified, "unified"},
+      {LensFamily::kEucm, "eucm"},
+      {LensFamily::kDoubleSphere, "double-sphere"}};
+  for (const auto& [family, name] : expected) {
+    EXPECT_STREQ(ToString(FullModelOf(family)), name) << ToString(family);
+  }
+}
+
 // Every lens model of the table: parses back from its name, its family's slot names cover its free
 // parameters, Params() and FromParams() round-trip in its layout, and Check() refuses the
 // coefficients the family lacks.
