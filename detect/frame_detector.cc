@@ -435,44 +435,60 @@ std::vector<Observation> FrameDetector::Detect(const GrayImage& image,
 
 std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width, int height,
                                                int stride, DetectionCounts* counts) const {
-  DetectionCounts local;
-  std::vector<Observation> observations;
   const GrayImageView view(pixels, width, height, stride);
-  std::vector<TagDetection> tags = detector_->Detect(pixels, width, height, stride);
-  // Per tag: its corners come from a modified copy of the image (eroded, squares painted out).
+  return RefineTags(view, FindTags(view), options_.camera ? &*options_.camera : nullptr, counts);
+}
+
+FoundTags FrameDetector::FindTags(const GrayImageView& view) const {
+  FoundTags found;
+  std::vector<TagDetection> tags =
+      detector_->Detect(view.data, view.width, view.height, view.stride);
   std::vector<bool> from_copy(tags.size(), false);
   if (corner_squares_) FindTagsAmongSquares(view, &tags, &from_copy);
   std::map<int, int> times_seen;
   for (const TagDetection& tag : tags) ++times_seen[tag.id];
   for (size_t t = 0; t < tags.size(); ++t) {
-    TagDetection& tag = tags[t];
+    const TagDetection& tag = tags[t];
     if (PointId(tag.id, 0) < 0) {
-      ++local.unknown_tags;
+      ++found.counts.unknown_tags;
       continue;
     }
     if (times_seen[tag.id] > 1) {  // Which of them is the grid's tag is unknown: drop them all.
-      ++local.duplicate_tags;
+      ++found.counts.duplicate_tags;
       continue;
     }
     bool near_border = false;
     for (const Eigen::Vector2d& c : tag.corners) {
       // Pixel centres at integers: the image spans [-0.5, width - 0.5] x [-0.5, height - 0.5].
       const double margin =
-          std::min({c.x() + 0.5, c.y() + 0.5, width - 0.5 - c.x(), height - 0.5 - c.y()});
+          std::min({c.x() + 0.5, c.y() + 0.5, view.width - 0.5 - c.x(), view.height - 0.5 - c.y()});
       near_border |= margin < options_.min_border_distance_px;
     }
     if (near_border) {
-      ++local.border_tags;
+      ++found.counts.border_tags;
       continue;
     }
+    found.tags.push_back(tag);
+    found.from_copy.push_back(from_copy[t]);
+  }
+  return found;
+}
+
+std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
+                                                   const FoundTags& found,
+                                                   const CameraIntrinsics* camera,
+                                                   DetectionCounts* counts) const {
+  DetectionCounts local = found.counts;
+  std::vector<Observation> observations;
+  const bool photometric = options_.refinement == CornerRefinement::kPhotometric;
+  const bool edge_fit = options_.refinement == CornerRefinement::kEdgeFit;
+  for (size_t t = 0; t < found.tags.size(); ++t) {
+    TagDetection tag = found.tags[t];
     std::array<double, 4> crlb_px;
     crlb_px.fill(std::numeric_limits<double>::quiet_NaN());
-    const bool photometric = options_.refinement == CornerRefinement::kPhotometric;
-    const bool edge_fit = options_.refinement == CornerRefinement::kEdgeFit;
     if (photometric) {
-      const PhotometricFitResult fit =
-          FitTagPhotometric(view, patterns_[PointId(tag.id, 0) / 4], tag.corners,
-                            options_.photometric, options_.camera ? &*options_.camera : nullptr);
+      const PhotometricFitResult fit = FitTagPhotometric(view, patterns_[PointId(tag.id, 0) / 4],
+                                                         tag.corners, options_.photometric, camera);
       if (!fit.ok()) {
         ++local.refused_tags[static_cast<int>(fit.failure)];
         continue;
@@ -481,7 +497,8 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
       crlb_px = fit.crlb_px;
     }
     if (edge_fit && !RefineTagCorners(view, options_.refine, &tag)) {
-      if (from_copy[t]) {  // Raw corners of a modified copy are biased: no refinement, no tag.
+      if (found
+              .from_copy[t]) {  // Raw corners of a modified copy are biased: no refinement, no tag.
         ++local.unrefined_copy_tags;
         continue;
       }

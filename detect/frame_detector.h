@@ -107,6 +107,17 @@ struct DetectionCounts {
   int duplicate_tags = 0;
 };
 
+// The tags of one image before their corners are refined: what AprilTag 3 (and, on grids with
+// corner squares, the search among them) found, matched to the grids, with the drops counted.
+// Keeping it lets a calibration re-fit the corners through each new estimate of its camera
+// without detecting again.
+struct FoundTags {
+  std::vector<TagDetection> tags;  // Matched to a grid, one per id, away from the image border.
+  // Per tag: its corners come from a modified copy of the image (eroded, squares painted out).
+  std::vector<bool> from_copy;
+  DetectionCounts counts;  // unknown_tags, duplicate_tags and border_tags.
+};
+
 class FrameDetector {
  public:
   // nullptr (and *why) for invalid options, no grids, mixed families or an id on two grids.
@@ -121,6 +132,16 @@ class FrameDetector {
   // The same on a raw 8-bit buffer with a row stride in bytes (e.g. a cv::Mat, zero copy).
   std::vector<Observation> Detect(const uint8_t* pixels, int width, int height, int stride,
                                   DetectionCounts* counts) const;
+  // Detect in two steps: the tags, then their corners refined (`camera`: the lens the photometric
+  // fit is drawn through, nullptr for a homography in pixels; Detect passes options.camera).
+  // RefineTags' counts add the refinement's to found.counts.
+  FoundTags FindTags(const GrayImageView& image) const;
+  std::vector<Observation> RefineTags(const GrayImageView& image, const FoundTags& found,
+                                      const CameraIntrinsics* camera,
+                                      DetectionCounts* counts) const;
+  // Whether FindTags depends on options.camera: corner squares are painted out through a lens that
+  // distorts.
+  bool FindingUsesCamera() const { return corner_squares_ && SquareLens() != nullptr; }
 
  private:
   FrameDetector() = default;

@@ -119,6 +119,22 @@ bool TagFit::InitialHomography(const std::array<Eigen::Vector2d, 4>& corners,
   return x->head<8>().allFinite();
 }
 
+bool TagFit::CachedModelOf(int i, int j, Eigen::Vector2d* p_hat, Eigen::Matrix2d* m) {
+  const int ci = i - cache_i0_, cj = j - cache_j0_;
+  PixelModel* entry = ci >= 0 && cj >= 0 && ci < cache_width_ && cj < cache_height_
+                          ? &model_cache_[static_cast<size_t>(cj) * cache_width_ + ci]
+                          : nullptr;
+  if (entry && entry->state != 0) {
+    *p_hat = entry->p_hat;
+    *m = entry->m;
+    return entry->state > 0;
+  }
+  const bool valid = ModelOf(Eigen::Vector2d(i, j), p_hat);
+  if (valid) *m = ModelJacobian(*p_hat);
+  if (entry) *entry = {*p_hat, *m, static_cast<int8_t>(valid ? 1 : -1)};
+  return valid;
+}
+
 bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   pixels_.clear();
   pixel_lines_.clear();
@@ -129,7 +145,9 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   // Margin: corners may move kReclassifyPx before the pixels are classified again.
   const double near_px = reach + kReclassifyPx;
   const double include_px = near_px;  // Flat pixels up to the re-classification margin.
-  std::vector<Eigen::Vector3d> lines(layout_.lines.size()), raw_lines(lines.size());
+  std::vector<Eigen::Vector3d> lines(layout_.lines.size()), raw_lines(lines.size()),
+      line_squares(lines.size());
+  constexpr double kFarPx = 1e30;  // A line's distance where only its side matters (below).
   for (size_t i = 0; i < lines.size(); ++i) {
     const Eigen::Vector3d l = g.transpose() * layout_.lines[i].m;
     const double n = l.head<2>().norm();
@@ -140,6 +158,9 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
     }
     raw_lines[i] = l;
     lines[i] = scale_ * l / n;  // Without a camera: f(p) = lines[i] . p^~ in px.
+    // |M^T l_xy|^2 = l_xy^T M M^T l_xy = (M M^T)_00 l_x^2 + 2 (M M^T)_01 l_x l_y + (M M^T)_11
+    // l_y^2.
+    line_squares[i] = Eigen::Vector3d(l.x() * l.x(), 2 * l.x() * l.y(), l.y() * l.y());
   }
   // The region's image quadrilateral, its bounding box.
   const Eigen::FullPivLU<Eigen::Matrix3d> lu(g);
@@ -152,6 +173,7 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
   // With a camera the region's sides bend in the image: 8 points a side, and a margin.
   const int samples = camera_ ? 8 : 1;
+  std::vector<Eigen::Vector2d> outline;  // The region's outline in pixels (with a camera).
   for (int k = 0; k < 4; ++k) {
     for (int s = 0; s < samples; ++s) {
       const Eigen::Vector2d q = layout_.region_corners[k] +
@@ -164,17 +186,52 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
         return false;
       }
       const Eigen::Vector2d p = ToPixel(h.hnormalized());
+      if (camera_) outline.push_back(p);
       u0 = std::min(u0, p.x()), u1 = std::max(u1, p.x());
       v0 = std::min(v0, p.y()), v1 = std::max(v1, p.y());
     }
   }
-  if (camera_) u0 -= 2, v0 -= 2, u1 += 2, v1 += 2;
+  constexpr double kOutlineMarginPx = 2;  // Covers the chords between the outline's samples.
+  if (camera_) {
+    u0 -= kOutlineMarginPx, v0 -= kOutlineMarginPx, u1 += kOutlineMarginPx, v1 += kOutlineMarginPx;
+  }
   constexpr double kMaxRegionPx = 4096;
   if (!(u1 - u0 < kMaxRegionPx && v1 - v0 < kMaxRegionPx)) {
     result->failure = FitFailure::kDiverged;
     result->message = "the tag's region is larger than 4096 px";
     return false;
   }
+  if (camera_ && cache_width_ == 0) {
+    cache_i0_ = static_cast<int>(std::floor(u0)) - kModelCacheMarginPx;
+    cache_j0_ = static_cast<int>(std::floor(v0)) - kModelCacheMarginPx;
+    cache_width_ = static_cast<int>(std::ceil(u1)) + kModelCacheMarginPx - cache_i0_ + 1;
+    cache_height_ = static_cast<int>(std::ceil(v1)) + kModelCacheMarginPx - cache_j0_ + 1;
+    model_cache_.assign(static_cast<size_t>(cache_width_) * cache_height_, PixelModel());
+  }
+  // With a camera, the part of row j within kOutlineMarginPx of the outline (every pixel of the
+  // region is inside it): the x extent of the outline's segments clipped to |y - j| <= margin.
+  // Not when a point of the outline has no pixel (past the lens's valid region): the box then.
+  bool outline_spans = camera_ != nullptr;
+  for (const Eigen::Vector2d& p : outline) outline_spans &= p.allFinite();
+  auto outline_span = [&](int j, double* lo, double* hi) {
+    *lo = 1e300, *hi = -1e300;
+    for (size_t e = 0; e < outline.size(); ++e) {
+      const Eigen::Vector2d& a = outline[e];
+      const Eigen::Vector2d& b = outline[(e + 1) % outline.size()];
+      const double ya = a.y() - j, yb = b.y() - j;
+      if (std::min(ya, yb) > kOutlineMarginPx || std::max(ya, yb) < -kOutlineMarginPx) continue;
+      double t0 = 0, t1 = 1;
+      if (ya != yb) {
+        const double ta = (-kOutlineMarginPx - ya) / (yb - ya);
+        const double tb = (kOutlineMarginPx - ya) / (yb - ya);
+        t0 = std::max(0.0, std::min(ta, tb)), t1 = std::min(1.0, std::max(ta, tb));
+      }
+      for (const double t : {t0, t1}) {
+        const double xt = a.x() + t * (b.x() - a.x());
+        *lo = std::min(*lo, xt - kOutlineMarginPx), *hi = std::max(*hi, xt + kOutlineMarginPx);
+      }
+    }
+  };
   long inside = 0, outside = 0;
   const int i0 = static_cast<int>(std::floor(u0)), i1 = static_cast<int>(std::ceil(u1));
   const int j0 = static_cast<int>(std::floor(v0)), j1 = static_cast<int>(std::ceil(v1));
@@ -183,6 +240,11 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   for (int j = j0; j <= j1; ++j) {
     // The row's span inside the region: each limit line is linear in i along the row.
     double lo = i0, hi = i1;
+    if (outline_spans) {
+      double span_lo = 0, span_hi = 0;
+      outline_span(j, &span_lo, &span_hi);
+      lo = std::max(lo, span_lo), hi = std::min(hi, span_hi);
+    }
     const double y = (j - centre_.y()) / scale_;
     for (int k = 0; k < 4 && !camera_; ++k) {
       const Eigen::Vector3d& l = lines[layout_.limits[k]];
@@ -215,9 +277,8 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
       Eigen::Matrix2d m = Eigen::Matrix2d::Identity() / scale_;
       if (camera_) {
         Eigen::Vector2d p_hat;
-        if (!ModelOf(Eigen::Vector2d(i, j), &p_hat)) continue;
+        if (!CachedModelOf(i, j, &p_hat, &m)) continue;
         p = p_hat.homogeneous();
-        m = ModelJacobian(p_hat);
       }
       // Signed distance (px) to line l: (l . p^~) / |M^T l_xy| (the model's gradient in pixels).
       auto distance = [&](size_t l) {
@@ -254,7 +315,18 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
       };
       bool include = false;
       if (camera_) {
-        for (size_t l = 0; l < lines.size(); ++l) line_values[l] = distance(l);
+        // A line at or beyond near_px only counts by its side (the rectangles' tests and slots
+        // compare the distances with +-near_px): (l . p)^2 >= near_px^2 |M^T l_xy|^2 says so
+        // without the root and the division.
+        const Eigen::Matrix2d mmt = m * m.transpose();
+        for (size_t l = 0; l < lines.size(); ++l) {
+          const double value = raw_lines[l].dot(p);
+          const double norm_sq = mmt(0, 0) * line_squares[l].x() + mmt(0, 1) * line_squares[l].y() +
+                                 mmt(1, 1) * line_squares[l].z();
+          line_values[l] = value * value >= near_px * near_px * norm_sq
+                               ? (value > 0 ? kFarPx : -kFarPx)
+                               : value / std::sqrt(norm_sq);
+        }
       }
       for (size_t r = 0; r < layout_.rects.size(); ++r) {
         const Layout::Rect& rect = layout_.rects[r];

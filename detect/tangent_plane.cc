@@ -1,7 +1,9 @@
 #include "detect/tangent_plane.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace calibench {
 
@@ -54,6 +56,58 @@ bool TangentPlane::FromPixel(const CameraIntrinsics& camera, const Eigen::Vector
 bool TangentPlane::ToPixel(const CameraIntrinsics& camera, const Eigen::Vector2d& q,
                            Eigen::Vector2d* pixel) const {
   return ProjectPoint(camera, ToRay(q), pixel);
+}
+
+namespace {
+
+constexpr int kSamplesPerEdge = 7;  // At t = 1/8 .. 7/8 of the edge.
+
+// The edges' sample points through `camera` (nullptr: straight), edge e from corner e to e + 1.
+bool EdgeSamples(const CameraIntrinsics* camera, const std::array<Eigen::Vector2d, 4>& corners,
+                 std::array<Eigen::Vector2d, 4 * kSamplesPerEdge>* samples) {
+  TangentPlane plane;
+  std::array<Eigen::Vector2d, 4> ends = corners;
+  if (camera && !TangentPlane::AboutPixels(*camera, corners, &plane, &ends)) return false;
+  for (int e = 0; e < 4; ++e) {
+    for (int s = 0; s < kSamplesPerEdge; ++s) {
+      const double t = (s + 1.0) / (kSamplesPerEdge + 1.0);
+      const Eigen::Vector2d q = ends[e] + t * (ends[(e + 1) % 4] - ends[e]);
+      Eigen::Vector2d& pixel = (*samples)[e * kSamplesPerEdge + s];
+      if (!camera) {
+        pixel = q;
+      } else if (!plane.ToPixel(*camera, q, &pixel)) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+double EdgeBendChangePx(const CameraIntrinsics* a, const CameraIntrinsics& b,
+                        const std::array<Eigen::Vector2d, 4>& corners) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::array<Eigen::Vector2d, 4 * kSamplesPerEdge> samples;
+  TangentPlane plane;
+  std::array<Eigen::Vector2d, 4> ends;
+  if (!EdgeSamples(a, corners, &samples) || !TangentPlane::AboutPixels(b, corners, &plane, &ends)) {
+    return kNaN;
+  }
+  double worst = 0;
+  for (int e = 0; e < 4; ++e) {
+    const Eigen::Vector2d q0 = ends[e], d = ends[(e + 1) % 4] - ends[e];
+    if (!(d.squaredNorm() > 0)) return kNaN;
+    for (int s = 0; s < kSamplesPerEdge; ++s) {
+      const Eigen::Vector2d& pixel = samples[e * kSamplesPerEdge + s];
+      Eigen::Vector2d q, foot_pixel;
+      if (!plane.FromPixel(b, pixel, &q)) return kNaN;
+      const double t = (q - q0).dot(d) / d.squaredNorm();
+      if (!plane.ToPixel(b, q0 + t * d, &foot_pixel)) return kNaN;
+      worst = std::max(worst, (pixel - foot_pixel).norm());
+    }
+  }
+  return worst;
 }
 
 }  // namespace calibench

@@ -58,4 +58,17 @@ struct TangentPlane {
                Eigen::Vector2d* pixel) const;
 };
 
+// How differently two cameras bend a quadrilateral's edges between the same four pixel corners
+// (a tag's): the largest distance (px) from points of the edges drawn through `a` to the edges
+// drawn through `b`, 7 points an edge. An edge through a camera is the image of the straight
+// segment between its corners' points on the tangent plane about the mean of their rays; `a`
+// nullptr draws straight edges (a homography in pixels). The distance is measured to a point of
+// b's edge (the image of the foot of the perpendicular on b's plane): an upper bound of the
+// distance between the curves. The lens-aware photometric fit (photometric_fit.h) depends on its
+// camera only through this shape (pose, corners and blur are fitted), so corners fitted through
+// `a` move by about this much when fitted again through `b`. NaN where a corner or a sample has
+// no ray through a camera.
+double EdgeBendChangePx(const CameraIntrinsics* a, const CameraIntrinsics& b,
+                        const std::array<Eigen::Vector2d, 4>& corners);
+
 }  // namespace calibench

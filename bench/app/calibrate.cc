@@ -9,6 +9,7 @@
 
 #include "batch/board_pose.h"
 #include "batch/wide_init.h"
+#include "detect/tangent_plane.h"
 
 namespace calibench {
 
@@ -300,6 +301,45 @@ CornerMoves CompareCorners(const PointData& a, const std::vector<int>& a_index,
   return moves;
 }
 
+// What re-fitting the corners through `next` could change: the largest change of a tag's edges
+// between the camera the corners were fitted through (`fitted_through`; nullptr: a homography) and
+// `next` (EdgeBendChangePx over every tag found), and its effect on f.ku. Corners moved by at most
+// delta move f.ku, at most, as a scale about the principal point would: the least-squares scale
+// of moves d_i at radii r_i is sum r_i d_i / sum r_i^2 <= delta / r_rms (Cauchy-Schwarz), r_rms the
+// corners' RMS distance from (u0, v0); so f.ku moves by at most f.ku delta / r_rms. NaN when any
+// tag's change is unknown.
+struct RefitEffect {
+  double bend_px = std::nan(""), fku_move_px = std::nan("");
+};
+RefitEffect PredictRefit(const ImageTagCache& tags, const CameraIntrinsics* fitted_through,
+                         const CameraIntrinsics& next, const PointData& data) {
+  RefitEffect effect;
+  if (!tags.filled) return effect;
+  const CameraIntrinsics* through =
+      fitted_through && fitted_through->IsDistorted() ? fitted_through : nullptr;
+  double bend = 0;
+  for (const FoundTags& found : tags.per_image) {
+    for (const TagDetection& tag : found.tags) {
+      const double change = next.IsDistorted() || through
+                                ? EdgeBendChangePx(through, next, tag.corners)
+                                : 0.0;  // Both draw straight edges.
+      if (!std::isfinite(change)) return effect;
+      bend = std::max(bend, change);
+    }
+  }
+  double sum_sq = 0;
+  long count = 0;
+  const Eigen::Vector2d centre(next.u0_px, next.v0_px);
+  for (const View& view : data.views) {
+    for (const Eigen::Vector2d& pixel : view.pixels) sum_sq += (pixel - centre).squaredNorm();
+    count += static_cast<long>(view.pixels.size());
+  }
+  if (count == 0 || !(sum_sq > 0)) return effect;
+  effect.bend_px = bend;
+  effect.fku_move_px = next.fku_px * bend / std::sqrt(sum_sq / static_cast<double>(count));
+  return effect;
+}
+
 }  // namespace
 
 bool CheckInitImageSize(const CameraFile& init, const std::string& init_path, const PointData& data,
@@ -315,13 +355,9 @@ bool CheckInitImageSize(const CameraFile& init, const std::string& init_path, co
   return false;
 }
 
-CalibrateReport IterateCornersThroughTheLens(const std::string& dir,
-                                             const CalibrationTarget& target,
-                                             const CalibrateOptions& options, int max_iterations,
-                                             const CalibrateReport& first, PointData* data,
-                                             ImageFolderReport* images,
-                                             std::vector<int>* used_index, std::ostream& log) {
-  CalibrateReport report = first;
+void IterateCornersThroughTheLens(const std::string& dir, const CalibrationTarget& target,
+                                  const ImagePointOptions& images, const CalibrateOptions& options,
+                                  int max_iterations, ImageCalibration* state, std::ostream& log) {
   char line[256];
   auto print = [&](const char* what, const CalibrateReport& r, const CornerMoves* moves) {
     std::snprintf(line, sizeof(line), "corners %-22s f.ku %.4f +- %.4f px, RMS %.4f px", what,
@@ -334,39 +370,57 @@ CalibrateReport IterateCornersThroughTheLens(const std::string& dir,
     }
     log << "\n";
   };
-  if (!report.IsUsable()) return report;
-  print(options.init ? "through --init's lens:" : "through a homography:", report, nullptr);
+  if (!state->report.IsUsable()) return;
+  print(options.init ? "through --init's lens:" : "through a homography:", state->report, nullptr);
+  // The camera the current corners were fitted through (none: a homography in pixels).
+  std::optional<CameraIntrinsics> fitted_through;
+  if (options.init) fitted_through = options.init->intrinsics;
   for (int pass = 1; pass <= max_iterations; ++pass) {
-    PointData next_data;
-    ImageFolderReport next_images;
-    std::vector<int> next_index;
+    const CameraIntrinsics& camera = state->report.camera.intrinsics;
+    const RefitEffect effect =
+        PredictRefit(state->tags, fitted_through ? &*fitted_through : nullptr, camera, state->data);
+    const double tolerance_px = kCornerIterationTol * state->report.ceres.intrinsics_std[0];
+    if (effect.fku_move_px < tolerance_px) {
+      std::snprintf(line, sizeof(line),
+                    "corners through the lens, pass %d: not needed: the estimate bends the tags' "
+                    "edges at most %.5f px away from the corners' fit, which moves f.ku by at most "
+                    "%.5f px (< %.1f std = %.5f px)\n",
+                    pass, effect.bend_px, effect.fku_move_px, kCornerIterationTol, tolerance_px);
+      log << line;
+      break;
+    }
+    ImageCalibration next;
+    next.tags = std::move(state->tags);
     std::string why;
-    ImagePointOptions image_options;
+    ImagePointOptions image_options = images;
     image_options.lens = FamilyOf(options.model);
-    image_options.camera = report.camera.intrinsics;
-    if (!LoadImagePoints(dir, target, &next_data, &next_images, &next_index, &why, image_options)) {
+    image_options.camera = state->report.camera.intrinsics;
+    image_options.tag_cache = &next.tags;
+    const bool loaded = LoadImagePoints(dir, target, &next.data, &next.images, &next.used_index,
+                                        &why, image_options);
+    state->tags = std::move(next.tags);
+    if (!loaded) {
       log << "corners through the lens: pass " << pass << " failed (" << why
           << "); keeping the previous calibration\n";
       break;
     }
-    const CalibrateReport next = CalibrateFromPoints(next_data, options);
-    if (!next.IsUsable()) {
+    fitted_through = camera;
+    next.report = CalibrateFromPoints(next.data, options);
+    if (!next.report.IsUsable()) {
       log << "corners through the lens: pass " << pass
           << " gave no usable calibration; keeping the previous one\n";
       break;
     }
-    const CornerMoves moves =
-        CompareCorners(*data, *used_index, *images, next_data, next_index, next_images);
-    const double step = std::abs(next.camera.intrinsics.fku_px - report.camera.intrinsics.fku_px);
-    const double std_fku = next.ceres.intrinsics_std[0];
-    report = next;
-    *data = std::move(next_data);
-    *images = std::move(next_images);
-    *used_index = std::move(next_index);
-    print(("through the lens, pass " + std::to_string(pass) + ":").c_str(), report, &moves);
+    const CornerMoves moves = CompareCorners(state->data, state->used_index, state->images,
+                                             next.data, next.used_index, next.images);
+    const double step =
+        std::abs(next.report.camera.intrinsics.fku_px - state->report.camera.intrinsics.fku_px);
+    const double std_fku = next.report.ceres.intrinsics_std[0];
+    next.tags = std::move(state->tags);
+    *state = std::move(next);
+    print(("through the lens, pass " + std::to_string(pass) + ":").c_str(), state->report, &moves);
     if (!(step >= kCornerIterationTol * std_fku)) break;  // Also stops on a NaN std.
   }
-  return report;
 }
 
 }  // namespace calibench

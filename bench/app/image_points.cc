@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "detect/chessboard.h"
+#include "util/parallel_for.h"
 
 namespace calibench {
 namespace {
@@ -155,66 +156,97 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
   std::vector<std::string> names;
   if (!ListImageFiles(dir, &names, why)) return false;
   const std::vector<fs::path> files(names.begin(), names.end());
-  std::unique_ptr<FrameDetector> detector;
-  std::vector<Eigen::Vector3d> grid_corners;
-  if (target.type == CalibrationTarget::Type::kAprilGrid) {
+  const bool aprilgrid = target.type == CalibrationTarget::Type::kAprilGrid;
+  // One detector per worker (FrameDetector is not thread-safe).
+  const int workers = ParallelWorkers(options.threads, files.size());
+  std::vector<std::unique_ptr<FrameDetector>> detectors(aprilgrid ? workers : 0);
+  for (std::unique_ptr<FrameDetector>& detector : detectors) {
     detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(options), why);
     if (!detector) return false;
-    grid_corners = target.grid.CornersInBoard();
   }
+  const std::vector<Eigen::Vector3d> grid_corners =
+      aprilgrid ? target.grid.CornersInBoard() : std::vector<Eigen::Vector3d>();
   *data = PointData();
-  data->format = target.type == CalibrationTarget::Type::kAprilGrid ? "images+aprilgrid"
-                                                                    : "images+checkerboard";
+  data->format = aprilgrid ? "images+aprilgrid" : "images+checkerboard";
   *report = ImageFolderReport();
   used_index->clear();
-  cv::Size size;
-  for (const fs::path& file : files) {
-    ImageResult r;
-    r.file = file.filename().string();
+  ImageTagCache* cache = options.tag_cache;
+  const bool through_lens = aprilgrid && detectors[0]->FindingUsesCamera();
+  const bool reuse = cache && cache->filled && cache->per_image.size() == files.size() &&
+                     (cache->found_through_lens || !through_lens);
+  if (cache && !reuse) {
+    *cache = ImageTagCache();
+    cache->per_image.resize(files.size());
+    cache->found_through_lens = through_lens;
+  }
+  const CameraIntrinsics* fit_camera = options.camera ? &*options.camera : nullptr;
+  // Each image on its own (in parallel, into its slot); sizes are compared after.
+  struct Outcome {
+    ImageResult result;
+    View view;
+    cv::Size size;  // Empty when unreadable.
+    DetectionCounts counts;
+  };
+  std::vector<Outcome> outcomes(files.size());
+  ParallelFor(files.size(), workers, [&](int worker, size_t f) {
+    Outcome& out = outcomes[f];
+    ImageResult& r = out.result;
+    r.file = files[f].filename().string();
     cv::Mat gray;
     std::string note;
-    ReadGray8Mat(file.string(), &gray, &r.reason, &note);
-    View view;
-    if (gray.empty()) {
-      // r.reason says why.
-    } else if (!size.empty() && gray.size() != size) {
-      r.reason = "size " + std::to_string(gray.cols) + "x" + std::to_string(gray.rows) +
-                 " differs from the first image's " + std::to_string(size.width) + "x" +
-                 std::to_string(size.height);
-    } else if (target.type == CalibrationTarget::Type::kCheckerboard) {
-      if (!FindCheckerboard(gray, target, &view, &r.reason)) {
+    ReadGray8Mat(files[f].string(), &gray, &r.reason, &note);
+    if (gray.empty()) return;  // r.reason says why.
+    out.size = gray.size();
+    if (!aprilgrid) {
+      if (!FindCheckerboard(gray, target, &out.view, &r.reason)) {
         r.reason = "no " + std::to_string(target.cols) + "x" + std::to_string(target.rows) +
                    " checkerboard found";
       }
-    } else {
-      DetectionCounts counts;
-      for (const Observation& o : detector->Detect(gray.data, gray.cols, gray.rows,
-                                                   static_cast<int>(gray.step), &counts)) {
-        view.points.push_back(grid_corners[o.point_id]);
-        view.pixels.push_back(o.pixel);
-      }
-      report->tags_detected += counts.tags;
-      report->tags_possible += target.grid.NumTags();
-      report->unknown_tags += counts.unknown_tags;
-      r.reason = std::to_string(counts.tags) + " tags" + (note.empty() ? "" : " (" + note + ")");
-      if (counts.unknown_tags > 0) {
-        r.reason += ", " + std::to_string(counts.unknown_tags) + " ids not on the grid";
-      }
+      return;
     }
-    if (!gray.empty() && size.empty()) size = gray.size();
-    r.points = static_cast<int>(view.points.size());
+    const GrayImageView image(gray.data, gray.cols, gray.rows, static_cast<int>(gray.step));
+    FoundTags found_here;
+    const FoundTags& found =
+        reuse ? cache->per_image[f] : (found_here = detectors[worker]->FindTags(image));
+    if (cache && !reuse) cache->per_image[f] = found;
+    for (const Observation& o :
+         detectors[worker]->RefineTags(image, found, fit_camera, &out.counts)) {
+      out.view.points.push_back(grid_corners[o.point_id]);
+      out.view.pixels.push_back(o.pixel);
+    }
+    r.reason = std::to_string(out.counts.tags) + " tags" + (note.empty() ? "" : " (" + note + ")");
+    if (out.counts.unknown_tags > 0) {
+      r.reason += ", " + std::to_string(out.counts.unknown_tags) + " ids not on the grid";
+    }
+  });
+  cv::Size size;
+  for (Outcome& out : outcomes) {
+    ImageResult& r = out.result;
+    if (!out.size.empty() && size.empty()) size = out.size;
+    if (!out.size.empty() && out.size != size) {
+      r.reason = "size " + std::to_string(out.size.width) + "x" + std::to_string(out.size.height) +
+                 " differs from the first image's " + std::to_string(size.width) + "x" +
+                 std::to_string(size.height);
+      out.view = View();
+    } else if (aprilgrid && !out.size.empty()) {
+      report->tags_detected += out.counts.tags;
+      report->tags_possible += target.grid.NumTags();
+      report->unknown_tags += out.counts.unknown_tags;
+    }
+    r.points = static_cast<int>(out.view.points.size());
     r.used = r.points >= static_cast<int>(kMinViewPoints);
     if (!r.used && r.points > 0) {  // Unreadable or mis-sized images have no points.
       r.reason += ": too few points (" + std::to_string(r.points) + " < " +
                   std::to_string(kMinViewPoints) + ")";
     }
     if (r.used) {
-      data->views.push_back(std::move(view));
+      data->views.push_back(std::move(out.view));
       used_index->push_back(static_cast<int>(report->images.size()));
       ++report->used;
     }
     report->images.push_back(r);
   }
+  if (cache) cache->filled = true;
   data->image_width = size.width;
   data->image_height = size.height;
   if (report->used == 0) {

@@ -23,6 +23,18 @@
 
 namespace calibench {
 
+// The tags AprilTag 3 found in each image of a folder (FrameDetector::FindTags), kept by a
+// calibration that re-fits the corners through each new estimate of its camera: the images are
+// read again, the detector does not run again.
+struct ImageTagCache {
+  bool filled = false;
+  // FindTags painted corner squares out through a distorting camera (FrameDetector::
+  // FindingUsesCamera): it then finds more tags than without one, and is not reused by a pass
+  // that has a camera when it was filled without.
+  bool found_through_lens = false;
+  std::vector<FoundTags> per_image;  // By the folder's image order; empty for unreadable images.
+};
+
 // How the corners of a folder of images are found.
 struct ImagePointOptions {
   LensFamily lens = LensFamily::kRadTan;  // The family the images will be calibrated with.
@@ -30,6 +42,12 @@ struct ImagePointOptions {
   std::optional<CameraIntrinsics> camera;
   // nullopt: the photometric fit (the edge fit with curved edges for a fisheye without camera).
   std::optional<CornerRefinement> refinement;
+  // In / out, aprilgrid only: filled by the first call that gets it, reused by later ones (as
+  // long as the folder is unchanged).
+  ImageTagCache* tag_cache = nullptr;
+  // Images are read and detected in parallel on this many threads (<= 0: every core); the
+  // result does not depend on it.
+  int threads = 0;
 };
 
 // The detector options for images of an aprilgrid: the defaults (the corner squares of Kalibr's

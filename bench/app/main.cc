@@ -142,6 +142,7 @@ struct CalibrateArgs {
   std::string out_path = "camera.yaml", model = "pinhole-k2";
   bool skew = false, model_given = false, evaluate = false;
   int corner_iterations = 4;      // Re-fits of the corners through the estimate (aprilgrid, lens).
+  int threads = 0;                // Images read and detected in parallel (0: every core).
   std::string corner_refinement;  // Empty: the default (photometric; see ImagePointOptions).
 };
 
@@ -198,6 +199,7 @@ int CalibrateImages(const CalibrateArgs& args, bool auto_model, calibench::Calib
   image_options.lens =
       auto_model ? calibench::LensFamily::kUnified : calibench::FamilyOf(options.model);
   if (options.init) image_options.camera = options.init->intrinsics;
+  image_options.threads = args.threads;
   if (!args.corner_refinement.empty()) {
     calibench::CornerRefinement refinement;
     if (!calibench::ParseCornerRefinement(args.corner_refinement, &refinement)) {
@@ -211,30 +213,28 @@ int CalibrateImages(const CalibrateArgs& args, bool auto_model, calibench::Calib
   const bool photometric =
       image_options.refinement.value_or(calibench::CornerRefinement::kPhotometric) ==
       calibench::CornerRefinement::kPhotometric;
-  calibench::PointData data;
-  calibench::ImageFolderReport images;
-  std::vector<int> used_index;
-  if (!calibench::LoadImagePoints(args.images_dir, target, &data, &images, &used_index, &why,
-                                  image_options)) {
+  calibench::ImageCalibration state;
+  image_options.tag_cache = &state.tags;
+  if (!calibench::LoadImagePoints(args.images_dir, target, &state.data, &state.images,
+                                  &state.used_index, &why, image_options)) {
     std::cerr << "calibench: --images: " << why << "\n";
     return 2;
   }
-  if (options.init &&
-      !calibench::CheckInitImageSize(*options.init, args.init_path, data, args.images_dir, &why)) {
+  if (options.init && !calibench::CheckInitImageSize(*options.init, args.init_path, state.data,
+                                                     args.images_dir, &why)) {
     std::cerr << "calibench: --init: " << why << "\n";
     return 2;
   }
-  calibench::CalibrateReport report;
-  if (!FitCamera(data, auto_model, &options, &report)) return 4;
+  if (!FitCamera(state.data, auto_model, &options, &state.report)) return 4;
   if (!args.evaluate && target.type == calibench::CalibrationTarget::Type::kAprilGrid &&
       options.model != calibench::LensModel::kPinhole && args.corner_iterations > 0 &&
       photometric) {
-    report = calibench::IterateCornersThroughTheLens(args.images_dir, target, options,
-                                                     args.corner_iterations, report, &data, &images,
-                                                     &used_index, std::cerr);
+    calibench::IterateCornersThroughTheLens(args.images_dir, target, image_options, options,
+                                            args.corner_iterations, &state, std::cerr);
   }
-  std::cout << calibench::FormatCalibrateReport(report, data);
-  std::cout << calibench::FormatImageReport(images, used_index, report);
+  const calibench::CalibrateReport& report = state.report;
+  std::cout << calibench::FormatCalibrateReport(report, state.data);
+  std::cout << calibench::FormatImageReport(state.images, state.used_index, report);
   return FinishCalibration(report, args.out_path, format);
 }
 
@@ -446,7 +446,13 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
       ->add_option("--corner-iterations", cal.corner_iterations,
                    "With --images (aprilgrid) and a lens model that distorts: re-fit the corners "
                    "through the estimate and recalibrate at most this often, until f moves by "
-                   "< 0.1 std (0: detect once)")
+                   "< 0.1 std, or a re-fit is predicted to move it less (0: detect once)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  calibrate
+      ->add_option("--threads", cal.threads,
+                   "With --images: read and detect the images on this many threads (0: every "
+                   "core; the result does not depend on it)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   calibrate

@@ -179,17 +179,21 @@ Fit CalibrateImages(const std::string& dir, LensModel model) {
       << why;
   ImagePointOptions image_options;
   image_options.lens = FamilyOf(model);
-  ImageFolderReport images;
-  std::vector<int> used;
-  EXPECT_TRUE(LoadImagePoints(dir, target, &fit.data, &images, &used, &why, image_options)) << why;
+  ImageCalibration state;
+  image_options.tag_cache = &state.tags;
+  EXPECT_TRUE(LoadImagePoints(dir, target, &state.data, &state.images, &state.used_index, &why,
+                              image_options))
+      << why;
   CalibrateOptions options;
   options.model = model;
-  const CalibrateReport first = CalibrateFromPoints(fit.data, options);
-  EXPECT_TRUE(first.IsUsable()) << first.ceres.message;
+  state.report = CalibrateFromPoints(state.data, options);
+  EXPECT_TRUE(state.report.IsUsable()) << state.report.ceres.message;
   std::ostringstream log;
-  fit.report = IterateCornersThroughTheLens(dir, target, options, kCornerPasses, first, &fit.data,
-                                            &images, &used, log);
-  fit.views_used = images.used;
+  IterateCornersThroughTheLens(dir, target, image_options, options, kCornerPasses, &state, log);
+  std::printf("%s", log.str().c_str());
+  fit.data = state.data;
+  fit.report = state.report;
+  fit.views_used = state.images.used;
   fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return fit;
 }

@@ -5,6 +5,7 @@
 // axis included; and the tangent plane's own contract.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -246,6 +247,60 @@ TEST(WideAngle, KalibrGridsAreFoundAndFittedThroughTheLens) {
 // lines bend) fails both checks.
 constexpr double kCollinearTol = 1e-9;
 constexpr double kRoundTripTolPx = 1e-8;
+
+// EdgeBendChangePx against an independent drawing of the edges: a square in space seen through a
+// lens, each edge's image a dense polyline of its projected points (1000 a side). From straight
+// edges (a = nullptr, the homography's) to the lens's, the largest distance of the straight edges'
+// points to the polylines; the function measures to a point of the curve (an upper bound), here
+// within kBoundSlack of it. Through the same camera twice, or two pinholes, nothing bends.
+TEST(WideAngle, EdgeBendChangeIsTheDistanceBetweenTheDrawnEdges) {
+  constexpr double kBoundSlack = 0.05;  // The foot on the plane is not the foot in pixels.
+  constexpr double kNothingPx = 1e-9;
+  const CameraIntrinsics lens{458.0, 457.0, 90.0, 367.0, 248.0, -0.28, 0.074};
+  const CameraIntrinsics pinhole{458.0, 457.0, 90.0, 367.0, 248.0};
+  // 6 cm squares at 0.5 m, centred on rays towards the image's corner, edge and centre, tilted.
+  for (const Eigen::Vector3d& centre :
+       {Eigen::Vector3d(-0.32, -0.2, 0.5), Eigen::Vector3d(0.25, 0.0, 0.5),
+        Eigen::Vector3d(0.0, 0.02, 0.5)}) {
+    const Eigen::Vector3d u = Eigen::Vector3d(1, 0.3, 0.2).normalized() * 0.03;
+    const Eigen::Vector3d v = Eigen::Vector3d(-0.3, 1, 0.1).normalized() * 0.03;
+    const std::array<Eigen::Vector3d, 4> square = {centre - u - v, centre + u - v, centre + u + v,
+                                                   centre - u + v};
+    std::array<Eigen::Vector2d, 4> corners;
+    for (int k = 0; k < 4; ++k) ASSERT_TRUE(ProjectPoint(lens, square[k], &corners[k]));
+    double expected = 0;
+    for (int e = 0; e < 4; ++e) {
+      std::vector<Eigen::Vector2d> curve;
+      for (int s = 0; s <= 1000; ++s) {
+        Eigen::Vector2d pixel;
+        const Eigen::Vector3d point = square[e] + (s / 1000.0) * (square[(e + 1) % 4] - square[e]);
+        ASSERT_TRUE(ProjectPoint(lens, point, &pixel));
+        curve.push_back(pixel);
+      }
+      for (int s = 1; s <= 7; ++s) {
+        const Eigen::Vector2d straight =
+            corners[e] + (s / 8.0) * (corners[(e + 1) % 4] - corners[e]);
+        double nearest = 1e300;
+        for (size_t c = 0; c + 1 < curve.size(); ++c) {  // Distance to each polyline segment.
+          const Eigen::Vector2d d = curve[c + 1] - curve[c];
+          const double t = std::clamp((straight - curve[c]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+          nearest = std::min(nearest, (straight - curve[c] - t * d).norm());
+        }
+        expected = std::max(expected, nearest);
+      }
+    }
+    const double bend = EdgeBendChangePx(nullptr, lens, corners);
+    std::printf("square at (%.2f, %.2f): bend %.5f px, polyline distance %.5f px\n", centre.x(),
+                centre.y(), bend, expected);
+    EXPECT_GE(bend, expected * (1 - 1e-6));
+    EXPECT_LE(bend, expected * (1 + kBoundSlack) + kNothingPx);
+    EXPECT_LT(EdgeBendChangePx(&lens, lens, corners), kNothingPx);
+    EXPECT_LT(EdgeBendChangePx(nullptr, pinhole, corners), kNothingPx);
+    EXPECT_LT(EdgeBendChangePx(&pinhole, pinhole, corners), kNothingPx);
+    // Symmetric in its cameras to within the bound's slack.
+    EXPECT_NEAR(EdgeBendChangePx(&lens, pinhole, corners), bend, kBoundSlack * bend + kNothingPx);
+  }
+}
 
 TEST(WideAngle, BoardLinesAreStraightOnTheTangentPlane) {
   const CameraIntrinsics k = Lenses()[0].camera;
