@@ -48,9 +48,9 @@
 #include <string>
 #include <vector>
 
-#include "core/measurements.h"
-#include "core/projection_matrix.h"
-#include "core/status.h"
+#include "camera/projection_matrix.h"
+#include "sim/measurements.h"
+#include "util/status.h"
 
 namespace calibench {
 

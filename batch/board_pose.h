@@ -3,7 +3,7 @@
 // of every view in the wide start (batch/wide_init.h).
 //
 // The view's pixels are lifted through the known lens to unit rays (UnprojectToRay: every lens
-// family of core/camera.h, past 90 degrees from the axis too, where X/Z does not exist). The rays
+// family of camera/camera.h, past 90 degrees from the axis too, where X/Z does not exist). The rays
 // are turned by a rotation Q (exact) that takes their mean direction to the axis: a board then
 // spans less than 180 degrees about it, the turned rays have z > 0, and their (X/Z, Y/Z) make a
 // pinhole PnP with K = I and no distortion: cv::solvePnP with SOLVEPNP_IPPE for a planar board
@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/pose.h"
-#include "core/view.h"
+#include "camera/camera.h"
+#include "camera/pose.h"
+#include "camera/view.h"
 
 namespace calibench {
 

@@ -1,6 +1,6 @@
 // Normalised (Hartley) direct linear transform of a constant 3x4 projection matrix M from
 // correspondences (X_i, p_i) pooled over frames, then its decomposition into A (with skew), R, t
-// (core/projection_matrix.h; cheirality fixes the sign).
+// (camera/projection_matrix.h; cheirality fixes the sign).
 //
 //   Normalise: X' = T3 X (centroid at 0, mean distance sqrt(3)), p' = T2 p (mean distance sqrt(2)).
 //   Each correspondence gives two rows of  [ X'^T  0  -u' X'^T ; 0  X'^T  -v' X'^T ] m = 0;
@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "core/projection_matrix.h"
-#include "core/status.h"
+#include "camera/projection_matrix.h"
+#include "util/status.h"
 
 namespace calibench {
 

@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "core/pose.h"
+#include "camera/pose.h"
 
 namespace calibench {
 

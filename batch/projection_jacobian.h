@@ -1,4 +1,4 @@
-// ProjectLens (core/camera.h) with hand-written Jacobians, for every lens family: the hot path of
+// ProjectLens (camera/camera.h) with hand-written Jacobians, for every lens family: the hot path of
 // the batch refinement (batch/reprojection_error.h). Same pixel, same valid region (false exactly
 // where ProjectLens is), derivatives checked against ceres::Jet in tests/batch/refine_test.cc.
 //
@@ -31,7 +31,7 @@
 
 #include <Eigen/Core>
 
-#include "core/camera.h"
+#include "camera/camera.h"
 
 namespace calibench {
 

@@ -53,7 +53,7 @@ std::vector<int> FixedOf(const RefineOptions& o) {
   return fixed;
 }
 
-// The ranges of the omnidirectional families' fields (core/camera.h, CameraIntrinsics::Check) as
+// The ranges of the omnidirectional families' fields (camera/camera.h, CameraIntrinsics::Check) as
 // Ceres bounds on the intrinsics block: a step that would leave them is projected back onto them.
 // Open ends (beta > 0, the double sphere's xi > -1) stay kOpenBoundMargin inside.
 constexpr double kOpenBoundMargin = 1e-9;

@@ -7,7 +7,7 @@
 //   one shared pose (shared_pose = true): a scenario's constant extrinsic, the points already
 //       expressed in the parent frame P (x_bar) through the known body motion.
 //
-// Every lens family of core/camera.h is refined, with the hand-written Jacobians of
+// Every lens family of camera/camera.h is refined, with the hand-written Jacobians of
 // batch/projection_jacobian.h (autodiff: the ceres::Jet reference). The omnidirectional families'
 // ranges are Ceres bounds on the intrinsics block: unified xi >= 0; eucm alpha in [0, 1], beta > 0;
 // double sphere xi > -1, alpha in [0, 1] (a parameter that ends on a bound is reported there).
@@ -25,11 +25,11 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/parametrisation.h"
-#include "core/pose.h"
-#include "core/status.h"
-#include "core/view.h"
+#include "camera/camera.h"
+#include "camera/parametrisation.h"
+#include "camera/pose.h"
+#include "camera/view.h"
+#include "util/status.h"
 
 namespace calibench {
 
@@ -63,7 +63,7 @@ struct RefineOptions {
   bool Check(std::string* why) const;
 };
 
-// The parametrisation (core/parametrisation.h) a refinement with `options` estimates, and the
+// The parametrisation (camera/parametrisation.h) a refinement with `options` estimates, and the
 // options for one.
 inline Parametrisation ParametrisationOf(const RefineOptions& options) {
   Parametrisation p;

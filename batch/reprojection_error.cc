@@ -1,7 +1,7 @@
 #include "batch/reprojection_error.h"
 
 #include "batch/projection_jacobian.h"
-#include "core/pose.h"
+#include "camera/pose.h"
 
 namespace calibench {
 namespace {

@@ -4,7 +4,7 @@
 //     residual = Project(intrinsics, q * point_in_object + t) - pixel        [px]
 //
 // Parameter blocks:
-//   0: intrinsics[10]  the lens family's raw order (core/camera.h); radtan: fku, fkv, phi_rad,
+//   0: intrinsics[10]  the lens family's raw order (camera/camera.h); radtan: fku, fkv, phi_rad,
 //                      u0, v0, k1, k2, p1, p2, k3; equidistant: ..., k1, k2, k3, k4, unused;
 //                      unified: ..., xi, k1, k2, p1, p2; eucm: ..., alpha, beta, 3 unused;
 //                      double-sphere: ..., xi, alpha, 3 unused
@@ -22,7 +22,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-#include "core/camera.h"
+#include "camera/camera.h"
 
 namespace calibench {
 

@@ -47,10 +47,10 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/pose.h"
-#include "core/status.h"
-#include "core/view.h"
+#include "camera/camera.h"
+#include "camera/pose.h"
+#include "camera/view.h"
+#include "util/status.h"
 
 namespace calibench {
 

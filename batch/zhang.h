@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "batch/refine.h"
-#include "core/camera.h"
-#include "core/pose.h"
-#include "core/status.h"
-#include "core/view.h"
+#include "camera/camera.h"
+#include "camera/pose.h"
+#include "camera/view.h"
+#include "util/status.h"
 
 namespace calibench {
 

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "core/tag_family.h"
+#include "sim/tag_family.h"
 
 namespace calibench {
 namespace {

@@ -8,9 +8,9 @@
 // calibench's (camera.h) are at (i, j). Corners are converted here, once: ours = theirs - 0.5
 // (measured here: the raw offset is +0.47..+0.50 px; tests/detect checks the round trip).
 // Corner order: the detector's, i.e. the tag's bitmap bottom-left, bottom-right, top-right,
-// top-left — AprilGrid's order (core/target.h).
+// top-left — AprilGrid's order (sim/target.h).
 // Border: black_border_bits = 2 decodes Kalibr's AprilGrid tags (a 2-cell black border) through a
-// derived family (core/tag_family.h AprilTagFamilyHandle); the reported corners are then those of
+// derived family (sim/tag_family.h AprilTagFamilyHandle); the reported corners are then those of
 // the outer edge of the 2-cell border (Kalibr's tagSize square).
 // One detector is not thread-safe; use one per thread.
 #pragma once
@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "core/render.h"
-#include "core/tag_family.h"
+#include "sim/render.h"
+#include "sim/tag_family.h"
 
 struct apriltag_detector;
 

@@ -1,5 +1,5 @@
 // Chessboard (checkerboard) corner detection: the inner corners of a cols x rows pattern, in
-// calibench's pixel convention (core/camera.h: pixel centres at integers, which is OpenCV's).
+// calibench's pixel convention (camera/camera.h: pixel centres at integers, which is OpenCV's).
 //
 //   1. cv::findChessboardCorners (adaptive threshold, normalised image), refined by
 //      cv::cornerSubPix with a 5 x 5 half-window (11 x 11 px) and 30 iterations / 0.1 px, as
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "core/render.h"
+#include "sim/render.h"
 
 namespace calibench {
 

@@ -6,13 +6,13 @@
 #include <initializer_list>
 #include <memory>
 
-#include "core/pose.h"
-#include "core/random.h"
-#include "core/render.h"
-#include "core/tag_family.h"
-#include "core/target.h"
+#include "camera/pose.h"
 #include "detect/apriltag_detector.h"
 #include "detect/frame_detector.h"
+#include "sim/render.h"
+#include "sim/tag_family.h"
+#include "sim/target.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

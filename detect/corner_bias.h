@@ -1,4 +1,4 @@
-// The corner error of the rendered pipeline (core/render.h -> AprilTag 3 -> corner refinement)
+// The corner error of the rendered pipeline (sim/render.h -> AprilTag 3 -> corner refinement)
 // against the exact projections, split into its bias and its noise (`calibench corner-bias`).
 //
 // One case is one view of a single tag36h11 tag (a 1 x 1 AprilGrid on its white board, with a 1-
@@ -11,7 +11,7 @@
 // `views` views, each shifted by a random sub-pixel offset (uniform in [-0.5, 0.5] px) and rendered
 // `draws` times with independent gray noise. Each stage (CornerStage) finds and refines the tag on
 // the same frames (cropped to the tag's surroundings); per view v, draw d and corner k (detector
-// order: bottom-left, bottom-right, top-right, top-left, core/target.h):
+// order: bottom-left, bottom-right, top-right, top-left, sim/target.h):
 //
 //   e_vdk    = detected - projected                              (px, pixel-centre convention)
 //   b_vk     = mean_d e_vdk                   the view's bias: what averaging frames cannot remove
@@ -39,7 +39,7 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
+#include "camera/camera.h"
 #include "detect/photometric_fit.h"
 
 namespace calibench {

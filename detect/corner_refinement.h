@@ -19,8 +19,8 @@
 
 #include <string>
 
-#include "core/render.h"
 #include "detect/apriltag_detector.h"
+#include "sim/render.h"
 
 namespace calibench {
 

@@ -9,8 +9,8 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
-#include "core/tag_family.h"
 #include "detect/tangent_plane.h"
+#include "sim/tag_family.h"
 
 namespace calibench {
 namespace {
@@ -369,7 +369,7 @@ void FrameDetector::FindTagsAmongSquares(const GrayImageView& view, std::vector<
   }
 }
 
-// Square (i, j) spans [i p - g, i p] x [j p - g, j p] on the board (core/target.h), i.e.
+// Square (i, j) spans [i p - g, i p] x [j p - g, j p] on the board (sim/target.h), i.e.
 // [(i - c)(1 + q) - q, (i - c)(1 + q)] x (the same in j, r) in the coordinates of tag (r, c) (its
 // black square [0, 1]^2, q = g / s = tag_spacing). Each square within one tag of a found tag (two
 // through a known lens; Chebyshev distance in tags: 0 for the tag's own four) is mapped through

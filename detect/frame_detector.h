@@ -1,7 +1,7 @@
 // From an image to target observations: AprilTag detection, corner refinement, and the matching
 // of (tag id, corner index) to the points of a target made of AprilGrids.
 //
-// Point numbering (core/target.h): the grids' corners are concatenated grid after grid; corner k
+// Point numbering (sim/target.h): the grids' corners are concatenated grid after grid; corner k
 // (detector order: bottom-left, bottom-right, top-right, top-left) of the tag with id `id` on grid
 // g is point offset(g) + 4 (id - g.first_id) + k. All grids must use one family and one border
 // width (black_tag_border) and no id may appear on two grids (a detection could not be
@@ -41,11 +41,11 @@
 #include <string>
 #include <vector>
 
-#include "core/render.h"
-#include "core/target.h"
 #include "detect/apriltag_detector.h"
 #include "detect/corner_refinement.h"
 #include "detect/photometric_fit.h"
+#include "sim/render.h"
+#include "sim/target.h"
 
 namespace calibench {
 

@@ -28,10 +28,10 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/render.h"
-#include "core/tag_family.h"
+#include "camera/camera.h"
 #include "detect/tag_model.h"
+#include "sim/render.h"
+#include "sim/tag_family.h"
 
 namespace calibench {
 

@@ -7,8 +7,8 @@
 #include <map>
 #include <utility>
 
-#include "core/random.h"
 #include "util/parallel_for.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {
@@ -107,98 +107,7 @@ bool RenderedSourceOptions::Check(std::string* why) const {
     if (why) *why = "threads must be >= 0 (0: all cores)";
     return false;
   }
-  if (!(corner_error_clip_px >= 0)) {
-    if (why) *why = "corner_error_clip_px must be >= 0 (infinity: the detected corners)";
-    return false;
-  }
-  if (corner_error_grid < -1) {
-    if (why) *why = "corner_error_grid must be a grid's index (0, 1, ...) or -1 (every grid)";
-    return false;
-  }
   return render.Check(why) && detection.Check(why);
-}
-
-namespace {
-constexpr std::array<std::pair<RenderedSourceOptions::CornerErrorPart, const char*>, 5>
-    kCornerErrorParts{{{RenderedSourceOptions::CornerErrorPart::kAll, "all"},
-                       {RenderedSourceOptions::CornerErrorPart::kX, "x"},
-                       {RenderedSourceOptions::CornerErrorPart::kY, "y"},
-                       {RenderedSourceOptions::CornerErrorPart::kTagTranslation, "tag_translation"},
-                       {RenderedSourceOptions::CornerErrorPart::kTagShape, "tag_shape"}}};
-
-// Replaces each pixel of `frame` listed in `errors` (index into the frame, detected minus exact)
-// by exact + the part of its error `options` keeps. `grid_of_point`: each scene point's grid.
-void KeepErrorPart(const RenderedSourceOptions& options, const std::vector<int>& grid_of_point,
-                   const std::vector<std::pair<size_t, Eigen::Vector2d>>& errors, Frame* frame) {
-  using Part = RenderedSourceOptions::CornerErrorPart;
-  if (options.corner_error_part == Part::kAll && options.corner_error_grid < 0) return;
-  // Mean error of each tag's detected corners (tags own 4 consecutive point ids), for the tag
-  // parts.
-  const bool per_tag = options.corner_error_part == Part::kTagTranslation ||
-                       options.corner_error_part == Part::kTagShape;
-  std::map<int, std::pair<Eigen::Vector2d, int>> tag_mean;
-  if (per_tag) {
-    for (const auto& [i, e] : errors) {
-      auto& [sum, n] =
-          tag_mean.try_emplace(frame->point_ids[i] / 4, Eigen::Vector2d::Zero(), 0).first->second;
-      sum += e;
-      ++n;
-    }
-  }
-  for (const auto& [i, e] : errors) {
-    const int point = frame->point_ids[i];
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    if (per_tag) {
-      const auto& [sum, n] = tag_mean.at(point / 4);
-      mean = sum / n;
-    }
-    Eigen::Vector2d kept = e;
-    switch (options.corner_error_part) {
-      case Part::kAll:
-        break;
-      case Part::kX:
-        kept.y() = 0;
-        break;
-      case Part::kY:
-        kept.x() = 0;
-        break;
-      case Part::kTagTranslation:
-        kept = mean;
-        break;
-      case Part::kTagShape:
-        kept = e - mean;
-        break;
-    }
-    if (options.corner_error_grid >= 0 && grid_of_point[point] != options.corner_error_grid) {
-      kept.setZero();
-    }
-    frame->pixels[i] += kept - e;
-  }
-}
-}  // namespace
-
-bool ParseCornerErrorPart(const std::string& name, RenderedSourceOptions::CornerErrorPart* part) {
-  for (const auto& [value, text] : kCornerErrorParts) {
-    if (name == text) {
-      *part = value;
-      return true;
-    }
-  }
-  return false;
-}
-
-std::string CornerErrorPartNames() {
-  std::string names;
-  for (const auto& [value, text] : kCornerErrorParts)
-    names += (names.empty() ? "" : ", ") + std::string(text);
-  return names;
-}
-
-std::string CornerErrorPartName(RenderedSourceOptions::CornerErrorPart part) {
-  for (const auto& [value, text] : kCornerErrorParts) {
-    if (value == part) return text;
-  }
-  return "all";
 }
 
 std::unique_ptr<SceneRenderer> SceneRenderer::Create(const SceneTruth& scene,
@@ -246,18 +155,9 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
       FrameDetector::Create(grids, options.detection, why);
   if (!first_detector) return nullptr;
   std::vector<Eigen::Vector3d> corners;
-  std::vector<int> grid_of_point;
-  for (size_t g = 0; g < grids.size(); ++g) {
-    const std::vector<Eigen::Vector3d> c = grids[g].CornersInPointsFrame();
+  for (const AprilGrid& grid : grids) {
+    const std::vector<Eigen::Vector3d> c = grid.CornersInPointsFrame();
     corners.insert(corners.end(), c.begin(), c.end());
-    grid_of_point.insert(grid_of_point.end(), c.size(), static_cast<int>(g));
-  }
-  if (options.corner_error_grid >= static_cast<int>(grids.size())) {
-    if (why) {
-      *why = "corner_error_grid " + std::to_string(options.corner_error_grid) + " names no grid (" +
-             std::to_string(grids.size()) + " grids)";
-    }
-    return nullptr;
   }
   if (corners.size() != scene.points.size()) {
     if (why) *why = "the scene's points are not the grids' corners";
@@ -277,7 +177,6 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
     std::unique_ptr<FrameDetector> detector;
     GrayImage image;
     std::vector<BoardView> views;
-    std::vector<std::pair<size_t, Eigen::Vector2d>> reported_errors;  // (pixel index, error).
   };
   std::vector<WorkerState> states(ParallelWorkers(options.threads, results.size()));
   states[0].detector = std::move(first_detector);
@@ -286,10 +185,8 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
     if (!state.detector) state.detector = FrameDetector::Create(grids, options.detection, nullptr);
     GrayImage& image = state.image;
     std::vector<BoardView>& views = state.views;
-    std::vector<std::pair<size_t, Eigen::Vector2d>>& reported_errors = state.reported_errors;
     {
       FrameResult& r = results[k];
-      reported_errors.clear();
       const double t = source->breakpoints_[k];
       if (!renderer->Render(t, trial_seed, static_cast<int>(k), &image, &views, &r.error)) return;
       const CameraIntrinsics intrinsics = scene.IntrinsicsAt(t);
@@ -313,14 +210,8 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
           r.errors.push_back(o.pixel - exact);
           r.outward.push_back((exact - centre).normalized());
           r.crlb_px.push_back(o.crlb_px);
-          const Eigen::Vector2d e = o.pixel - exact;
-          if (e.norm() > options.corner_error_clip_px) {
-            r.frame.pixels.back() = exact + e * (options.corner_error_clip_px / e.norm());
-          }
-          reported_errors.emplace_back(r.frame.pixels.size() - 1, r.frame.pixels.back() - exact);
         }
       }
-      KeepErrorPart(options, grid_of_point, reported_errors, &r.frame);
     }
   });
 

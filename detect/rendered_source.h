@@ -2,7 +2,7 @@
 // runs. For each frame time t_k = k / frame_rate_hz (k = 0, 1, ... while t_k < duration):
 //   1. place every AprilGrid in the camera: cam_from_board = CamFromParent * ParentFromPoints(t_k)
 //      * points_from_board (scene.h, target.h);
-//   2. render the 8-bit frame (core/render.h) with pixel noise drawn from (trial seed, k);
+//   2. render the 8-bit frame (sim/render.h) with pixel noise drawn from (trial seed, k);
 //   3. detect, refine and match the tags (frame_detector.h): the frame holds the detected points
 //      x_bar_i(t_k) (exact 3D positions: the target is known) and their detected pixels.
 // Measurements are held from t_k until t_k+1, as OracleSource's sampled mode does, so the two are
@@ -16,42 +16,21 @@
 #include <string>
 #include <vector>
 
-#include "core/measurements.h"
-#include "core/render.h"
-#include "core/scene.h"
-#include "core/target.h"
 #include "detect/frame_detector.h"
+#include "sim/measurements.h"
+#include "sim/render.h"
+#include "sim/scene.h"
+#include "sim/target.h"
 
 namespace calibench {
 
 struct RenderedSourceOptions {
-  // The part of a detected corner's error that corner_error_part keeps (below).
-  enum class CornerErrorPart { kAll, kX, kY, kTagTranslation, kTagShape };
   double frame_rate_hz = 30.0;
   RenderOptions render;  // width, height: the camera's image size.
   FrameDetectorOptions detection;
   int threads = 1;  // Frames produced in parallel; 0: all cores.
-  // A diagnostic (config: rendering.corner_error_clip_px): each detected corner is reported at its
-  // exact projection plus its detection error shortened to at most this length (px): 0 keeps the
-  // pipeline's selection of corners (which tags, which frames) and removes its corner errors;
-  // 0.3 removes only the outliers. Infinity (the default): the detected corners.
-  double corner_error_clip_px = std::numeric_limits<double>::infinity();
-  // Diagnostics of where a rendered bias comes from (config: rendering.corner_error_part,
-  // corner_error_grid), applied after the clip: each detected corner is reported at its exact
-  // projection plus one part of its error e. kAll: e; kX / kY: its image x / y component;
-  // kTagTranslation: the mean e of its tag's detected corners (the tag displaced, not deformed);
-  // kTagShape: e minus that mean. With corner_error_grid = g >= 0, only grid g's corners keep
-  // (that part of) their errors, the other grids' are at their exact projections.
-  CornerErrorPart corner_error_part = CornerErrorPart::kAll;
-  int corner_error_grid = -1;  // -1: every grid.
   bool Check(std::string* why) const;
 };
-
-// "all", "x", "y", "tag_translation", "tag_shape"; false for another name.
-bool ParseCornerErrorPart(const std::string& name, RenderedSourceOptions::CornerErrorPart* part);
-std::string CornerErrorPartName(RenderedSourceOptions::CornerErrorPart part);
-// The accepted names, comma-separated (for error messages).
-std::string CornerErrorPartNames();
 
 // Corner errors against the exact projections of the detected points (camera.h convention).
 struct DetectionStats {

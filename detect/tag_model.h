@@ -30,7 +30,7 @@
 #include <string>
 #include <vector>
 
-#include "core/tag_family.h"
+#include "sim/tag_family.h"
 
 namespace calibench {
 

@@ -9,7 +9,7 @@
 // B = [e1 e2 c] and cam_from_board = [R | t]): straight board edges stay straight, whatever the
 // lens. The camera's undistorted normalised plane z = 1 is the tangent plane about c = (0, 0, 1),
 // which cannot hold rays at or past 90 deg. Through a camera: pixel -> ray by UnprojectToRay, ray
-// -> pixel by ProjectPoint (core/camera.h).
+// -> pixel by ProjectPoint (camera/camera.h).
 //
 // The basis: e1 along Y x c (the image's +u for c = +Z: the plane is the normalised plane there),
 // e2 = c x e1; nearer the Y axis, e2 along c x X, e1 = e2 x c.
@@ -23,7 +23,7 @@
 #include <Eigen/Core>
 #include <array>
 
-#include "core/camera.h"
+#include "camera/camera.h"
 
 namespace calibench {
 

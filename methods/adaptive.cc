@@ -1,7 +1,7 @@
 // Method `adaptive`: the thesis estimator (adaptive/estimator.h) on the trial's source itself,
 // continuous or held frames, from its own initial guess (thesis appendix B.1 by default). Its
 // estimate is theta_hat (the linear form, with its own theta_z) and the camera recovered from it
-// (core/projection_matrix.h; cheirality from the last frame's points). It reports theta_hat after
+// (camera/projection_matrix.h; cheirality from the last frame's points). It reports theta_hat after
 // every accepted step to the sink, and its persistent-excitation index; a run whose index is below
 // kMinIdentifiablePeIndex says in its message that the data do not determine theta. With report
 // times (a calibration that changes) it also reports its recovered camera at each of them.
@@ -10,8 +10,8 @@
 #include <cstdio>
 
 #include "adaptive/estimator.h"
-#include "core/synthetic.h"
 #include "methods/method.h"
+#include "sim/synthetic.h"
 
 namespace calibench {
 namespace {

@@ -5,7 +5,7 @@
 // covariance's standard deviations. Its rows carry the Cramer-Rao bound of its parametrisation.
 // Online mode (window_s, every_s; methods/online.h): each window's solve starts from the previous
 // window's solution (the first from its init on that window) and reports the joint covariance of
-// the intrinsics and the extrinsic (core/estimate.h's layout).
+// the intrinsics and the extrinsic (camera/estimate.h's layout).
 // `views: init` (the twin of a planar-target calibration): instead of every frame with the rig
 // constraint, exactly the views its init used (zhang's, after max_views), with one board pose per
 // view and no rig constraint, the extrinsic then by chordal averaging of the per-view poses as
@@ -142,7 +142,7 @@ class CeresMethod final : public Method {
     return result;
   }
 
-  // core/estimate.h's covariance from refine's joint one over [intrinsics (10), rotation tangent
+  // camera/estimate.h's covariance from refine's joint one over [intrinsics (10), rotation tangent
   // (3), translation (3)] of cam_from_parent = {R, t}. Ceres' EigenQuaternionManifold moves the
   // quaternion by [sin|d| d/|d|, cos|d|] * q: R' = Exp(2 d) R, so R_C' = R_C Exp(-2 d) =
   // Exp(-2 R_C d) R_C, dtheta = -2 R^T d; x_C = -R^T t gives dx_C = -R^T dt - 2 R^T [t]x d.

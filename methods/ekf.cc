@@ -1,7 +1,7 @@
 // Method `ekf`: an (iterated) extended Kalman filter on the camera's parameters, as robotics
 // practitioners run online calibration (OpenVINS, ROVIO; spec dynamic-calibration.md).
 //
-// State (11, the layout of core/estimate.h's covariance):
+// State (11, the layout of camera/estimate.h's covariance):
 //   x = [f*ku, f*kv, phi (rad), u0, v0, dtheta (3, rad), x_C (3, m)],
 // the rotation as an error state about a nominal R_C: R_C = Exp(dtheta) R_C_nominal (parent
 // frame), dtheta reset to 0 after every update (R_C_nominal <- Exp(dtheta) R_C_nominal).
@@ -24,8 +24,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/status.h"
 #include "methods/method.h"
+#include "util/status.h"
 
 namespace calibench {
 namespace {

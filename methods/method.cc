@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/format.h"
+#include "util/format.h"
 
 namespace calibench {
 

@@ -12,8 +12,8 @@
 //                 (or a type's default, by type name) once per trial and returns its result: how
 //                 ceres starts from dlt or zhang. Cache() shares intermediate work between the
 //                 methods of a trial (zhang and zhang_handeye share one calibrateCamera).
-//   MethodResult  status, message, iterations and wall time (core/status.h), the estimate
-//                 (core/estimate.h), the data it used and its own extra figures by column name.
+//   MethodResult  status, message, iterations and wall time (util/status.h), the estimate
+//                 (camera/estimate.h), the data it used and its own extra figures by column name.
 //   EstimateSink  estimates over time, as the method produces them, and named series of its own
 //                 state (the harness turns them into ||theta~||(t), convergence times, curves).
 //
@@ -34,14 +34,14 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/estimate.h"
-#include "core/measurements.h"
-#include "core/parametrisation.h"
-#include "core/scene.h"
-#include "core/status.h"
-#include "core/target.h"
-#include "core/view.h"
+#include "camera/camera.h"
+#include "camera/estimate.h"
+#include "camera/parametrisation.h"
+#include "camera/view.h"
+#include "sim/measurements.h"
+#include "sim/scene.h"
+#include "sim/target.h"
+#include "util/status.h"
 
 namespace calibench {
 
@@ -114,7 +114,7 @@ class EstimateSink {
  public:
   virtual ~EstimateSink() = default;
   // A sample at time t of a named series of the method's own state. The harness knows
-  // kThetaSeries (the linear form theta_hat of core/projection_matrix.h, 16 values: the adaptive
+  // kThetaSeries (the linear form theta_hat of camera/projection_matrix.h, 16 values: the adaptive
   // estimator's state, at t = 0 and after every accepted integrator step) and ignores others.
   virtual void OnSeries(double t_s, const std::string& series, const Eigen::VectorXd& value) = 0;
   // The method's estimate from time t on (until its next one): online methods at their report
@@ -153,7 +153,7 @@ struct MethodInput {
   LensFamily lens = LensFamily::kRadTan;
   std::vector<BoardLayout> boards;  // Planar boards of the point set, in point order; may be empty.
   // Where the points frame (body for a fixed camera, world for a moving one) is in the parent
-  // frame at time t: known, as the thesis assumes the body poses known (core/scene.h).
+  // frame at time t: known, as the thesis assumes the body poses known (sim/scene.h).
   std::function<Rigid3(double t_s)> parent_from_points;
   // The result of the scenario's instance `name`, or of the default instance of the type `name`
   // when the scenario has no instance of that name, on `input` (this trial, or a window of it);

@@ -9,7 +9,7 @@
 #include <set>
 #include <sstream>
 
-#include "core/format.h"
+#include "util/format.h"
 
 namespace calibench {
 namespace {

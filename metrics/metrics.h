@@ -1,16 +1,16 @@
 // Every figure calibench reports about an estimate, computed in one place from the estimate
-// (core/estimate.h) plus the truth or the measurements. No method computes its own errors.
+// (camera/estimate.h) plus the truth or the measurements. No method computes its own errors.
 //
 //   camera errors   estimate minus truth: f*ku, f*kv, phi, u0, v0; the extrinsic rotation as one
 //                   geodesic angle, angle(R_C_hat R_C^T) after projecting onto SO(3), and per
-//                   Euler angle (roll, pitch, yaw of R_C in the README's convention, core/pose.h;
+//                   Euler angle (roll, pitch, yaw of R_C in the README's convention, camera/pose.h;
 //                   an opted-in improper R_C is compared through -R_C, a proper rotation),
 //                   wrapped to (-180, 180]; the position error |x_C_hat - x_C|.
 //   ||theta~||      the thesis's error figure ||theta - theta_hat / lambda|| (spec "Recovering the
 //                   parameters"): theta_hat scaled so that the third row of its 3x3 block has unit
 //                   norm, with the sign that best matches theta (itself normalised). Distortion is
 //                   not part of theta.
-//   reprojection    per-point Euclidean RMS (px) of the estimate's projection (core/estimate.h)
+//   reprojection    per-point Euclidean RMS (px) of the estimate's projection (camera/estimate.h)
 //                   against the measured pixels of the trial's frames.
 //   CRLB            the Cramer-Rao standard deviations of the intrinsics for white pixel noise of
 //                   std sigma: sigma^2 (J^T J)^-1 at the truth, poses marginalised
@@ -26,12 +26,12 @@
 #include <vector>
 
 #include "batch/refine.h"
-#include "core/estimate.h"
-#include "core/parametrisation.h"
-#include "core/projection_matrix.h"
-#include "core/scene.h"
-#include "core/status.h"
-#include "core/view.h"
+#include "camera/estimate.h"
+#include "camera/parametrisation.h"
+#include "camera/projection_matrix.h"
+#include "camera/view.h"
+#include "sim/scene.h"
+#include "util/status.h"
 
 namespace calibench {
 

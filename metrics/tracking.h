@@ -16,7 +16,7 @@
 //                 NaN if the last sample of the segment is outside;
 //   steady_err    median |error_q| over the last steady_fraction of the segment;
 //   peak_err      max |error_q| over the segment.
-// Consistency, for an estimate with a covariance P (core/estimate.h's layout): NEES = e^T P^-1 e,
+// Consistency, for an estimate with a covariance P (camera/estimate.h's layout): NEES = e^T P^-1 e,
 // with e = (true - estimate) of [f*ku, f*kv, u0, v0, dtheta] (7 dof; dtheta = Log(R_C R_C_hat^T),
 // parent frame) and of dtheta alone (3 dof). Averaged over N trials it should lie in the two-sided
 // 95% band of the mean of N chi-square(d) variables (ChiSquareMeanBand).
@@ -29,8 +29,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/estimate.h"
-#include "core/scene.h"
+#include "camera/estimate.h"
+#include "sim/scene.h"
 
 namespace calibench {
 

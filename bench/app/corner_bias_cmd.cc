@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "bench/run/csv.h"
-#include "core/format.h"
 #include "detect/corner_bias.h"
+#include "util/format.h"
 #include "util/parallel_for.h"
 
 namespace calibench {

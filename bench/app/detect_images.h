@@ -9,7 +9,7 @@
 //   image,tag_id,corner,u_px,v_px,crlb_px (crlb_px: the corner's Cramer-Rao std per axis from the
 //   photometric fit, empty for other refinements)
 // image = the file name; corner = 0..3 in Kalibr's order (bottom-left, bottom-right, top-right,
-// top-left of the tag on the board, core/target.h); u_px, v_px in calibench's pixel convention,
+// top-left of the tag on the board, sim/target.h); u_px, v_px in calibench's pixel convention,
 // which is OpenCV's (the centre of pixel (i, j) is at (i, j)). Rows are sorted by image, then tag
 // id, then corner. The file is written atomically (bench/run/csv.h): complete or not at all.
 #pragma once

@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "bench/run/csv.h"
-#include "core/format.h"
-#include "core/random.h"
+#include "util/format.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

@@ -18,8 +18,8 @@
 
 #include "bench/app/points_io.h"
 #include "bench/config/target_io.h"
-#include "core/render.h"
 #include "detect/frame_detector.h"
+#include "sim/render.h"
 
 namespace calibench {
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/view.h"
+#include "camera/camera.h"
+#include "camera/view.h"
 
 namespace calibench {
 

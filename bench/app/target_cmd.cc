@@ -10,7 +10,7 @@
 #include <tuple>
 
 #include "bench/run/csv.h"
-#include "core/tag_family.h"
+#include "sim/tag_family.h"
 
 namespace calibench {
 namespace {

@@ -7,9 +7,9 @@
 //
 // Layout, in metres on the board (x right, y up; the origin is the bottom-left corner of the first
 // tag's black square, or of the checkerboard's first inner corner):
-//   aprilgrid: Kalibr's (core/target.h, kalibr_create_target_pdf): tag (r, c) with id
+//   aprilgrid: Kalibr's (sim/target.h, kalibr_create_target_pdf): tag (r, c) with id
 //     first_id + r cols + c has its black square at (c p, r p), p = size (1 + spacing); the cells
-//     of the family's bitmap with `border` black border bits (core/tag_family.h), bitmap row 0 at
+//     of the family's bitmap with `border` black border bits (sim/tag_family.h), bitmap row 0 at
 //     the square's top; black squares of edge spacing * size at the four corners of every tag.
 //   checkerboard: rows x cols inner corners (Kalibr's targetRows / targetCols), squares of edge
 //     size; the square with its lower-left corner at ((i - 1) size, (j - 1) size) is black when

@@ -2,7 +2,7 @@
 // the formats of the tools calibration results are handed to. One home for all three.
 //
 //   opencv  cv::FileStorage YAML/XML/JSON (by extension), readable by any OpenCV program:
-//           camera_matrix (A of core/camera.h, with its skew term a2 = -fku cot(phi)),
+//           camera_matrix (A of camera/camera.h, with its skew term a2 = -fku cot(phi)),
 //           distortion_model (radtan | equidistant | unified | eucm | double-sphere), the lens:
 //             radtan       distortion_coefficients k1 k2 p1 p2 k3 (cv::calibrateCamera's order);
 //             equidistant  distortion_coefficients k1 k2 k3 k4 (cv::fisheye's);
@@ -41,7 +41,7 @@
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
+#include "camera/camera.h"
 
 namespace calibench {
 

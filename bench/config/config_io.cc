@@ -14,9 +14,9 @@
 
 #include "bench/config/config_parsers.h"
 #include "bench/config/yaml_reader.h"
-#include "core/random.h"
-#include "core/synthetic.h"
 #include "metrics/tracking.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {
@@ -85,7 +85,7 @@ void ParsePointsSection(const Reader& r, const YAML::Node& node, const std::stri
   p->count = static_cast<int>(p->xyz.size());
 }
 
-// truth.changes: [{kind: step, at_s, ...} | {kind: ramp, from_s, to_s, ...}] (core/scene.h).
+// truth.changes: [{kind: step, at_s, ...} | {kind: ramp, from_s, to_s, ...}] (sim/scene.h).
 }  // namespace
 
 void config_internal::ParseChanges(const Reader& r, const YAML::Node& node,

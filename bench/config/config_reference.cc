@@ -8,8 +8,8 @@
 
 #include "bench/config/scenario.h"
 #include "bench/config/yaml_reader.h"
-#include "core/format.h"
 #include "methods/method.h"
+#include "util/format.h"
 
 namespace calibench {
 namespace {

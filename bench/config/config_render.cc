@@ -4,8 +4,8 @@
 
 #include "bench/config/config_parsers.h"
 #include "bench/config/target_io.h"
-#include "core/format.h"
-#include "core/tag_family.h"
+#include "sim/tag_family.h"
+#include "util/format.h"
 
 namespace calibench {
 

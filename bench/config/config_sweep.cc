@@ -7,7 +7,7 @@
 #include <set>
 
 #include "bench/config/config_parsers.h"
-#include "core/format.h"
+#include "util/format.h"
 
 namespace calibench {
 namespace config_internal {

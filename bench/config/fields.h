@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "core/scene.h"
 #include "methods/registry.h"
+#include "sim/scene.h"
 
 namespace calibench {
 

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <variant>
 
-#include "core/random.h"
+#include "util/random.h"
 
 namespace calibench {
 
@@ -124,11 +124,17 @@ bool ScenarioConfig::Check(std::string* why) const {
   if (!tracking.Check(&reason)) return fail("tracking", reason);
   if (!motion.Check(&reason)) return fail("motion", reason);
   if (!measurements.Check(&reason)) return fail("measurements", reason);
-  if (measurements.noise.tag_radial_bias_px != 0 &&
-      (points.aprilgrids.empty() || !points.boards.empty() || detections != Detections::kOracle)) {
-    return fail("noise.tag_radial_bias_px",
-                "needs oracle detections of a target made of AprilGrids only (its points are the "
-                "tags' corners, 4 by 4)");
+  if (!diagnostics.Check(&reason)) return fail("diagnostics", reason);
+  if (diagnostics.tag_radial_bias_px != 0 &&
+      (points.aprilgrids.empty() || !points.boards.empty())) {
+    return fail("diagnostics.tag_radial_bias_px",
+                "needs a target made of AprilGrids only (its points are the tags' corners, 4 by "
+                "4)");
+  }
+  if (diagnostics.CornerErrorActive() && detections != Detections::kRendered) {
+    return fail("diagnostics",
+                "the corner error diagnostics (corner_error_*) need detections: "
+                "rendered");
   }
   // Frames per trial of each time grid, against kMaxFramesPerTrial.
   const bool continuous_noise = measurements.noise.Active() && measurements.sample_rate_hz == 0;
@@ -151,11 +157,11 @@ bool ScenarioConfig::Check(std::string* why) const {
     if (!(measurements.sample_rate_hz > 0)) {
       return fail("measurements.sample_rate_hz", "detections: rendered needs a frame rate > 0");
     }
-    if (rendering.corner_error_grid >= static_cast<int>(points.aprilgrids.size())) {
-      return fail("rendering.corner_error_grid", std::to_string(rendering.corner_error_grid) +
-                                                     " names no grid (the scenario has " +
-                                                     std::to_string(points.aprilgrids.size()) +
-                                                     " aprilgrids, indexed from 0)");
+    if (diagnostics.corner_error_grid >= static_cast<int>(points.aprilgrids.size())) {
+      return fail("diagnostics.corner_error_grid", std::to_string(diagnostics.corner_error_grid) +
+                                                       " names no grid (the scenario has " +
+                                                       std::to_string(points.aprilgrids.size()) +
+                                                       " aprilgrids, indexed from 0)");
     }
     if (measurements.noise.Active()) {
       return fail("noise",

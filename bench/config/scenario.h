@@ -13,12 +13,13 @@
 #include <vector>
 
 #include "bench/config/fields.h"
-#include "core/measurements.h"
-#include "core/scene.h"
-#include "core/target.h"
 #include "detect/rendered_source.h"
+#include "diagnostics/source_diagnostics.h"
 #include "methods/registry.h"
 #include "metrics/tracking.h"
+#include "sim/measurements.h"
+#include "sim/scene.h"
+#include "sim/target.h"
 
 namespace calibench {
 
@@ -27,7 +28,7 @@ namespace calibench {
 // trials of one scenario.
 constexpr double kMaxFramesPerTrial = 1e7;
 constexpr long kMaxTrials = 1'000'000;
-// An image larger than the renderer's bound (core/render.h) is refused for every scenario: no
+// An image larger than the renderer's bound (sim/render.h) is refused for every scenario: no
 // camera calibrated here has one.
 constexpr int kMaxImageSide = kMaxRenderSide;
 constexpr double kMaxImagePixels = kMaxRenderPixels;
@@ -125,7 +126,7 @@ struct ScenarioConfig {
   int trials = 1;
 
   CameraSpec truth;                              // At t = 0.
-  std::vector<CalibrationChange> truth_changes;  // truth.changes (core/scene.h).
+  std::vector<CalibrationChange> truth_changes;  // truth.changes (sim/scene.h).
   std::vector<std::string> truth_change_marks;   // file:line:col of each (for messages).
   TrackingConfig tracking;
   int image_width = 640, image_height = 480;  // For zhang's initialisation.
@@ -144,6 +145,7 @@ struct ScenarioConfig {
   OutsideImage outside_image = OutsideImage::kFail;
   OracleOptions measurements;       // sample rate, eval rate and noise (noise: oracle only).
   RenderedSourceOptions rendering;  // rendered: frame_rate_hz = measurements.sample_rate_hz.
+  DiagnosticsOptions diagnostics;   // Study-only decorators of the source (none by default).
 
   // The method instances in row order. The default is one instance per registered type, named after
   // it, enabled as the type says (the map form of `methods:`, registry.h).
@@ -197,6 +199,7 @@ void Visit(FieldVisitor& v, ReportConfig& r);
 void Visit(FieldVisitor& v, SweepPoint& p);
 void Visit(FieldVisitor& v, NoiseOptions& n);
 void Visit(FieldVisitor& v, RenderedSourceOptions& o);
+void Visit(FieldVisitor& v, DiagnosticsOptions& d);
 void Visit(FieldVisitor& v, AprilTagOptions& a);
 void Visit(FieldVisitor& v, PlacedBoard& b);
 void Visit(FieldVisitor& v, PlacedAprilGrid& g);

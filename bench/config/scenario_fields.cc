@@ -6,9 +6,9 @@
 #include <string>
 
 #include "bench/config/scenario.h"
-#include "core/synthetic.h"
-#include "core/tag_family.h"
 #include "metrics/tracking.h"
+#include "sim/synthetic.h"
+#include "sim/tag_family.h"
 
 namespace calibench {
 namespace {
@@ -46,8 +46,8 @@ const EnumNames<CornerRefinement>& RefinementNames() {
   return names;
 }
 
-const EnumNames<RenderedSourceOptions::CornerErrorPart>& CornerErrorParts() {
-  using P = RenderedSourceOptions::CornerErrorPart;
+const EnumNames<CornerErrorPart>& CornerErrorParts() {
+  using P = CornerErrorPart;
   static const EnumNames<P> names = [] {
     EnumNames<P> n;
     n.noun = "part";
@@ -253,6 +253,11 @@ void Visit(FieldVisitor& v, ScenarioConfig& s) {
                 "Renderer and detector of rendered measurements (`detections: rendered`); the "
                 "frame rate is `measurements.sample_rate_hz`, the image size `image_size`."},
                &s.rendering);
+  VisitSection(v,
+               {"diagnostics", "",
+                "Study-only decorators of the measurement source: where an error comes from "
+                "(none by default)."},
+               &s.diagnostics);
   v.Field({"methods", "",
            "The method instances, in row order: a list, or a map that updates the defaults "
            "([methods](#methods))."},
@@ -388,10 +393,6 @@ void Visit(FieldVisitor& v, NoiseOptions& n) {
   v.Field({"hold_frames", "frames",
            "Sampled sources: one draw per this many frames; 0: one draw for the whole run.", "≥ 0"},
           &n.hold_frames);
-  v.Field({"tag_radial_bias_px", "px",
-           "Deterministic detector-like error: every AprilGrid corner moves this far along its "
-           "tag's diagonal, outward (negative: inward)."},
-          &n.tag_radial_bias_px);
   v.Check(nullptr, [&n](std::string* why) { return n.Check(why); });
 }
 
@@ -421,30 +422,38 @@ void Visit(FieldVisitor& v, RenderedSourceOptions& o) {
   v.Field(
       {"min_border_distance_px", "px", "Tags closer to the image border are dropped (counted)."},
       &o.detection.min_border_distance_px);
+  VisitSection(v, {"detector", "", "AprilTag 3 options."}, &o.detection.detector, /*flow=*/true);
+  v.Check(nullptr, [&o](std::string* why) { return o.render.Check(why); });
+  v.Check(nullptr, [&o](std::string* why) { return o.detection.Check(why); });
+}
+
+void Visit(FieldVisitor& v, DiagnosticsOptions& d) {
   v.Field({"corner_error_clip_px", "px",
-           "Diagnostic: each detected corner is reported at its exact projection plus its error "
-           "shortened to this length (0: exact corners of the same detections).",
+           "Each measured corner is reported at its exact projection plus its error "
+           "shortened to this length (0: exact corners of the same detections; rendered).",
            "≥ 0",
            [](double x, std::string* why) {
              return x >= 0 ||
                     (*why = "must be >= 0 (.inf, the default: the detected corners)", false);
            }},
-          &o.corner_error_clip_px);
+          &d.corner_error_clip_px);
   VisitEnum(v,
             {"corner_error_part", "",
-             "Diagnostic: which part of each corner's error is kept (x/y component, its tag's "
+             "Which part of each corner's error is kept (x/y component, its tag's "
              "mean error, or the rest)."},
-            &o.corner_error_part, CornerErrorParts());
-  v.Field({"corner_error_grid", "",
-           "Diagnostic: only this grid's corners keep their errors; -1: every grid.", "≥ -1",
+            &d.corner_error_part, CornerErrorParts());
+  v.Field({"corner_error_grid", "", "Only this grid's corners keep their errors; -1: every grid.",
+           "≥ -1",
            [](double g, std::string* why) {
              return g >= -1 ||
                     (*why = "must be a grid's index (0, 1, ...) or -1 (every grid)", false);
            }},
-          &o.corner_error_grid);
-  VisitSection(v, {"detector", "", "AprilTag 3 options."}, &o.detection.detector, /*flow=*/true);
-  v.Check(nullptr, [&o](std::string* why) { return o.render.Check(why); });
-  v.Check(nullptr, [&o](std::string* why) { return o.detection.Check(why); });
+          &d.corner_error_grid);
+  v.Field({"tag_radial_bias_px", "px",
+           "Every AprilGrid corner moves this far along its tag's diagonal, outward from the "
+           "tag's exact projected centre (negative: inward), on top of the source's noise."},
+          &d.tag_radial_bias_px);
+  v.Check(nullptr, [&d](std::string* why) { return d.Check(why); });
 }
 
 void Visit(FieldVisitor& v, AprilTagOptions& a) {

@@ -11,13 +11,13 @@
 //   cornerSquares: true   # calibench extension, optional: the black squares Kalibr's generator
 //                         # draws at the tags' corners (AprilGrid::corner_squares; default true,
 //                         # as every Kalibr grid has them; false for a grid without them)
-// tagSize, tagSpacing, corner order and ids mean exactly what they mean to Kalibr (core/target.h).
+// tagSize, tagSpacing, corner order and ids mean exactly what they mean to Kalibr (sim/target.h).
 // Errors name the file, line, column, field and reason.
 #pragma once
 
 #include <string>
 
-#include "core/target.h"
+#include "sim/target.h"
 
 namespace calibench {
 

@@ -6,9 +6,9 @@
 #include <string>
 
 #include "adaptive/estimator.h"
-#include "core/camera.h"
-#include "core/measurements.h"
-#include "core/synthetic.h"
+#include "camera/camera.h"
+#include "sim/measurements.h"
+#include "sim/synthetic.h"
 
 namespace calibench {
 namespace {

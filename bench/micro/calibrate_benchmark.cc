@@ -27,8 +27,8 @@
 #include "batch/refine.h"
 #include "batch/zhang.h"
 #include "bench/app/calibrate.h"
-#include "core/random.h"
-#include "core/synthetic.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

@@ -15,11 +15,11 @@
 #include <string>
 
 #include "bench/config/config_io.h"
-#include "core/render.h"
-#include "core/synthetic.h"
 #include "detect/apriltag_detector.h"
 #include "detect/frame_detector.h"
 #include "detect/rendered_source.h"
+#include "sim/render.h"
+#include "sim/synthetic.h"
 
 namespace calibench {
 namespace {

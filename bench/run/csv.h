@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/format.h"  // FormatNumber: how a CSV file writes a number.
+#include "util/format.h"  // FormatNumber: how a CSV file writes a number.
 
 namespace calibench {
 

@@ -7,8 +7,8 @@
 #include <type_traits>
 
 #include "bench/run/csv.h"
-#include "core/format.h"
 #include "metrics/metric_table.h"
+#include "util/format.h"
 
 namespace calibench {
 namespace {

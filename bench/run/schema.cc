@@ -9,8 +9,8 @@
 
 #include "bench/run/run_row.h"
 #include "bench/run/summary.h"
-#include "core/format.h"
 #include "metrics/metric_table.h"
+#include "util/format.h"
 
 namespace calibench {
 namespace {

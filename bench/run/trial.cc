@@ -5,8 +5,8 @@
 #include <deque>
 #include <memory>
 
-#include "core/format.h"
 #include "methods/options.h"
+#include "util/format.h"
 
 namespace calibench {
 namespace {
@@ -31,6 +31,14 @@ std::unique_ptr<MeasurementSource> MakeSource(const ScenarioConfig& s, const Sce
     source = std::move(rendered);
   } else {
     source = OracleSource::Create(scene, s.OracleSourceOptions(), base->seed, why);
+  }
+  if (source && s.diagnostics.Active()) {
+    std::vector<int> grid_of_point;
+    const std::vector<AprilGrid> grids = s.points.AprilGrids();
+    for (size_t g = 0; g < grids.size(); ++g)
+      grid_of_point.insert(grid_of_point.end(), 4 * grids[g].NumTags(), static_cast<int>(g));
+    source = ApplyDiagnostics(std::move(source), scene, grid_of_point, s.diagnostics, why);
+    if (!source && why) *why = "diagnostics: " + *why;
   }
   base->measure_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -1,5 +1,5 @@
 // The adaptive estimator (adaptive/estimator.h) on the thesis simulations, built from core's
-// synthetic ground truth (core/synthetic.h) alone: convergence, the thesis's printed end points,
+// synthetic ground truth (sim/synthetic.h) alone: convergence, the thesis's printed end points,
 // the gain, the integrator's own convergence, the information form against the literal equations,
 // held frames, the divergence guard and the excitation index.
 #include "adaptive/estimator.h"
@@ -8,8 +8,8 @@
 
 #include <cstdio>
 
-#include "core/synthetic.h"
 #include "metrics/metrics.h"
+#include "sim/synthetic.h"
 
 namespace calibench {
 namespace {

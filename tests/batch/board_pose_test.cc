@@ -1,5 +1,5 @@
 // batch/board_pose.h: the pose of a board in one view from known intrinsics, against the synthetic
-// ground truth of core/synthetic.h. Noise-free views give the pose to rounding (a distorted
+// ground truth of sim/synthetic.h. Noise-free views give the pose to rounding (a distorted
 // pinhole lens, a 190 deg double-sphere lens with boards past 90 deg from the axis, an off-plane
 // point set); noisy views give errors distributed as the Cramer-Rao bound of the view predicts;
 // the documented failures (too few points, a pixel outside the lens, rays spanning more than
@@ -11,8 +11,8 @@
 #include <cmath>
 #include <limits>
 
-#include "core/random.h"
-#include "core/synthetic.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

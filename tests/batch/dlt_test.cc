@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/random.h"
-#include "core/synthetic.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

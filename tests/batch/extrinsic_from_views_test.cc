@@ -1,6 +1,6 @@
 // batch/extrinsic_from_views.h: the constant extrinsic parent_from_cam from per-view board poses,
 // by averaging (the board's place known) and by hand-eye (Tsai-Lenz's equations, the rotation as
-// a unit quaternion; only the body motion known), against the swaying rig of core/synthetic.h (a
+// a unit quaternion; only the body motion known), against the swaying rig of sim/synthetic.h (a
 // moving camera, board 0 fixed in the world, the body rotating about a wandering axis): exact on
 // exact poses at any mount (the rig's own half-turn, where Tsai's own rotation step failed,
 // included), errors consistent with the per-view errors when the poses come from noisy pixels
@@ -13,8 +13,8 @@
 #include <limits>
 
 #include "batch/board_pose.h"
-#include "core/random.h"
-#include "core/synthetic.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

@@ -9,8 +9,8 @@
 
 #include "batch/reprojection_error.h"
 #include "batch/zhang.h"
-#include "core/random.h"
-#include "core/synthetic.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {
@@ -245,7 +245,7 @@ TEST(Refine, CovarianceMatchesMonteCarloSpread) {
   EXPECT_NEAR(mean(reported_u0) / rmse_u0, 1.0, kMonteCarloRelTol);
 }
 
-// A random lens of `family` inside its ranges (core/camera.h).
+// A random lens of `family` inside its ranges (camera/camera.h).
 CameraIntrinsics RandomLens(LensFamily family, Rng* rng) {
   CameraIntrinsics k = RandomIntrinsics({}, rng);
   k.family = family;

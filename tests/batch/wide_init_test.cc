@@ -1,5 +1,5 @@
 // The wide start (batch/wide_init.h) and the refinement of the wide families from it, on synthetic
-// 160 and 190 degree lenses of every wide family (core/synthetic.h, MakeWideBoardViews: 20 views
+// 160 and 190 degree lenses of every wide family (sim/synthetic.h, MakeWideBoardViews: 20 views
 // of a planar board anywhere in the field, partial boards at the image circle's edge, 0.2 px).
 #include "batch/wide_init.h"
 
@@ -10,8 +10,8 @@
 #include <cstdio>
 
 #include "batch/refine.h"
-#include "core/random.h"
-#include "core/synthetic.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

@@ -12,12 +12,12 @@
 #include "bench/app/calibrate.h"
 #include "bench/app/image_points.h"
 #include "bench/config/target_io.h"
-#include "core/random.h"
-#include "core/render.h"
-#include "core/synthetic.h"
+#include "sim/render.h"
+#include "sim/synthetic.h"
 #include "tests/common/calibrate_folder.h"
 #include "tests/common/rendered_folder.h"
 #include "tests/common/test_data.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

@@ -11,8 +11,8 @@
 #include <sstream>
 
 #include "bench/config/camera_io.h"
-#include "core/random.h"
-#include "core/synthetic.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

@@ -1,5 +1,5 @@
 // calibrate --images through rendered 190 and 160 degree lenses of every wide family: Kalibr's
-// printed AprilGrid (6 x 6 tags) rendered through the truth (core/render.h) in 20 views, written
+// printed AprilGrid (6 x 6 tags) rendered through the truth (sim/render.h) in 20 views, written
 // as PNG files, detected (LoadImagePoints: curved tag edges), calibrated (CalibrateFromPoints: the
 // wide start, then ceres) and the corners re-fitted through the estimate
 // (IterateCornersThroughTheLens), as `calibrate --images --model M` does. Every estimated
@@ -21,10 +21,10 @@
 
 #include "bench/app/calibrate.h"
 #include "bench/app/image_points.h"
-#include "core/random.h"
-#include "core/render.h"
-#include "core/synthetic.h"
+#include "sim/render.h"
+#include "sim/synthetic.h"
 #include "tests/common/calibrate_folder.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

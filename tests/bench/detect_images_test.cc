@@ -10,8 +10,8 @@
 
 #include "bench/app/image_points.h"
 #include "bench/run/csv.h"
-#include "core/render.h"
-#include "core/synthetic.h"
+#include "sim/render.h"
+#include "sim/synthetic.h"
 #include "tests/common/temp_files.h"
 
 namespace calibench {
@@ -35,7 +35,7 @@ struct Rendered {
 
 Rendered RenderKalibrGrid() {
   Rendered r;
-  BoardView view = SixByFiveTagGrid();  // core/synthetic.h, with Kalibr's 2-bit border.
+  BoardView view = SixByFiveTagGrid();  // sim/synthetic.h, with Kalibr's 2-bit border.
   view.grid.black_tag_border = 2;
   view.family = TagFamily::Create("tag36h11", 2, nullptr);
   r.grid = view.grid;

@@ -13,9 +13,9 @@
 #include "bench/run/run_dir.h"
 #include "bench/run/runner.h"
 #include "bench/run/summary.h"
-#include "core/random.h"
 #include "tests/common/scenario_yaml.h"
 #include "tests/common/temp_files.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

@@ -7,9 +7,9 @@
 #include <memory>
 #include <string>
 
-#include "core/measurements.h"
-#include "core/scene.h"
 #include "methods/registry.h"
+#include "sim/measurements.h"
+#include "sim/scene.h"
 
 namespace calibench {
 

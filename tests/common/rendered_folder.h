@@ -1,5 +1,5 @@
 // Test fixture data on disk: a folder of PNG views of an AprilGrid rendered by a known camera
-// (calibrate --images input with a known answer). Poses come from core/synthetic.h.
+// (calibrate --images input with a known answer). Poses come from sim/synthetic.h.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -8,9 +8,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
-#include "core/random.h"
-#include "core/render.h"
-#include "core/synthetic.h"
+#include "sim/render.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 

@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
-#include "core/random.h"
-#include "core/synthetic.h"
 #include "detect/corner_refinement.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {
@@ -17,7 +17,7 @@ constexpr double kBiasTolPx = 0.05;  // |mean error| per axis: the half-pixel of
 constexpr double kRefinedRmsTolPx = 0.05;
 constexpr double kRefinedBiasTolPx = 0.02;
 
-// The round trip with either black border (core/tag_family.h): 1 bit (AprilTag 3's layout) and 2
+// The round trip with either black border (sim/tag_family.h): 1 bit (AprilTag 3's layout) and 2
 // bits (Kalibr's AprilGrid tags, decoded through the derived family). Same tolerances for both:
 // the detector fits the same black-square edges, only the decoding grid differs (a 2-bit tag's
 // cells are 8/10 as wide, still >= 3 px here).

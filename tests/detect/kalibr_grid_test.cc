@@ -1,5 +1,5 @@
 // Kalibr's printed AprilGrid (2-bit border, corner squares) rendered as the renderer draws it
-// (core/render.h), found and refined by FrameDetector: every tag found, no false id, and corners
+// (sim/render.h), found and refined by FrameDetector: every tag found, no false id, and corners
 // near the exact projections, sharp and blurred, with and without an EuRoC-like lens.
 #include <gtest/gtest.h>
 
@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <map>
 
-#include "core/random.h"
-#include "core/render.h"
-#include "core/synthetic.h"
 #include "detect/frame_detector.h"
+#include "sim/render.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

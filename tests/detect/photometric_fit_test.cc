@@ -19,12 +19,12 @@
 #include <utility>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/random.h"
-#include "core/render.h"
-#include "core/tag_family.h"
-#include "core/target.h"
+#include "camera/camera.h"
 #include "detect/corner_bias.h"
+#include "sim/render.h"
+#include "sim/tag_family.h"
+#include "sim/target.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

@@ -6,44 +6,10 @@
 
 #include <Eigen/SVD>
 
+#include "tests/common/rendered_rig.h"
+
 namespace calibench {
 namespace {
-
-// Two 4 x 5 tag36h11 grids 45 degrees apart, 2.5 m in front of a camera looking along world +y
-// (the thesis camera 1 orientation, no skew), the body swaying slowly.
-struct Rig {
-  std::vector<AprilGrid> grids;
-  SceneTruth scene;
-};
-
-Rig MakeRig(double duration_s) {
-  Rig rig;
-  AprilGrid a;
-  a.tag_rows = 4, a.tag_cols = 5, a.tag_size_m = 0.1;
-  a.points_from_board = {FromRollPitchYawDeg({90, 0, 0}), {-0.55, 0.2, 0.1}};
-  AprilGrid b = a;
-  b.first_id = 20;
-  b.points_from_board = {FromRollPitchYawDeg({90, 0, 45}), {0.15, 0.2, 0.1}};
-  rig.grids = {a, b};
-  SceneTruth& s = rig.scene;
-  s.calibration_case = CalibrationCase::kMovingCamera;
-  s.intrinsics = {822, 813, 90, 321, 239};
-  Eigen::Matrix3d r_c;
-  r_c << -1, 0, 0, 0, 0, 1, 0, 1, 0;
-  s.parent_from_cam = {r_c, {0.4, -2.3, 0.47}};
-  for (const AprilGrid& g : rig.grids) {
-    const std::vector<Eigen::Vector3d> c = g.CornersInPointsFrame();
-    s.points.insert(s.points.end(), c.begin(), c.end());
-  }
-  TwistProfile sway;
-  sway.w_sin = {0.02, 0.0, 0.03};
-  sway.frequency_rad_s = 2.0;
-  Motion::Options motion_options;
-  motion_options.duration_s = duration_s;
-  s.motion = Motion(sway, motion_options);
-  s.duration_s = duration_s;
-  return rig;
-}
 
 // The pooled corners of a rig of two grids at 45 degrees are not coplanar: the centred cloud's
 // smallest singular value is far from zero (0 for one board, up to rounding).
@@ -125,80 +91,6 @@ TEST(RenderedSource, FramesDoNotDependOnTheThreadCount) {
     differs |= a.pixels.size() != c.pixels.size() || a.pixels[0] != c.pixels[0];
   }
   EXPECT_TRUE(differs);  // The noise really comes from the seed.
-}
-
-// The diagnostic corner_error_part / corner_error_grid (issue #14) keeps one part of each detected
-// corner's error: checked against the same trial's detected corners and the exact projections,
-// corner by corner. The tolerance is double rounding on pixel coordinates of a few hundred.
-constexpr double kPartTolPx = 1e-9;
-
-TEST(RenderedSource, CornerErrorPartKeepsThePartItNames) {
-  const Rig rig = MakeRig(1.0);
-  RenderedSourceOptions options;
-  options.frame_rate_hz = 3;
-  options.render.blur_sigma_px = 0.8;  // Errors of a few hundredths of a pixel to split.
-  std::string why;
-  const auto detected = RenderedSource::Create(rig.scene, rig.grids, options, 11, &why);
-  ASSERT_NE(detected, nullptr) << why;
-  using Part = RenderedSourceOptions::CornerErrorPart;
-  auto run = [&](Part part, int grid) {
-    RenderedSourceOptions o = options;
-    o.corner_error_part = part;
-    o.corner_error_grid = grid;
-    auto source = RenderedSource::Create(rig.scene, rig.grids, o, 11, &why);
-    EXPECT_NE(source, nullptr) << why;
-    return source;
-  };
-  const auto translation = run(Part::kTagTranslation, -1), shape = run(Part::kTagShape, -1);
-  const auto x_only = run(Part::kX, -1), grid1 = run(Part::kAll, 1);
-  ASSERT_TRUE(translation && shape && x_only && grid1);
-  const int grid0_points = 4 * rig.grids[0].NumTags();
-  int tags_checked = 0;
-  for (int k = 0; k < detected->NumFrames(); ++k) {
-    Frame d, t, s, x, g;
-    detected->GetFrame(k, &d);
-    translation->GetFrame(k, &t);
-    shape->GetFrame(k, &s);
-    x_only->GetFrame(k, &x);
-    grid1->GetFrame(k, &g);
-    // Same detections: only the pixels change.
-    ASSERT_EQ(d.point_ids, t.point_ids);
-    ASSERT_EQ(d.point_ids, s.point_ids);
-    ASSERT_EQ(d.point_ids, x.point_ids);
-    ASSERT_EQ(d.point_ids, g.point_ids);
-    const Rigid3 cam_from_points =
-        rig.scene.CamFromParentAt(d.time_s) * rig.scene.ParentFromPoints(d.time_s);
-    std::vector<Eigen::Vector2d> exact(d.pixels.size());
-    for (size_t i = 0; i < d.pixels.size(); ++i) {
-      ASSERT_TRUE(ProjectPoint(rig.scene.IntrinsicsAt(d.time_s),
-                               cam_from_points * rig.scene.points[d.point_ids[i]], &exact[i]));
-      // x keeps the detected x and the exact y; with grid 1 only, grid 0's corners are exact.
-      EXPECT_NEAR(x.pixels[i].x(), d.pixels[i].x(), kPartTolPx);
-      EXPECT_NEAR(x.pixels[i].y(), exact[i].y(), kPartTolPx);
-      const Eigen::Vector2d expected_grid1 = d.point_ids[i] < grid0_points ? exact[i] : d.pixels[i];
-      EXPECT_NEAR((g.pixels[i] - expected_grid1).norm(), 0, kPartTolPx);
-    }
-    // Per tag with four corners: translation = the tag's mean detected error at every corner;
-    // shape = the detected error minus it (so the shape errors sum to zero over the tag).
-    for (size_t i = 0; i + 3 < d.pixels.size(); ++i) {
-      if (d.point_ids[i] % 4 != 0 || d.point_ids[i + 3] != d.point_ids[i] + 3) continue;
-      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-      for (size_t c = i; c < i + 4; ++c) mean += (d.pixels[c] - exact[c]) / 4.0;
-      Eigen::Vector2d shape_sum = Eigen::Vector2d::Zero();
-      for (size_t c = i; c < i + 4; ++c) {
-        EXPECT_NEAR((t.pixels[c] - exact[c] - mean).norm(), 0, kPartTolPx);
-        EXPECT_NEAR((s.pixels[c] - exact[c] - (d.pixels[c] - exact[c] - mean)).norm(), 0,
-                    kPartTolPx);
-        shape_sum += s.pixels[c] - exact[c];
-      }
-      EXPECT_NEAR(shape_sum.norm(), 0, kPartTolPx);
-      // Guard on the data, not the code: the blurred rig's tags are displaced, so translation and
-      // shape differ from the detected errors and from zero, and the checks above can fail.
-      EXPECT_GT(mean.norm(), 1e-4);
-      ++tags_checked;
-    }
-  }
-  EXPECT_GT(tags_checked, 50);
 }
 
 // A camera that sees no board: every frame is counted as empty; nothing fails.

@@ -1,6 +1,6 @@
-// Detection through lenses of 160 and 190 deg (core/camera.h's omnidirectional families): Kalibr's
-// printed AprilGrid rendered through the lens (core/render.h), found by FrameDetector with its
-// corner squares painted through the lens and refined by the lens-aware photometric fit on the
+// Detection through lenses of 160 and 190 deg (camera/camera.h's omnidirectional families):
+// Kalibr's printed AprilGrid rendered through the lens (sim/render.h), found by FrameDetector with
+// its corner squares painted through the lens and refined by the lens-aware photometric fit on the
 // tangent plane about each tag's centre ray (detect/tangent_plane.h), boards past 90 deg from the
 // axis included; and the tangent plane's own contract.
 #include <gtest/gtest.h>
@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "core/random.h"
-#include "core/render.h"
-#include "core/synthetic.h"
 #include "detect/frame_detector.h"
 #include "detect/tangent_plane.h"
+#include "sim/render.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

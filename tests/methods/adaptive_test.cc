@@ -2,9 +2,9 @@
 // reports its trajectory and excitation; on a barely excited scene it says it is not identifiable.
 #include <gtest/gtest.h>
 
-#include "core/synthetic.h"
 #include "methods/options.h"
 #include "metrics/metrics.h"
+#include "sim/synthetic.h"
 #include "tests/common/method_input.h"
 
 namespace calibench {

@@ -4,11 +4,11 @@
 // twin) and reports their data.
 #include <gtest/gtest.h>
 
-#include "core/random.h"
-#include "core/synthetic.h"
 #include "methods/options.h"
 #include "metrics/metrics.h"
+#include "sim/synthetic.h"
 #include "tests/common/method_input.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

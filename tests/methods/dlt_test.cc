@@ -2,8 +2,8 @@
 // names the reason on coplanar ones.
 #include <gtest/gtest.h>
 
-#include "core/synthetic.h"
 #include "metrics/metrics.h"
+#include "sim/synthetic.h"
 #include "tests/common/method_input.h"
 
 namespace calibench {

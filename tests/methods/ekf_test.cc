@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/synthetic.h"
 #include "methods/options.h"
 #include "metrics/metrics.h"
 #include "metrics/tracking.h"
+#include "sim/synthetic.h"
 #include "tests/common/method_input.h"
 
 namespace calibench {

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/synthetic.h"
+#include "sim/synthetic.h"
 #include "tests/common/method_input.h"
 
 namespace calibench {

@@ -3,9 +3,9 @@
 // and a scene without boards fails with the reason.
 #include <gtest/gtest.h>
 
-#include "core/synthetic.h"
 #include "methods/options.h"
 #include "metrics/metrics.h"
+#include "sim/synthetic.h"
 #include "tests/common/method_input.h"
 
 namespace calibench {

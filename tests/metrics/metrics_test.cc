@@ -7,8 +7,8 @@
 
 #include <Eigen/Dense>
 
-#include "core/random.h"
-#include "core/synthetic.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

@@ -7,9 +7,9 @@
 
 #include <Eigen/Cholesky>
 
-#include "core/random.h"
-#include "core/synthetic.h"
 #include "metrics/metrics.h"
+#include "sim/synthetic.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {

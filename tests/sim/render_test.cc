@@ -1,0 +1,537 @@
+#include "sim/render.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "sim/synthetic.h"
+
+namespace calibench {
+namespace {
+
+// Fronto-parallel board 1 m in front of the camera: board x -> image u, board y -> image -v.
+BoardView FrontoParallel(double tx, double ty) {
+  BoardView b;
+  b.grid.tag_rows = 2;
+  b.grid.tag_cols = 2;
+  b.grid.tag_size_m = 0.2;
+  b.family = TagFamily::Create("tag36h11", nullptr);
+  b.cam_from_board.rotation = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  b.cam_from_board.translation = Eigen::Vector3d(tx, ty, 1.0);
+  return b;
+}
+
+TEST(TagFamily, BitmapsComeFromTheLibrary) {
+  std::string why;
+  const auto f = TagFamily::Create("tag36h11", &why);
+  ASSERT_NE(f, nullptr) << why;
+  EXPECT_EQ(f->num_codes(), 587);
+  EXPECT_EQ(f->total_width(), 10);
+  EXPECT_EQ(f->width_at_border(), 8);
+  for (int k = 0; k < 10; ++k) {
+    EXPECT_TRUE(f->IsWhite(0, k, 0));                       // Outer white ring.
+    EXPECT_FALSE(f->IsWhite(0, k, 1) && k >= 1 && k <= 8);  // Black border row.
+  }
+  EXPECT_EQ(TagFamily::Create("tag99h1", &why), nullptr);
+  EXPECT_NE(why.find("tag99h1"), std::string::npos);
+}
+
+// Kalibr's layout (kalibr_create_target_pdf: bit = tagSize / (6 + 2 * 2)): the 1-bit family grown
+// by one black ring. Every cell of the 12 x 12 bitmap: ring 0 white, rings 1-2 black, and the
+// 6 x 6 data block equal to the 1-bit bitmap's, moved by one cell.
+TEST(TagFamily, TwoBitBorderIsTheLibrarysTagGrownByABlackRing) {
+  std::string why;
+  const auto one = TagFamily::Create("tag36h11", 1, &why);
+  const auto two = TagFamily::Create("tag36h11", 2, &why);
+  ASSERT_NE(two, nullptr) << why;
+  EXPECT_EQ(two->border_bits(), 2);
+  EXPECT_EQ(two->total_width(), 12);
+  EXPECT_EQ(two->width_at_border(), 10);
+  EXPECT_EQ(two->border_start(), 1);
+  EXPECT_EQ(two->num_codes(), one->num_codes());
+  for (int id : {0, 1, 17, 586}) {
+    for (int row = 0; row < 12; ++row) {
+      for (int col = 0; col < 12; ++col) {
+        const int ring = std::min({row, col, 11 - row, 11 - col});
+        const bool expected = ring == 0   ? true
+                              : ring <= 2 ? false
+                                          : one->IsWhite(id, col - 1, row - 1);
+        EXPECT_EQ(two->IsWhite(id, col, row), expected) << id << " " << col << " " << row;
+      }
+    }
+  }
+  EXPECT_EQ(TagFamily::Create("tag36h11", 3, &why), nullptr);
+  EXPECT_NE(why.find("must be 1 (AprilTag 3) or 2"), std::string::npos) << why;
+  EXPECT_EQ(TagFamily::Create("tagCircle21h7", 2, &why), nullptr);
+  EXPECT_NE(why.find("reversed"), std::string::npos) << why;
+}
+
+// A board whose family has another border width than the grid's is refused, not drawn wrong.
+TEST(Render, FamilyMustMatchTheGridsBorder) {
+  BoardView b = FrontoParallel(-0.2, -0.2);
+  b.grid.black_tag_border = 2;  // The family is the 1-bit one.
+  GrayImage img;
+  std::string why;
+  EXPECT_FALSE(
+      RenderFrame({500, 500, 90, 319.5, 239.5}, {b}, RenderOptions(), nullptr, &img, &why));
+  EXPECT_NE(why.find("2-bit border has no matching TagFamily"), std::string::npos) << why;
+}
+
+// The pixel-centre convention: an edge placed exactly between two sub-samples of pixel 100
+// (u = 99.5 + 45/64) is read back from the pixel's area fraction to 0.01 px (quantisation to
+// 8 bits with black 0 / white 255 leaves 0.002 px).
+TEST(Render, EdgeLandsWhereTheCameraModelPutsIt) {
+  const CameraIntrinsics k{500, 500, 90, 319.5, 239.5};
+  const double edge_u = 99.5 + 45.0 / 64.0;
+  // Tag 0's left edge is board x = 0: u = 500 * tx + 319.5.
+  BoardView b = FrontoParallel((edge_u - 319.5) / 500, -0.1);
+  RenderOptions o;
+  o.supersample = 64;
+  o.black_gray = 0;
+  o.white_gray = 255;
+  GrayImage img;
+  std::string why;
+  ASSERT_TRUE(RenderFrame(k, {b}, o, nullptr, &img, &why)) << why;
+  // Row through the lower part of tag 0's black border (board y in (0, s/8)).
+  // v = 239.5 + 500 * (-y - 0.1): board y = s/16 = 0.0125 m is v = 183.25.
+  const int row = static_cast<int>(std::lround(239.5 + 500 * (-0.0125 - 0.1)));
+  EXPECT_EQ(img.at(98, row), 255);  // White margin left of the tag.
+  EXPECT_EQ(img.at(102, row), 0);   // Black border.
+  const double black_fraction = 1.0 - img.at(100, row) / 255.0;
+  const double estimated_edge = 100.5 - black_fraction;
+  EXPECT_NEAR(estimated_edge, edge_u, 0.01);
+}
+
+TEST(Render, BackgroundNoiseAndBlurBehave) {
+  const CameraIntrinsics k{500, 500, 90, 319.5, 239.5};
+  RenderOptions o;
+  o.noise_sigma_gray = 3.0;
+  GrayImage img;
+  std::string why;
+  EXPECT_FALSE(RenderFrame(k, {FrontoParallel(0, 0)}, o, nullptr, &img, &why));  // Needs an Rng.
+  Rng rng(1);
+  o.background_gray = 100;
+  ASSERT_TRUE(RenderFrame(k, {}, o, &rng, &img, &why)) << why;
+  double sum = 0, sum_sq = 0;
+  for (uint8_t p : img.pixels) sum += p, sum_sq += p * p;
+  const double n = static_cast<double>(img.pixels.size());
+  EXPECT_NEAR(sum / n, 100.0, 0.05);
+  // Rounding adds 1/12 to the variance: sqrt(9 + 1/12) = 3.014.
+  EXPECT_NEAR(std::sqrt(sum_sq / n - (sum / n) * (sum / n)), 3.014, 0.03);
+  BoardView too_many = FrontoParallel(0, 0);
+  too_many.grid.tag_rows = 30;
+  too_many.grid.tag_cols = 30;  // 900 tags > 587 codes.
+  EXPECT_FALSE(RenderFrame(k, {too_many}, RenderOptions(), nullptr, &img, &why));
+  EXPECT_NE(why.find("587"), std::string::npos) << why;
+}
+
+// The noise table (render.cc AddImageNoise): a frame's noise is uncorrelated between neighbours
+// in a row, between rows and between the two halves of a row block boundary (|rho| below
+// kRhoBound = 5 / sqrt(n), 5 sigma of a zero correlation over n pairs); a seed gives one frame;
+// two seeds give frames whose noise is uncorrelated.
+TEST(Render, NoiseIsUncorrelatedWithinAndAcrossFrames) {
+  const CameraIntrinsics k{500, 500, 90, 319.5, 239.5};
+  RenderOptions o;
+  o.noise_sigma_gray = 8.0;
+  o.background_gray = 128;
+  auto frame = [&](uint64_t seed) {
+    Rng rng(seed);
+    GrayImage img;
+    EXPECT_TRUE(RenderFrame(k, {}, o, &rng, &img, nullptr));
+    std::vector<double> v(img.pixels.begin(), img.pixels.end());
+    for (double& x : v) x -= 128;
+    return v;
+  };
+  const std::vector<double> a = frame(1), b = frame(2);
+  EXPECT_EQ(a, frame(1));
+  const int w = 640, h = 480;
+  auto rho = [](const std::vector<double>& x, const std::vector<double>& y) {
+    double xy = 0, xx = 0, yy = 0;
+    for (size_t i = 0; i < x.size(); ++i) xy += x[i] * y[i], xx += x[i] * x[i], yy += y[i] * y[i];
+    return xy / std::sqrt(xx * yy);
+  };
+  std::vector<double> left, right, up, down, across_a, across_b;
+  for (int j = 0; j + 1 < h; ++j) {
+    for (int i = 0; i + 1 < w; ++i) {
+      left.push_back(a[j * w + i]), right.push_back(a[j * w + i + 1]);
+      up.push_back(a[j * w + i]), down.push_back(a[(j + 1) * w + i]);
+    }
+  }
+  const double bound = 5.0 / std::sqrt(static_cast<double>(left.size()));
+  EXPECT_LT(std::abs(rho(left, right)), bound);
+  EXPECT_LT(std::abs(rho(up, down)), bound);
+  EXPECT_LT(std::abs(rho(a, b)), 5.0 / std::sqrt(static_cast<double>(a.size())));
+}
+
+// Blur is computed near the boards only: the same as an independent separable Gaussian (edges
+// clamped) of the unblurred rendering over the whole frame, to float rounding (at most one gray
+// level after rounding to 8 bits).
+TEST(Render, BlurNearTheBoardsEqualsAWholeFrameBlur) {
+  const CameraIntrinsics k{500, 500, 90, 319.5, 239.5};
+  RenderOptions sharp;
+  GrayImage unblurred, blurred;
+  const BoardView board = FrontoParallel(-0.1, -0.05);
+  RenderOptions o = sharp;
+  o.blur_sigma_px = 1.2;
+  o.blur_grid = 1;  // The pixel-level blur (the finer grid's is tested below).
+  // The unblurred values before rounding: black 20 and white 235 with supersampled edges; round
+  // trip through 8 bits loses < 0.5 gray, which the blur then averages (the bound below holds).
+  ASSERT_TRUE(RenderFrame(k, {board}, sharp, nullptr, &unblurred, nullptr));
+  ASSERT_TRUE(RenderFrame(k, {board}, o, nullptr, &blurred, nullptr));
+  const int w = unblurred.width, h = unblurred.height;
+  const int radius = static_cast<int>(std::ceil(3 * o.blur_sigma_px));
+  std::vector<double> kernel(2 * radius + 1);
+  double sum = 0;
+  for (int i = -radius; i <= radius; ++i)
+    sum += kernel[i + radius] = std::exp(-0.5 * i * i / (o.blur_sigma_px * o.blur_sigma_px));
+  for (double& x : kernel) x /= sum;
+  std::vector<double> tmp(static_cast<size_t>(w) * h), out(tmp.size());
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      double acc = 0;
+      for (int d = -radius; d <= radius; ++d)
+        acc += kernel[d + radius] * unblurred.at(std::clamp(i + d, 0, w - 1), j);
+      tmp[j * w + i] = acc;
+    }
+  int worst = 0;
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      double acc = 0;
+      for (int d = -radius; d <= radius; ++d)
+        acc += kernel[d + radius] * tmp[std::clamp(j + d, 0, h - 1) * w + i];
+      worst = std::max(worst, std::abs(static_cast<int>(std::lround(acc)) - blurred.at(i, j)));
+    }
+  EXPECT_LE(worst, 1);
+}
+
+// The blur is the physical one: the scene convolved with the Gaussian PSF, then integrated over
+// each pixel. A tag's straight outer edge, turned 10 deg in the image, blurred by sigma: every
+// pixel within 3 px of it against the box integral of Phi(distance / sigma), computed here by a
+// 64 x 64 midpoint rule over the pixel (independent of the renderer and of the fit's closed form).
+// Tolerance: 0.5 gray of 8-bit rounding + 0.5 gray for the finer grid's residual (< 0.35 gray
+// at sigma 0.5, m = 6, on a 215-gray contrast: header comment of render.h). The pixel-level blur
+// (blur_grid 1) misses by ~19 gray at sigma 0.5 (its edges move with their sub-pixel phase).
+// Mutation checked: rendering with m = 1 by default fails this test.
+TEST(Render, BlurIsTheGaussianPsfIntegratedOverThePixel) {
+  constexpr double kTolGray = 1.0;
+  const CameraIntrinsics k{500, 500, 90, 319.5, 239.5};
+  BoardView board = FrontoParallel(-0.1, -0.05);
+  const double turn = 10 * M_PI / 180;
+  board.cam_from_board.rotation =
+      Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+      board.cam_from_board.rotation;
+  // Tag 0's left edge, board x = 0, black for x > 0; its middle part (away from the corners and
+  // the border cell's inner edge 12.5 px away).
+  auto pixel_of = [&](double bx, double by) {
+    Eigen::Vector2d px;
+    ProjectPoint(k, board.cam_from_board * Eigen::Vector3d(bx, by, 0), &px);
+    return px;
+  };
+  const Eigen::Vector2d a = pixel_of(0, 0.06), b = pixel_of(0, 0.14);
+  const Eigen::Vector2d along = (b - a).normalized();
+  Eigen::Vector2d normal(-along.y(), along.x());  // Towards the black side:
+  if (normal.dot(pixel_of(0.01, 0.1) - a) < 0) normal = -normal;
+  for (double sigma : {0.5, 1.0}) {
+    RenderOptions o;
+    o.blur_sigma_px = sigma;
+    double worst_fine = 0, worst_pixel_level = 0;
+    for (int grid : {0, 1}) {
+      o.blur_grid = grid;
+      GrayImage image;
+      ASSERT_TRUE(RenderFrame(k, {board}, o, nullptr, &image, nullptr));
+      double worst = 0;
+      for (int j = 0; j < image.height; ++j) {
+        for (int i = 0; i < image.width; ++i) {
+          const Eigen::Vector2d p(i, j);
+          const double d = normal.dot(p - a), t = along.dot(p - a);
+          if (std::abs(d) > 3 || t < 0 || t > (b - a).norm()) continue;
+          constexpr int kQuad = 64;
+          double black = 0;
+          for (int qv = 0; qv < kQuad; ++qv) {
+            for (int qu = 0; qu < kQuad; ++qu) {
+              const Eigen::Vector2d offset((qu + 0.5) / kQuad - 0.5, (qv + 0.5) / kQuad - 0.5);
+              black += 0.5 * std::erfc(-(d + normal.dot(offset)) / (sigma * std::sqrt(2.0)));
+            }
+          }
+          black /= kQuad * kQuad;
+          const double expected = o.white_gray + (o.black_gray - o.white_gray) * black;
+          worst = std::max(worst, std::abs(image.at(i, j) - expected));
+        }
+      }
+      (grid == 0 ? worst_fine : worst_pixel_level) = worst;
+    }
+    std::printf("sigma %.1f px: worst |rendered - exact| %.2f gray (finer grid), %.2f (pixels)\n",
+                sigma, worst_fine, worst_pixel_level);
+    EXPECT_LE(worst_fine, kTolGray) << "sigma " << sigma;
+  }
+}
+
+TEST(Render, UndistortInvertsTheDistortion) {
+  CameraIntrinsics k;
+  k.k1 = -0.25;
+  k.k2 = 0.08;
+  k.p1 = 1e-3;
+  k.p2 = -2e-3;
+  k.k3 = 0.01;
+  const auto params = k.Params();
+  for (double x = -0.5; x <= 0.5; x += 0.1) {
+    for (double y = -0.4; y <= 0.4; y += 0.1) {
+      Eigen::Vector2d pixel;
+      const Eigen::Vector3d p(x, y, 1.0);
+      ASSERT_TRUE(PinholeSkewCamera::Project(params.data(), p.data(), pixel.data()));
+      const Eigen::Vector2d distorted = (k.Matrix().inverse() * pixel.homogeneous()).head<2>();
+      Eigen::Vector2d undistorted;
+      ASSERT_TRUE(UndistortNormalized(k, distorted, &undistorted));
+      EXPECT_LT((undistorted - Eigen::Vector2d(x, y)).norm(), 1e-10);
+    }
+  }
+}
+
+// ---- Every lens family, past 90 deg ----
+
+constexpr double kDeg = M_PI / 180.0;
+
+CameraIntrinsics Lens(LensFamily family, double f_px, double centre_px) {
+  CameraIntrinsics k{f_px, f_px, 90.0, centre_px, centre_px};
+  k.family = family;
+  return k;
+}
+
+// The unit ray at `angle_deg` from the optical axis, `azimuth_deg` from +x towards +y.
+Eigen::Vector3d Direction(double angle_deg, double azimuth_deg) {
+  const double t = angle_deg * kDeg, a = azimuth_deg * kDeg;
+  return {std::sin(t) * std::cos(a), std::sin(t) * std::sin(a), std::cos(t)};
+}
+
+// The pixel of board point (bx, by); NaN outside the lens's valid region.
+Eigen::Vector2d PixelOf(const CameraIntrinsics& k, const Rigid3& cam_from_board, double bx,
+                        double by) {
+  Eigen::Vector2d pixel = Eigen::Vector2d::Constant(NAN);
+  ProjectPoint(k, cam_from_board * Eigen::Vector3d(bx, by, 0), &pixel);
+  return pixel;
+}
+
+// A straight board edge from `a` to `b` (m), white for `white_m` on the side of `outward` (unit,
+// board), black for `black_m` on the other.
+struct BoardEdge {
+  Eigen::Vector2d a, b, outward;
+  double white_m, black_m;
+};
+struct EdgeErrors {
+  double mean_px = 0, max_px = 0;  // Signed mean and largest |error| over the scan lines.
+  int lines = 0;
+};
+
+// The rendered edge against the projected one (ProjectPoint), on the scan lines (rows, or columns
+// for an edge nearer horizontal) that cross the edge's middle 40%. On each, the black length of
+// the pixels between the two reaches, B = sum (white - value) / (white - black), puts the edge at
+// last + 0.5 - B (black towards larger coordinates; first - 0.5 + B otherwise): the exact mean of
+// the edge's position over the line's strip, which is its position on the line's centre for a
+// straight edge (a lens bends it by < 1e-4 px over one pixel here). The projected position is
+// found by bisection along the edge. Needs white = 255, black = 0.
+EdgeErrors MeasureEdge(const GrayImage& image, const CameraIntrinsics& k, const Rigid3& pose,
+                       const BoardEdge& e) {
+  auto at = [&](double t) {
+    const Eigen::Vector2d p = e.a + t * (e.b - e.a);
+    return PixelOf(k, pose, p.x(), p.y());
+  };
+  const Eigen::Vector2d d = at(0.6) - at(0.4);
+  const int cross = std::abs(d.x()) > std::abs(d.y()) ? 0 : 1;  // 1: rows (v), 0: columns (u).
+  const int along = 1 - cross;
+  const double c0 = at(0.3)[cross], c1 = at(0.7)[cross];
+  EdgeErrors out;
+  double sum = 0;
+  for (int c = static_cast<int>(std::ceil(std::min(c0, c1)));
+       c <= static_cast<int>(std::floor(std::max(c0, c1))); ++c) {
+    double lo = 0.3, hi = 0.7;  // at(t)[cross] - c changes sign between them.
+    const double sign_lo = at(lo)[cross] - c;
+    for (int it = 0; it < 60; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      ((at(mid)[cross] - c) * sign_lo > 0 ? lo : hi) = mid;
+    }
+    const double t = 0.5 * (lo + hi);
+    const Eigen::Vector2d p = e.a + t * (e.b - e.a);
+    const double expected = at(t)[along];
+    const Eigen::Vector2d white = p + e.white_m * e.outward, black = p - e.black_m * e.outward;
+    const double w = PixelOf(k, pose, white.x(), white.y())[along];
+    const double b = PixelOf(k, pose, black.x(), black.y())[along];
+    const int first = static_cast<int>(std::ceil(std::min(w, b)));
+    const int last = static_cast<int>(std::floor(std::max(w, b)));
+    double black_length = 0;
+    for (int i = first; i <= last; ++i)
+      black_length += 1.0 - (cross == 1 ? image.at(i, c) : image.at(c, i)) / 255.0;
+    const double measured = b > w ? last + 0.5 - black_length : first - 0.5 + black_length;
+    const double error = measured - expected;
+    sum += error;
+    out.max_px = std::max(out.max_px, std::abs(error));
+    ++out.lines;
+  }
+  out.mean_px = out.lines > 0 ? sum / out.lines : NAN;
+  return out;
+}
+
+// One tag (1-bit tag36h11, cells of s / 8) facing the camera from `angle_deg` off the axis, at the
+// distance that gives its black square a mean side of `side_px` in the image.
+struct TagSeen {
+  BoardView view;
+  double side_px = 0;
+};
+TagSeen TagFacingCameraAt(const CameraIntrinsics& k, double angle_deg, double azimuth_deg,
+                          double side_px) {
+  TagSeen t;
+  t.view.grid.tag_rows = t.view.grid.tag_cols = 1;
+  t.view.grid.tag_size_m = 0.1;
+  t.view.family = TagFamily::Create("tag36h11", nullptr);
+  const double s = t.view.grid.tag_size_m;
+  const Eigen::Vector3d centre(s / 2, s / 2, 0), ray = Direction(angle_deg, azimuth_deg);
+  double distance = 1.0;
+  for (int it = 0; it < 8; ++it) {  // The side is ~ 1 / distance.
+    t.view.cam_from_board = FacingBoardPoseAlong(Eigen::Vector3d::Zero(), centre, ray, distance);
+    const std::array<Eigen::Vector2d, 4> q = {
+        PixelOf(k, t.view.cam_from_board, 0, 0), PixelOf(k, t.view.cam_from_board, s, 0),
+        PixelOf(k, t.view.cam_from_board, s, s), PixelOf(k, t.view.cam_from_board, 0, s)};
+    t.side_px = 0;
+    for (int i = 0; i < 4; ++i) t.side_px += (q[(i + 1) % 4] - q[i]).norm() / 4;
+    distance *= t.side_px / side_px;
+  }
+  return t;
+}
+
+// Each family's edges where ProjectPoint puts them, in front and past 90 deg: a 64 px tag's four
+// outer edges (white margin outside, the black border cell inside), rendered sharp at 64 x 64
+// samples, black 0 / white 255, measured on every scan line across their middle 40% (MeasureEdge).
+// The lenses (800 x 800): EuRoC-like radtan; an equidistant fisheye; unified (xi 0.9 with radtan)
+// at 100 deg; eucm (alpha 0.6, beta 1.1) at 80 deg; double sphere (xi 0.6, alpha 0.6) with f such
+// that 95 deg lands 380 px from the centre, a 190 deg lens, at 95 deg.
+// Tolerances: each line's error holds the 8-bit rounding of its 1-3 edge pixels (<= 0.002 px
+// each), the samples' area quantisation and the table's bilinear rays (measured: largest line
+// error 0.0057 px, unified at 100 deg; largest mean over an edge 8e-4 px). kLineTolPx is 1.75x the
+// worst line; kMeanTolPx bounds an edge's systematic shift (3.75x the worst measured).
+// Mutation checked: the stereographic lift divided by its z (the plane's (x, y, 1) convention,
+// which flips the rays past 90 deg) fails the unified (100 deg) and double-sphere (95 deg) cases,
+// edges 3.1-3.7 px off, and leaves the three in front passing.
+constexpr double kLineTolPx = 0.01, kMeanTolPx = 0.003;
+
+TEST(Render, EdgesLandWhereEveryLensProjectsThem) {
+  struct Case {
+    const char* name;
+    CameraIntrinsics k;
+    double angle_deg, azimuth_deg;
+  };
+  CameraIntrinsics radtan = Lens(LensFamily::kRadTan, 400, 399.5);
+  radtan.k1 = -0.28, radtan.k2 = 0.074;
+  CameraIntrinsics equidistant = Lens(LensFamily::kEquidistant, 250, 399.5);
+  equidistant.k1 = 0.01, equidistant.k2 = -0.002;
+  CameraIntrinsics unified = Lens(LensFamily::kUnified, 200, 399.5);
+  unified.xi = 0.9, unified.k1 = -0.02, unified.k2 = 1e-3;
+  CameraIntrinsics eucm = Lens(LensFamily::kEucm, 220, 399.5);
+  eucm.alpha = 0.6, eucm.beta = 1.1;
+  // Double sphere (0.6, 0.6): 95 deg at 1.1354 f.
+  CameraIntrinsics ds = Lens(LensFamily::kDoubleSphere, 380 / 1.1354, 399.5);
+  ds.xi = 0.6, ds.alpha = 0.6;
+  for (const Case& c : {Case{"radtan", radtan, 30, 200}, Case{"equidistant", equidistant, 60, 35},
+                        Case{"unified", unified, 100, 130}, Case{"eucm", eucm, 80, -60},
+                        Case{"double-sphere 190 deg", ds, 95, 20}}) {
+    const TagSeen tag = TagFacingCameraAt(c.k, c.angle_deg, c.azimuth_deg, 64);
+    RenderOptions o;
+    o.width = o.height = 800;
+    o.supersample = 64;
+    o.black_gray = 0;
+    o.white_gray = 255;
+    GrayImage image;
+    std::string why;
+    ASSERT_TRUE(RenderFrame(c.k, {tag.view}, o, nullptr, &image, &why)) << c.name << ": " << why;
+    const double s = tag.view.grid.tag_size_m, cell = s / 8, margin = 1.5 * cell;
+    const std::array<BoardEdge, 4> edges = {
+        BoardEdge{{0, 0}, {0, s}, {-1, 0}, margin, 0.8 * cell},  // Left.
+        BoardEdge{{s, 0}, {s, s}, {1, 0}, margin, 0.8 * cell},   // Right.
+        BoardEdge{{0, 0}, {s, 0}, {0, -1}, margin, 0.8 * cell},  // Bottom.
+        BoardEdge{{0, s}, {s, s}, {0, 1}, margin, 0.8 * cell}};  // Top.
+    double worst = 0, worst_mean = 0;
+    int lines = 0;
+    for (const BoardEdge& e : edges) {
+      const EdgeErrors r = MeasureEdge(image, c.k, tag.view.cam_from_board, e);
+      EXPECT_GE(r.lines, 15) << c.name;
+      EXPECT_LT(r.max_px, kLineTolPx) << c.name;
+      EXPECT_LT(std::abs(r.mean_px), kMeanTolPx) << c.name;
+      worst = std::max(worst, r.max_px);
+      worst_mean = std::max(worst_mean, std::abs(r.mean_px));
+      lines += r.lines;
+    }
+    std::printf("%s, tag at %g deg (%.1f px): %d lines, worst %.4f px, worst edge mean %.4f px\n",
+                c.name, c.angle_deg, tag.side_px, lines, worst, worst_mean);
+  }
+}
+
+// Outside an omnidirectional lens's image circle (its valid region's edge) there is no ray: the
+// background, never a wrapped ray. The camera sits inside a box of six boards (every ray hits
+// one): every pixel wholly inside the circle shows a board (>= the black level 20), every pixel
+// wholly outside the background (0). Circles: double sphere (0.6, 0.6) r^2 < 1 / (2 alpha - 1),
+// eucm (0.6, 1.1) r^2 < 1 / (beta (2 alpha - 1)), unified xi = 1.6 (the sphere's rim, r^2 <
+// 1 / (xi^2 - 1)): 340-370 px on 800 x 800.
+// Mutation checked: the board bounds without the backward-axis test (ComputeImageBounds) fail it:
+// the box's back face (its outline at 120-129 deg, inside the double sphere's 158 deg) is then
+// bounded by its outline's image, and 72056 pixels between that ring and the circle show nothing.
+TEST(Render, PixelsOutsideTheImageCircleAreBackground) {
+  struct Case {
+    const char* name;
+    CameraIntrinsics k;
+    double circle_r;  // Normalised radius of the valid region's edge.
+  };
+  CameraIntrinsics ds = Lens(LensFamily::kDoubleSphere, 160, 399.5);
+  ds.xi = 0.6, ds.alpha = 0.6;
+  CameraIntrinsics eucm = Lens(LensFamily::kEucm, 160, 399.5);
+  eucm.alpha = 0.6, eucm.beta = 1.1;
+  CameraIntrinsics unified = Lens(LensFamily::kUnified, 450, 399.5);
+  unified.xi = 1.6;
+  // The box: faces 1 m from the camera, boards 2.5 m wide (overlapping at the box's edges).
+  std::vector<BoardView> box;
+  for (int face = 0; face < 6; ++face) {
+    BoardView b;
+    b.grid.tag_rows = b.grid.tag_cols = 4;
+    b.grid.tag_size_m = 0.5;
+    b.grid.tag_spacing = 0.2;
+    b.grid.first_id = 16 * face;
+    b.family = TagFamily::Create("tag36h11", nullptr);
+    const double half = (4 * b.grid.Pitch() - b.grid.tag_size_m * b.grid.tag_spacing) / 2;
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+    axis[face / 2] = face % 2 ? -1 : 1;
+    b.cam_from_board =
+        FacingBoardPoseAlong(Eigen::Vector3d::Zero(), Eigen::Vector3d(half, half, 0), axis, 1.0);
+    box.push_back(b);
+  }
+  for (const Case& c : {Case{"double-sphere", ds, std::sqrt(1 / (2 * 0.6 - 1))},
+                        Case{"eucm", eucm, std::sqrt(1 / (1.1 * (2 * 0.6 - 1)))},
+                        Case{"unified", unified, std::sqrt(1 / (1.6 * 1.6 - 1))}}) {
+    RenderOptions o;
+    o.width = o.height = 800;
+    o.background_gray = 0;
+    GrayImage image;
+    std::string why;
+    ASSERT_TRUE(RenderFrame(c.k, box, o, nullptr, &image, &why)) << c.name << ": " << why;
+    const double circle_px = c.circle_r * c.k.fku_px;
+    int inside = 0, outside = 0, wrong_inside = 0, wrong_outside = 0;
+    for (int j = 0; j < image.height; ++j) {
+      for (int i = 0; i < image.width; ++i) {
+        const double r = std::hypot(i - c.k.u0_px, j - c.k.v0_px);
+        if (r < circle_px - 1) ++inside, wrong_inside += image.at(i, j) < 20;
+        if (r > circle_px + 1) ++outside, wrong_outside += image.at(i, j) != 0;
+      }
+    }
+    std::printf(
+        "%s: circle %.1f px, %d pixels inside (%d not a board), %d outside (%d not "
+        "background)\n",
+        c.name, circle_px, inside, wrong_inside, outside, wrong_outside);
+    EXPECT_GT(inside, 300000) << c.name;
+    EXPECT_GT(outside, 100000) << c.name;
+    EXPECT_EQ(wrong_inside, 0) << c.name;
+    EXPECT_EQ(wrong_outside, 0) << c.name;
+  }
+}
+
+}  // namespace
+}  // namespace calibench
