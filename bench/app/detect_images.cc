@@ -6,27 +6,41 @@
 
 #include "bench/app/image_points.h"
 #include "bench/run/csv.h"
+#include "detect/chessboard.h"
 
 namespace calibench {
 
 bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
                         std::vector<ImageCorners>* images, std::string* why) {
   images->clear();
-  if (target.type != CalibrationTarget::Type::kAprilGrid) {
-    if (why) *why = "detect --images reads aprilgrid targets only (target_type: aprilgrid)";
-    return false;
-  }
+  const bool checkerboard = target.type == CalibrationTarget::Type::kCheckerboard;
   std::vector<std::string> files;
   if (!ListImageFiles(dir, &files, why)) return false;
-  const auto detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(), why);
-  if (!detector) return false;
+  std::unique_ptr<FrameDetector> detector;
+  if (!checkerboard) {
+    detector = FrameDetector::Create({target.grid}, ImageDetectorOptions(), why);
+    if (!detector) return false;
+  }
+  ChessboardOptions chessboard;
+  chessboard.cols = target.cols;
+  chessboard.rows = target.rows;
   for (const std::string& path : files) {
     ImageCorners image;
     image.file = std::filesystem::path(path).filename().string();
     GrayImage gray;
     std::string note;
     image.readable = ReadGray8(path, &gray, &image.note, &note);
-    if (image.readable) {
+    if (image.readable && checkerboard) {
+      image.note = note;
+      std::vector<Eigen::Vector2d> corners;
+      std::string how;
+      if (FindChessboardCorners(gray, chessboard, &corners, &how)) {
+        image.tags = 1;
+        for (size_t k = 0; k < corners.size(); ++k) {
+          image.corners.push_back({-1, static_cast<int>(k), corners[k].x(), corners[k].y()});
+        }
+      }
+    } else if (image.readable) {
       image.note = note;
       DetectionCounts counts;
       for (const Observation& o : detector->Detect(gray, &counts)) {
@@ -51,14 +65,17 @@ std::string ImageCornersCsv(const std::vector<ImageCorners>& images) {
   std::string csv = CsvLine({"image", "tag_id", "corner", "u_px", "v_px", "crlb_px"});
   for (const ImageCorners& image : images) {
     for (const ImageCorners::Corner& c : image.corners) {
-      csv += CsvLine({image.file, std::to_string(c.tag_id), std::to_string(c.corner),
-                      FormatNumber(c.u_px), FormatNumber(c.v_px), FormatNumber(c.crlb_px)});
+      csv += CsvLine({image.file, c.tag_id >= 0 ? std::to_string(c.tag_id) : "",
+                      std::to_string(c.corner), FormatNumber(c.u_px), FormatNumber(c.v_px),
+                      FormatNumber(c.crlb_px)});
     }
   }
   return csv;
 }
 
-std::string FormatImageCorners(const std::vector<ImageCorners>& images, int grid_tags) {
+std::string FormatImageCorners(const std::vector<ImageCorners>& images,
+                               const CalibrationTarget& target) {
+  const bool checkerboard = target.type == CalibrationTarget::Type::kCheckerboard;
   std::ostringstream out;
   char line[512];
   long tags = 0, corners = 0;
@@ -85,13 +102,19 @@ std::string FormatImageCorners(const std::vector<ImageCorners>& images, int grid
     if (image.duplicate_tags > 0)
       extra += ", " + std::to_string(image.duplicate_tags) + " duplicate ids (dropped)";
     if (!image.note.empty()) extra += "; " + image.note;
-    std::snprintf(line, sizeof(line), "%-30s %3d of %d tags%s\n", image.file.c_str(), image.tags,
-                  grid_tags, extra.c_str());
+    if (checkerboard) {
+      std::snprintf(line, sizeof(line), "%-30s %3zu of %d corners%s\n", image.file.c_str(),
+                    image.corners.size(), target.cols * target.rows, extra.c_str());
+    } else {
+      std::snprintf(line, sizeof(line), "%-30s %3d of %d tags%s\n", image.file.c_str(), image.tags,
+                    target.grid.NumTags(), extra.c_str());
+    }
     out << line;
     tags += image.tags;
     corners += static_cast<long>(image.corners.size());
   }
-  out << images.size() << " images, " << tags << " tags, " << corners << " corners\n";
+  out << images.size() << " images, " << tags << (checkerboard ? " boards, " : " tags, ") << corners
+      << " corners\n";
   return out.str();
 }
 

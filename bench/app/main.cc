@@ -341,7 +341,8 @@ int DetectImages(const DetectImagesArgs& args) {
   calibench::CalibrationTarget target;
   std::string why;
   if (args.target_path.empty()) {
-    std::cerr << "calibench: detect: --images needs --target TARGET.yaml (Kalibr aprilgrid)\n";
+    std::cerr << "calibench: detect: --images needs --target TARGET.yaml (Kalibr aprilgrid or "
+                 "checkerboard)\n";
     return 2;
   }
   if (!calibench::LoadTargetYaml(args.target_path, &target, &why)) {
@@ -353,7 +354,7 @@ int DetectImages(const DetectImagesArgs& args) {
     std::cerr << "calibench: detect --images: " << why << "\n";
     return 2;
   }
-  std::cout << calibench::FormatImageCorners(images, target.grid.NumTags());
+  std::cout << calibench::FormatImageCorners(images, target);
   if (args.out_path.empty()) return 0;
   if (!calibench::WriteFileAtomically(args.out_path, calibench::ImageCornersCsv(images), &why)) {
     std::cerr << "calibench: " << why << "\n";
@@ -475,14 +476,14 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   CLI::App* detect = app.add_subcommand(
       "detect",
       "Detection rate and corner error vs truth (RMS, bias, p95) of a scenario; or, with "
-      "--images, the AprilGrid corners found in a folder of images");
+      "--images, the target's corners found in a folder of images");
   AddFramesOptions(detect, &detect_args, false);
   DetectImagesArgs detect_images;
   CLI::Option* detect_images_option = detect->add_option(
       "--images", detect_images.images_dir,
-      "Folder of PNG/JPG/TIF images (8- or 16-bit) of a Kalibr AprilGrid (needs --target)");
+      "Folder of PNG/JPG/TIF images (8- or 16-bit) of the target (needs --target)");
   detect->add_option("--target", detect_images.target_path,
-                     "With --images: Kalibr target YAML (target_type: aprilgrid)");
+                     "With --images: Kalibr target YAML (aprilgrid or checkerboard)");
   detect->add_option("--out", detect_images.out_path,
                      "With --images: write image,tag_id,corner,u_px,v_px,crlb_px per corner (CSV)");
   detect->add_option("--frames", detect_args.frames_dir,

@@ -120,10 +120,51 @@ TEST(DetectImages, EightAndSixteenBitPngsGiveTheExactCorners) {
   EXPECT_EQ(rows, 240);
   EXPECT_EQ(images[0].corners[0].tag_id, 0);
   EXPECT_EQ(images[0].corners[1].corner, 1);
-  const std::string report = FormatImageCorners(images, r.grid.NumTags());
+  const std::string report = FormatImageCorners(images, TargetOf(r.grid));
   EXPECT_NE(report.find("a_eight.png                     30 of 30 tags"), std::string::npos)
       << report;
   EXPECT_NE(report.find("2 images, 60 tags, 240 corners"), std::string::npos) << report;
+}
+
+// A checkerboard folder (the bundled opencv-left set, 9 x 6 inner corners): every image's
+// corners are those calibrate --images uses (LoadImagePoints, the same detector), in row-major
+// order with their board points; the CSV leaves tag_id empty and numbers the inner corners.
+TEST(DetectImages, CheckerboardCornersAreCalibratesInRowMajorOrder) {
+  const std::string dir = std::string(CALIBENCH_BUNDLED_DATA_DIR) + "/opencv-left";
+  CalibrationTarget target;
+  std::string why;
+  ASSERT_TRUE(LoadTargetYaml(dir + "/checkerboard.yaml", &target, &why)) << why;
+  std::vector<ImageCorners> images;
+  ASSERT_TRUE(DetectImageCorners(dir, target, &images, &why)) << why;
+  PointData data;
+  ImageFolderReport report;
+  std::vector<int> used;
+  ASSERT_TRUE(LoadImagePoints(dir, target, &data, &report, &used, &why)) << why;
+  ASSERT_EQ(images.size(), report.images.size());
+  size_t view = 0;
+  for (size_t i = 0; i < images.size(); ++i) {
+    if (!report.images[i].used) {
+      EXPECT_TRUE(images[i].corners.empty()) << images[i].file;
+      continue;
+    }
+    ASSERT_EQ(images[i].corners.size(), data.views[view].pixels.size()) << images[i].file;
+    for (size_t k = 0; k < images[i].corners.size(); ++k) {
+      const ImageCorners::Corner& c = images[i].corners[k];
+      EXPECT_EQ(c.tag_id, -1);
+      EXPECT_EQ(c.corner, static_cast<int>(k));
+      EXPECT_EQ(Eigen::Vector2d(c.u_px, c.v_px), data.views[view].pixels[k]);
+      // Corner k is (c colSpacing, r rowSpacing) with k = r cols + c.
+      EXPECT_EQ(data.views[view].points[k],
+                Eigen::Vector3d((k % target.cols) * target.col_spacing_m,
+                                (k / target.cols) * target.row_spacing_m, 0));
+    }
+    ++view;
+  }
+  EXPECT_EQ(view, data.views.size());
+  EXPECT_GE(view, 10u);  // opencv-left: the pattern is found in every image.
+  const std::string csv = ImageCornersCsv(images);
+  EXPECT_NE(csv.find("\nleft01.jpg,,0,"), std::string::npos) << csv.substr(0, 200);
+  EXPECT_NE(FormatImageCorners(images, target).find("54 of 54 corners"), std::string::npos);
 }
 
 TEST(DetectImages, BadFolderTargetAndImagesAreReported) {
@@ -132,17 +173,13 @@ TEST(DetectImages, BadFolderTargetAndImagesAreReported) {
   const Rendered r = RenderKalibrGrid();
   EXPECT_FALSE(DetectImageCorners("/nonexistent_dir", TargetOf(r.grid), &images, &why));
   EXPECT_NE(why.find("/nonexistent_dir: cannot list the folder"), std::string::npos) << why;
-  CalibrationTarget checkerboard;
-  checkerboard.type = CalibrationTarget::Type::kCheckerboard;
-  EXPECT_FALSE(DetectImageCorners(testing::TempDir(), checkerboard, &images, &why));
-  EXPECT_NE(why.find("aprilgrid targets only"), std::string::npos) << why;
   const std::string dir = FreshTempDir("/detect_images_bad", "");
   std::filesystem::create_directories(dir);
   std::ofstream(dir + "/broken.png") << "not a png";
   ASSERT_TRUE(DetectImageCorners(dir, TargetOf(r.grid), &images, &why)) << why;
   ASSERT_EQ(images.size(), 1u);
   EXPECT_FALSE(images[0].readable);
-  EXPECT_NE(FormatImageCorners(images, 30).find("broken.png"), std::string::npos);
+  EXPECT_NE(FormatImageCorners(images, TargetOf(r.grid)).find("broken.png"), std::string::npos);
   EXPECT_NE(images[0].note.find("cannot be decoded"), std::string::npos) << images[0].note;
 }
 
