@@ -378,6 +378,160 @@ void AddFramesOptions(CLI::App* command, FramesArgs* args, bool config_required 
 
 }  // namespace
 
+namespace {
+
+// `run`: its options into *run_args.
+CLI::App* AddRunCommand(CLI::App* app, RunArgs* run_args) {
+  CLI::App* run = app->add_subcommand("run", "Run the scenarios and sweeps of a YAML config");
+  run->add_option("config", run_args->config_path, "Scenario file or entry point (YAML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  run->add_option("--out", run_args->out_dir,
+                  "Output directory (runs.csv, summary.csv, timings.csv, curves.csv, table.md)")
+      ->required();
+  run->add_option("--threads", run_args->threads, "Worker threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  run->add_flag("--quiet", run_args->quiet, "No table on stdout, no progress bar");
+  run->add_flag("--resume", run_args->resume,
+                "Continue an interrupted run in --out (kill -9 included)");
+  run->add_option("--shard", run_args->shard, "Run only slice K of N (K/N); see `merge`");
+  return run;
+}
+
+// `calibrate`: its options into *cal.
+CLI::App* AddCalibrateCommand(CLI::App* app, CalibrateArgs* cal) {
+  CLI::App* calibrate =
+      app->add_subcommand("calibrate", "Calibrate a camera from point files or from images");
+  CLI::Option* points_option = calibrate->add_option(
+      "--points", cal->points_path, "Zhang folder (Model.txt, data*.txt) or OpenCV .dat");
+  CLI::Option* images_option = calibrate->add_option(
+      "--images", cal->images_dir, "Folder of PNG/JPG/TIF images of the target (needs --target)");
+  points_option->excludes(images_option);
+  calibrate->add_option("--target", cal->target_path,
+                        "Kalibr target YAML (target_type: aprilgrid or checkerboard)");
+  calibrate->add_option("--out", cal->out_path,
+                        "Output camera file (default camera.yaml; format from --format or the "
+                        "extension: .cameramodel = mrcal, *camchain*.yaml = kalibr, else opencv)");
+  calibrate->add_option("--format", cal->format, "Output format: opencv, kalibr or mrcal");
+  calibrate->add_option("--model", cal->model,
+                        "Lens model: " + LensModelList() +
+                            ", or auto (fit pinhole-radtan4/5, pinhole-equi, unified, eucm, "
+                            "double-sphere; pick the simplest within noise of the best "
+                            "held-out RMS)");
+  calibrate->add_flag("--skew", cal->skew, "Estimate the skew angle phi too");
+  calibrate
+      ->add_option("--init", cal->init_path,
+                   "A camera file (opencv, kalibr or mrcal) as the initial guess instead of "
+                   "zhang; its lens model unless --model is given")
+      ->check(CLI::ExistingFile);
+  calibrate
+      ->add_option("--corner-iterations", cal->corner_iterations,
+                   "With --images (aprilgrid) and a lens model that distorts: re-fit the corners "
+                   "through the estimate and recalibrate at most this often, until f moves by "
+                   "< 0.1 std, or a re-fit is predicted to move it less (0: detect once)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  calibrate
+      ->add_option("--threads", cal->threads,
+                   "With --images: read and detect the images on this many threads (0: every "
+                   "core; the result does not depend on it)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  calibrate
+      ->add_option("--corner-refinement", cal->corner_refinement,
+                   "With --images (aprilgrid): none, edge_fit or photometric (default; the "
+                   "edge fit with curved edges for the wide models without --init). Other than "
+                   "photometric: detect once, no re-fit through the lens")
+      ->check(CLI::IsMember(
+          {calibench::CornerRefinementName(calibench::CornerRefinement::kNone),
+           calibench::CornerRefinementName(calibench::CornerRefinement::kEdgeFit),
+           calibench::CornerRefinementName(calibench::CornerRefinement::kPhotometric)}));
+  calibrate->add_flag("--evaluate", cal->evaluate,
+                      "With --init: keep that camera fixed, fit only each image's pose, report "
+                      "the reprojection RMS per image and flag outliers");
+  return calibrate;
+}
+
+// `detect`: a scenario's options into *detect_args, the --images form's into *detect_images.
+CLI::App* AddDetectCommand(CLI::App* app, FramesArgs* detect_args,
+                           DetectImagesArgs* detect_images) {
+  CLI::App* detect = app->add_subcommand(
+      "detect",
+      "Detection rate and corner error vs truth (RMS, bias, p95) of a scenario; or, with "
+      "--images, the target's corners found in a folder of images");
+  AddFramesOptions(detect, detect_args, false);
+  detect->add_option("--images", detect_images->images_dir,
+                     "Folder of PNG/JPG/TIF images (8- or 16-bit) of the target (needs --target)");
+  detect->add_option("--target", detect_images->target_path,
+                     "With --images: Kalibr target YAML (aprilgrid or checkerboard)");
+  detect->add_option("--out", detect_images->out_path,
+                     "With --images: write image,tag_id,corner,u_px,v_px,crlb_px per corner (CSV)");
+  detect->add_option("--frames", detect_args->frames_dir,
+                     "Read frames + corners.csv from here (default: render in memory)");
+  detect->add_option("--errors", detect_args->options.errors_path,
+                     "With --frames: write every matched corner's error (CSV)");
+  return detect;
+}
+
+// `detect` parsed: the --images form or a scenario's frames, not both.
+int Detect(const FramesArgs& detect_args, const DetectImagesArgs& detect_images,
+           bool images_given) {
+  if (images_given) {
+    if (!detect_args.config_path.empty()) {
+      std::cerr << "calibench: detect: give a scenario CONFIG or --images DIR, not both\n";
+      return 2;
+    }
+    return DetectImages(detect_images);
+  }
+  if (detect_args.config_path.empty()) {
+    std::cerr << "calibench: detect: give a scenario CONFIG, or --images DIR --target "
+                 "T.yaml\n";
+    return 2;
+  }
+  return RenderOrDetect(detect_args, false);
+}
+
+// `corner-bias`: its options into *bias_args.
+CLI::App* AddCornerBiasCommand(CLI::App* app, calibench::CornerBiasArgs* bias_args) {
+  CLI::App* corner_bias =
+      app->add_subcommand("corner-bias",
+                          "Corner bias and noise of render + detect + refine vs exact projections, "
+                          "against viewing angle, tag size, blur and image position");
+  corner_bias->add_option("--out", bias_args->out_path, "Output CSV")->required();
+  corner_bias->add_option("--views", bias_args->views,
+                          "Sub-pixel shifted views per case (default 8)");
+  corner_bias->add_option("--draws", bias_args->draws, "Noise draws per view (default 8)");
+  corner_bias->add_option("--supersample", bias_args->supersample,
+                          "Renderer samples per pixel side (default 16: an axis-aligned edge to "
+                          "1/256 px; the sweeps use 4)");
+  corner_bias->add_option("--threads", bias_args->threads, "Worker threads (default 2)");
+  return corner_bias;
+}
+
+// `target`: its options into *target_args.
+CLI::App* AddTargetCommand(CLI::App* app, calibench::TargetArgs* target_args) {
+  CLI::App* target = app->add_subcommand(
+      "target", "A printable target: vector PDF at exact size, PNG at --dpi, Kalibr target YAML");
+  target->add_option("--type", target_args->type, "aprilgrid (default) or checkerboard");
+  target->add_option("--rows", target_args->rows, "Tags (aprilgrid) or inner corners (default 6)");
+  target->add_option("--cols", target_args->cols, "Tags (aprilgrid) or inner corners (default 6)");
+  target->add_option("--size", target_args->size_m,
+                     "Tag edge incl. border, or square edge, in m (default 0.088)");
+  target->add_option("--spacing", target_args->spacing,
+                     "aprilgrid: gap between tags / tag size (default 0.3)");
+  target->add_option("--border", target_args->border_bits,
+                     "aprilgrid: black border bits, 1 or 2 (default 2, Kalibr)");
+  target->add_option("--family", target_args->family, "aprilgrid: tag family (default tag36h11)");
+  target->add_option("--first-id", target_args->first_id, "aprilgrid: id of the bottom-left tag");
+  target->add_option("--margin", target_args->margin_m, "White margin in m (default 0.02)");
+  target->add_option("--dpi", target_args->dpi, "Resolution of the PNG (default 300)");
+  target->add_option("--out", target_args->out_path,
+                     "Output PDF; the PNG and YAML are written beside it (default board.pdf)");
+  return target;
+}
+
+}  // namespace
+
 // CLI11 throws from setup only on a programming error (a duplicate option name).
 int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   // A file-size limit (ulimit -f) then fails the write with EFBIG, which is reported and resumable,
@@ -391,19 +545,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
                "Show the solvers' log: Ceres's per-iteration lines and its step warnings");
   app.fallthrough();  // --verbose after the subcommand too.
   RunArgs run_args;
-  CLI::App* run = app.add_subcommand("run", "Run the scenarios and sweeps of a YAML config");
-  run->add_option("config", run_args.config_path, "Scenario file or entry point (YAML)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  run->add_option("--out", run_args.out_dir,
-                  "Output directory (runs.csv, summary.csv, timings.csv, curves.csv, table.md)")
-      ->required();
-  run->add_option("--threads", run_args.threads, "Worker threads (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
-  run->add_flag("--quiet", run_args.quiet, "No table on stdout, no progress bar");
-  run->add_flag("--resume", run_args.resume,
-                "Continue an interrupted run in --out (kill -9 included)");
-  run->add_option("--shard", run_args.shard, "Run only slice K of N (K/N); see `merge`");
+  CLI::App* run = AddRunCommand(&app, &run_args);
   std::vector<std::string> merge_dirs, report_dirs;
   std::string merge_out, report_out;
   CLI::App* merge = app.add_subcommand("merge", "Combine the shard directories of one sweep");
@@ -418,113 +560,23 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
       ->check(CLI::ExistingDirectory);
   report->add_option("--out", report_out, "Report directory (default: FIRST_DIR/report)");
   CalibrateArgs cal;
-  CLI::App* calibrate =
-      app.add_subcommand("calibrate", "Calibrate a camera from point files or from images");
-  CLI::Option* points_option = calibrate->add_option(
-      "--points", cal.points_path, "Zhang folder (Model.txt, data*.txt) or OpenCV .dat");
-  CLI::Option* images_option = calibrate->add_option(
-      "--images", cal.images_dir, "Folder of PNG/JPG/TIF images of the target (needs --target)");
-  points_option->excludes(images_option);
-  calibrate->add_option("--target", cal.target_path,
-                        "Kalibr target YAML (target_type: aprilgrid or checkerboard)");
-  calibrate->add_option("--out", cal.out_path,
-                        "Output camera file (default camera.yaml; format from --format or the "
-                        "extension: .cameramodel = mrcal, *camchain*.yaml = kalibr, else opencv)");
-  calibrate->add_option("--format", cal.format, "Output format: opencv, kalibr or mrcal");
-  CLI::Option* model_option =
-      calibrate->add_option("--model", cal.model,
-                            "Lens model: " + LensModelList() +
-                                ", or auto (fit pinhole-radtan4/5, pinhole-equi, unified, eucm, "
-                                "double-sphere; pick the simplest within noise of the best "
-                                "held-out RMS)");
-  calibrate->add_flag("--skew", cal.skew, "Estimate the skew angle phi too");
-  calibrate
-      ->add_option("--init", cal.init_path,
-                   "A camera file (opencv, kalibr or mrcal) as the initial guess instead of "
-                   "zhang; its lens model unless --model is given")
-      ->check(CLI::ExistingFile);
-  calibrate
-      ->add_option("--corner-iterations", cal.corner_iterations,
-                   "With --images (aprilgrid) and a lens model that distorts: re-fit the corners "
-                   "through the estimate and recalibrate at most this often, until f moves by "
-                   "< 0.1 std, or a re-fit is predicted to move it less (0: detect once)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  calibrate
-      ->add_option("--threads", cal.threads,
-                   "With --images: read and detect the images on this many threads (0: every "
-                   "core; the result does not depend on it)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  calibrate
-      ->add_option("--corner-refinement", cal.corner_refinement,
-                   "With --images (aprilgrid): none, edge_fit or photometric (default; the "
-                   "edge fit with curved edges for the wide models without --init). Other than "
-                   "photometric: detect once, no re-fit through the lens")
-      ->check(CLI::IsMember(
-          {calibench::CornerRefinementName(calibench::CornerRefinement::kNone),
-           calibench::CornerRefinementName(calibench::CornerRefinement::kEdgeFit),
-           calibench::CornerRefinementName(calibench::CornerRefinement::kPhotometric)}));
-  calibrate->add_flag("--evaluate", cal.evaluate,
-                      "With --init: keep that camera fixed, fit only each image's pose, report "
-                      "the reprojection RMS per image and flag outliers");
+  CLI::App* calibrate = AddCalibrateCommand(&app, &cal);
   FramesArgs render_args, detect_args;
   CLI::App* render =
       app.add_subcommand("render", "Write a scenario's rendered frames (PNG) and true corners");
   AddFramesOptions(render, &render_args);
   render->add_option("--frames", render_args.frames_dir, "Output directory")->required();
-  CLI::App* detect = app.add_subcommand(
-      "detect",
-      "Detection rate and corner error vs truth (RMS, bias, p95) of a scenario; or, with "
-      "--images, the target's corners found in a folder of images");
-  AddFramesOptions(detect, &detect_args, false);
   DetectImagesArgs detect_images;
-  CLI::Option* detect_images_option = detect->add_option(
-      "--images", detect_images.images_dir,
-      "Folder of PNG/JPG/TIF images (8- or 16-bit) of the target (needs --target)");
-  detect->add_option("--target", detect_images.target_path,
-                     "With --images: Kalibr target YAML (aprilgrid or checkerboard)");
-  detect->add_option("--out", detect_images.out_path,
-                     "With --images: write image,tag_id,corner,u_px,v_px,crlb_px per corner (CSV)");
-  detect->add_option("--frames", detect_args.frames_dir,
-                     "Read frames + corners.csv from here (default: render in memory)");
-  detect->add_option("--errors", detect_args.options.errors_path,
-                     "With --frames: write every matched corner's error (CSV)");
+  CLI::App* detect = AddDetectCommand(&app, &detect_args, &detect_images);
   calibench::CornerBiasArgs bias_args;
-  CLI::App* corner_bias =
-      app.add_subcommand("corner-bias",
-                         "Corner bias and noise of render + detect + refine vs exact projections, "
-                         "against viewing angle, tag size, blur and image position");
-  corner_bias->add_option("--out", bias_args.out_path, "Output CSV")->required();
-  corner_bias->add_option("--views", bias_args.views,
-                          "Sub-pixel shifted views per case (default 8)");
-  corner_bias->add_option("--draws", bias_args.draws, "Noise draws per view (default 8)");
-  corner_bias->add_option("--supersample", bias_args.supersample,
-                          "Renderer samples per pixel side (default 16: an axis-aligned edge to "
-                          "1/256 px; the sweeps use 4)");
-  corner_bias->add_option("--threads", bias_args.threads, "Worker threads (default 2)");
+  CLI::App* corner_bias = AddCornerBiasCommand(&app, &bias_args);
   calibench::TargetArgs target_args;
-  CLI::App* target = app.add_subcommand(
-      "target", "A printable target: vector PDF at exact size, PNG at --dpi, Kalibr target YAML");
-  target->add_option("--type", target_args.type, "aprilgrid (default) or checkerboard");
-  target->add_option("--rows", target_args.rows, "Tags (aprilgrid) or inner corners (default 6)");
-  target->add_option("--cols", target_args.cols, "Tags (aprilgrid) or inner corners (default 6)");
-  target->add_option("--size", target_args.size_m,
-                     "Tag edge incl. border, or square edge, in m (default 0.088)");
-  target->add_option("--spacing", target_args.spacing,
-                     "aprilgrid: gap between tags / tag size (default 0.3)");
-  target->add_option("--border", target_args.border_bits,
-                     "aprilgrid: black border bits, 1 or 2 (default 2, Kalibr)");
-  target->add_option("--family", target_args.family, "aprilgrid: tag family (default tag36h11)");
-  target->add_option("--first-id", target_args.first_id, "aprilgrid: id of the bottom-left tag");
-  target->add_option("--margin", target_args.margin_m, "White margin in m (default 0.02)");
-  target->add_option("--dpi", target_args.dpi, "Resolution of the PNG (default 300)");
-  target->add_option("--out", target_args.out_path,
-                     "Output PDF; the PNG and YAML are written beside it (default board.pdf)");
-  CLI::App* config_reference = app.add_subcommand(
-      "config-reference",
-      "Print the scenario format's reference (Markdown) from its declarations: the generated part "
-      "of docs/configuration.md");
+  CLI::App* target = AddTargetCommand(&app, &target_args);
+  CLI::App* config_reference =
+      app.add_subcommand("config-reference",
+                         "Print the scenario format's reference (Markdown) from its declarations: "
+                         "the generated part "
+                         "of docs/configuration.md");
   std::string methods_type;
   CLI::App* methods = app.add_subcommand(
       "methods",
@@ -541,19 +593,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
     }
     if (render->parsed()) return RenderOrDetect(render_args, true);
     if (detect->parsed()) {
-      if (*detect_images_option) {
-        if (!detect_args.config_path.empty()) {
-          std::cerr << "calibench: detect: give a scenario CONFIG or --images DIR, not both\n";
-          return 2;
-        }
-        return DetectImages(detect_images);
-      }
-      if (detect_args.config_path.empty()) {
-        std::cerr << "calibench: detect: give a scenario CONFIG, or --images DIR --target "
-                     "T.yaml\n";
-        return 2;
-      }
-      return RenderOrDetect(detect_args, false);
+      return Detect(detect_args, detect_images, detect->get_option("--images")->count() > 0);
     }
     if (corner_bias->parsed()) return calibench::CornerBias(bias_args);
     if (target->parsed()) return calibench::WriteTarget(target_args);
@@ -575,7 +615,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
         std::cerr << "calibench: calibrate: give --points FILE or --images DIR --target T.yaml\n";
         return 2;
       }
-      cal.model_given = model_option->count() > 0;
+      cal.model_given = calibrate->get_option("--model")->count() > 0;
       return Calibrate(cal);
     }
   } catch (const std::exception& e) {  // A bug, not bad data: say so instead of aborting.
