@@ -138,27 +138,17 @@ class EkfMethod final : public Method {
       return clock.Finish(&result, MethodStatus::kFailed,
                           "initialisation (" + init_ + ") failed: " + init.message);
     }
-    const CameraEstimate& start = init.estimate;
-    CameraIntrinsics lens = start.intrinsics;  // Its distortion stays fixed.
-    StateVector x;
-    x << start.intrinsics.fku_px, start.intrinsics.fkv_px, start.intrinsics.phi_deg * M_PI / 180,
-        start.intrinsics.u0_px, start.intrinsics.v0_px, 0, 0, 0, start.parent_from_cam.translation;
-    Eigen::Matrix3d r_c = start.parent_from_cam.rotation;
-    const double deg = M_PI / 180;
-    StateVector p0, q;
-    p0 << p0_focal_, p0_focal_, p0_skew_deg_ * deg, p0_center_, p0_center_,
-        Eigen::Vector3d::Constant(p0_rotation_deg_ * deg), Eigen::Vector3d::Constant(p0_position_);
-    q << q_focal_, q_focal_, q_skew_, q_center_, q_center_, Eigen::Vector3d::Constant(q_rotation_),
-        Eigen::Vector3d::Constant(q_position_);
-    if (!estimate_skew_) p0[2] = q[2] = 0;
-    StateMatrix p = p0.array().square().matrix().asDiagonal();
+    const CameraIntrinsics lens = init.estimate.intrinsics;  // Its distortion stays fixed.
+    StateVector x, q;
+    Eigen::Matrix3d r_c;
+    StateMatrix p;
+    Start(init.estimate, &x, &r_c, &p, &q);
     // The estimated parameters (phi without estimate_skew is not one).
     std::vector<int> free;
     for (int i = 0; i < kN; ++i) {
       if (i != 2 || estimate_skew_) free.push_back(i);
     }
     const int m = static_cast<int>(free.size());
-    const double inv_var = 1.0 / (pixel_sigma_px_ * pixel_sigma_px_);
     const FrameSet& frames = input.Frames();
     double last_t = init_window_s_;
     int updates = 0, skipped = 0;
@@ -173,43 +163,8 @@ class EkfMethod final : public Method {
         continue;
       }
       const StateVector x_prior = x;
-      Eigen::MatrixXd p_prior(m, m);
-      for (int a = 0; a < m; ++a) {
-        for (int b = 0; b < m; ++b) p_prior(a, b) = p(free[a], free[b]);
-      }
-      const Eigen::LDLT<Eigen::MatrixXd> prior(p_prior);
-      const Eigen::MatrixXd prior_information = prior.solve(Eigen::MatrixXd::Identity(m, m));
-      Eigen::MatrixXd posterior(m, m);
-      bool ok = true;
-      for (int it = 0; it < iterations_ && ok; ++it) {
-        Eigen::MatrixXd information = prior_information;
-        Eigen::VectorXd gradient = Eigen::VectorXd::Zero(m);  // H^T (r - H (x- - x_k)) / s^2.
-        Jet xj[kN];
-        for (int i = 0; i < kN; ++i) xj[i] = Jet(x[i], i);
-        Eigen::VectorXd delta_prior(m);
-        for (int a = 0; a < m; ++a) delta_prior[a] = x_prior[free[a]] - x[free[a]];
-        for (size_t i = 0; i < view.points.size(); ++i) {
-          Jet pixel[2];
-          if (!ProjectState(xj, r_c, lens, view.points[i], pixel)) continue;
-          for (int c = 0; c < 2; ++c) {
-            Eigen::RowVectorXd h(m);
-            for (int a = 0; a < m; ++a) h[a] = pixel[c].v[free[a]];
-            const double r = view.pixels[i][c] - pixel[c].a;
-            information.noalias() += inv_var * h.transpose() * h;
-            gradient.noalias() += inv_var * h.transpose() * (r - h.dot(delta_prior));
-          }
-        }
-        const Eigen::LLT<Eigen::MatrixXd> llt(information);
-        if (llt.info() != Eigen::Success) {
-          ok = false;
-          break;
-        }
-        posterior = llt.solve(Eigen::MatrixXd::Identity(m, m));
-        // x_(k+1) = x- + P+ g, g = H^T (r - H (x- - x_k)) / s^2.
-        const Eigen::VectorXd step = posterior * gradient;
-        for (int a = 0; a < m; ++a) x[free[a]] = x_prior[free[a]] + step[a];
-      }
-      if (!ok || !x.allFinite()) {
+      Eigen::MatrixXd posterior;
+      if (!Update(view, r_c, lens, free, p, &x, &posterior) || !x.allFinite()) {
         x = x_prior;  // A degenerate frame: keep the prediction.
         ++skipped;
         continue;
@@ -238,6 +193,68 @@ class EkfMethod final : public Method {
   }
 
  private:
+  // The filter's start from the initialisation's estimate: the state (intrinsics, a zero rotation
+  // error, x_C), the nominal rotation R_C, the initial covariance and the process noise per second.
+  void Start(const CameraEstimate& start, StateVector* x, Eigen::Matrix3d* r_c, StateMatrix* p,
+             StateVector* q) const {
+    *x << start.intrinsics.fku_px, start.intrinsics.fkv_px, start.intrinsics.phi_deg * M_PI / 180,
+        start.intrinsics.u0_px, start.intrinsics.v0_px, 0, 0, 0, start.parent_from_cam.translation;
+    *r_c = start.parent_from_cam.rotation;
+    const double deg = M_PI / 180;
+    StateVector p0;
+    p0 << p0_focal_, p0_focal_, p0_skew_deg_ * deg, p0_center_, p0_center_,
+        Eigen::Vector3d::Constant(p0_rotation_deg_ * deg), Eigen::Vector3d::Constant(p0_position_);
+    *q << q_focal_, q_focal_, q_skew_, q_center_, q_center_, Eigen::Vector3d::Constant(q_rotation_),
+        Eigen::Vector3d::Constant(q_position_);
+    if (!estimate_skew_) p0[2] = (*q)[2] = 0;
+    *p = p0.array().square().matrix().asDiagonal();
+  }
+
+  // One frame's (iterated) measurement update in information form over the `free` states: prior
+  // *x with covariance p; each iteration relinearises the view's projections at the current *x,
+  // x_(k+1) = x- + P+ g with g = H^T (r - H (x- - x_k)) / s^2. *posterior is P+. False when the
+  // information is not positive definite (a degenerate frame).
+  bool Update(const View& view, const Eigen::Matrix3d& r_c, const CameraIntrinsics& lens,
+              const std::vector<int>& free, const StateMatrix& p, StateVector* x,
+              Eigen::MatrixXd* posterior) const {
+    const int m = static_cast<int>(free.size());
+    const double inv_var = 1.0 / (pixel_sigma_px_ * pixel_sigma_px_);
+    const StateVector x_prior = *x;
+    Eigen::MatrixXd p_prior(m, m);
+    for (int a = 0; a < m; ++a) {
+      for (int b = 0; b < m; ++b) p_prior(a, b) = p(free[a], free[b]);
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> prior(p_prior);
+    const Eigen::MatrixXd prior_information = prior.solve(Eigen::MatrixXd::Identity(m, m));
+    posterior->resize(m, m);
+    for (int it = 0; it < iterations_; ++it) {
+      Eigen::MatrixXd information = prior_information;
+      Eigen::VectorXd gradient = Eigen::VectorXd::Zero(m);  // H^T (r - H (x- - x_k)) / s^2.
+      Jet xj[kN];
+      for (int i = 0; i < kN; ++i) xj[i] = Jet((*x)[i], i);
+      Eigen::VectorXd delta_prior(m);
+      for (int a = 0; a < m; ++a) delta_prior[a] = x_prior[free[a]] - (*x)[free[a]];
+      for (size_t i = 0; i < view.points.size(); ++i) {
+        Jet pixel[2];
+        if (!ProjectState(xj, r_c, lens, view.points[i], pixel)) continue;
+        for (int c = 0; c < 2; ++c) {
+          Eigen::RowVectorXd h(m);
+          for (int a = 0; a < m; ++a) h[a] = pixel[c].v[free[a]];
+          const double r = view.pixels[i][c] - pixel[c].a;
+          information.noalias() += inv_var * h.transpose() * h;
+          gradient.noalias() += inv_var * h.transpose() * (r - h.dot(delta_prior));
+        }
+      }
+      const Eigen::LLT<Eigen::MatrixXd> llt(information);
+      if (llt.info() != Eigen::Success) return false;
+      *posterior = llt.solve(Eigen::MatrixXd::Identity(m, m));
+      // x_(k+1) = x- + P+ g, g = H^T (r - H (x- - x_k)) / s^2.
+      const Eigen::VectorXd step = *posterior * gradient;
+      for (int a = 0; a < m; ++a) (*x)[free[a]] = x_prior[free[a]] + step[a];
+    }
+    return true;
+  }
+
   static CameraEstimate EstimateOf(const StateVector& x, const Eigen::Matrix3d& r_c,
                                    const CameraIntrinsics& lens, const StateMatrix& p) {
     CameraEstimate e;
