@@ -27,6 +27,9 @@ constexpr int kMaxLinesPerPixel = 32;       // Cells of >= 1 px: a pixel is near
 // is the constant 0 (the pixel is on the line's lower side) or 1 until the next classification.
 constexpr uint8_t kSlotZero = kMaxLinesPerPixel, kSlotOne = kMaxLinesPerPixel + 1;
 constexpr int kNumSlots = kMaxLinesPerPixel + 2;
+// With a camera the region's outline is sampled (8 points a side) and its box grown by this: it
+// covers the chords between the samples.
+constexpr double kOutlineMarginPx = 2;
 
 // A line of the pattern in normalised tag coordinates: m . (x^, y^, 1) = 0, > 0 on the side of
 // larger x (vertical lines) or y (horizontal lines).
@@ -81,6 +84,15 @@ class TagFit {
   PhotometricFitResult Run(const std::array<Eigen::Vector2d, 4>& initial);
 
  private:
+  // The region (the black square and its white margin) in the image under homography g: its box
+  // in pixels (grown by kOutlineMarginPx with a camera) and, with a camera, its outline. False
+  // with the failure set for a degenerate homography, a region across its horizon, or one larger
+  // than 4096 px.
+  struct RegionBox {
+    double u0, u1, v0, v1;
+    std::vector<Eigen::Vector2d> outline;
+  };
+  bool RegionInImage(const Eigen::Matrix3d& g, RegionBox* box, PhotometricFitResult* result) const;
   // Selects the pixels for parameters x (classification radius from sigma). False with the
   // failure set when the region is unusable.
   bool Classify(const ParamVector& x, PhotometricFitResult* result);

@@ -119,6 +119,78 @@ bool TagFit::InitialHomography(const std::array<Eigen::Vector2d, 4>& corners,
   return x->head<8>().allFinite();
 }
 
+namespace {
+
+// The part of row j within kOutlineMarginPx of a closed `outline` (every pixel of the region is
+// inside it): the x extent of the outline's segments clipped to |y - j| <= margin; *lo > *hi when
+// the row misses it.
+void OutlineRowSpan(const std::vector<Eigen::Vector2d>& outline, int j, double* lo, double* hi) {
+  *lo = 1e300, *hi = -1e300;
+  for (size_t e = 0; e < outline.size(); ++e) {
+    const Eigen::Vector2d& a = outline[e];
+    const Eigen::Vector2d& b = outline[(e + 1) % outline.size()];
+    const double ya = a.y() - j, yb = b.y() - j;
+    if (std::min(ya, yb) > kOutlineMarginPx || std::max(ya, yb) < -kOutlineMarginPx) continue;
+    double t0 = 0, t1 = 1;
+    if (ya != yb) {
+      const double ta = (-kOutlineMarginPx - ya) / (yb - ya);
+      const double tb = (kOutlineMarginPx - ya) / (yb - ya);
+      t0 = std::max(0.0, std::min(ta, tb)), t1 = std::min(1.0, std::max(ta, tb));
+    }
+    for (const double t : {t0, t1}) {
+      const double xt = a.x() + t * (b.x() - a.x());
+      *lo = std::min(*lo, xt - kOutlineMarginPx), *hi = std::max(*hi, xt + kOutlineMarginPx);
+    }
+  }
+}
+
+}  // namespace
+
+bool TagFit::RegionInImage(const Eigen::Matrix3d& g, RegionBox* box,
+                           PhotometricFitResult* result) const {
+  const Eigen::FullPivLU<Eigen::Matrix3d> lu(g);
+  if (!lu.isInvertible()) {
+    result->failure = FitFailure::kDiverged;
+    result->message = "degenerate homography";
+    return false;
+  }
+  const Eigen::Matrix3d inv = lu.inverse();
+  box->u0 = box->v0 = 1e300;
+  box->u1 = box->v1 = -1e300;
+  double &u0 = box->u0, &u1 = box->u1, &v0 = box->v0, &v1 = box->v1;
+  // With a camera the region's sides bend in the image: 8 points a side, and a margin.
+  const int samples = camera_ ? 8 : 1;
+  std::vector<Eigen::Vector2d>& outline = box->outline;
+  outline.clear();
+  for (int k = 0; k < 4; ++k) {
+    for (int s = 0; s < samples; ++s) {
+      const Eigen::Vector2d q = layout_.region_corners[k] +
+                                (layout_.region_corners[(k + 1) % 4] - layout_.region_corners[k]) *
+                                    (static_cast<double>(s) / samples);
+      const Eigen::Vector3d h = inv * q.homogeneous();
+      if (!(h.z() * (inv * Eigen::Vector3d(0, 0, 1)).z() > 0)) {
+        result->failure = FitFailure::kDiverged;
+        result->message = "the tag's region crosses the homography's horizon";
+        return false;
+      }
+      const Eigen::Vector2d p = ToPixel(h.hnormalized());
+      if (camera_) outline.push_back(p);
+      u0 = std::min(u0, p.x()), u1 = std::max(u1, p.x());
+      v0 = std::min(v0, p.y()), v1 = std::max(v1, p.y());
+    }
+  }
+  if (camera_) {
+    u0 -= kOutlineMarginPx, v0 -= kOutlineMarginPx, u1 += kOutlineMarginPx, v1 += kOutlineMarginPx;
+  }
+  constexpr double kMaxRegionPx = 4096;
+  if (!(u1 - u0 < kMaxRegionPx && v1 - v0 < kMaxRegionPx)) {
+    result->failure = FitFailure::kDiverged;
+    result->message = "the tag's region is larger than 4096 px";
+    return false;
+  }
+  return true;
+}
+
 bool TagFit::CachedModelOf(int i, int j, Eigen::Vector2d* p_hat, Eigen::Matrix2d* m) {
   const int ci = i - cache_i0_, cj = j - cache_j0_;
   PixelModel* entry = ci >= 0 && cj >= 0 && ci < cache_width_ && cj < cache_height_
@@ -162,45 +234,10 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
     // l_y^2.
     line_squares[i] = Eigen::Vector3d(l.x() * l.x(), 2 * l.x() * l.y(), l.y() * l.y());
   }
-  // The region's image quadrilateral, its bounding box.
-  const Eigen::FullPivLU<Eigen::Matrix3d> lu(g);
-  if (!lu.isInvertible()) {
-    result->failure = FitFailure::kDiverged;
-    result->message = "degenerate homography";
-    return false;
-  }
-  const Eigen::Matrix3d inv = lu.inverse();
-  double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
-  // With a camera the region's sides bend in the image: 8 points a side, and a margin.
-  const int samples = camera_ ? 8 : 1;
-  std::vector<Eigen::Vector2d> outline;  // The region's outline in pixels (with a camera).
-  for (int k = 0; k < 4; ++k) {
-    for (int s = 0; s < samples; ++s) {
-      const Eigen::Vector2d q = layout_.region_corners[k] +
-                                (layout_.region_corners[(k + 1) % 4] - layout_.region_corners[k]) *
-                                    (static_cast<double>(s) / samples);
-      const Eigen::Vector3d h = inv * q.homogeneous();
-      if (!(h.z() * (inv * Eigen::Vector3d(0, 0, 1)).z() > 0)) {
-        result->failure = FitFailure::kDiverged;
-        result->message = "the tag's region crosses the homography's horizon";
-        return false;
-      }
-      const Eigen::Vector2d p = ToPixel(h.hnormalized());
-      if (camera_) outline.push_back(p);
-      u0 = std::min(u0, p.x()), u1 = std::max(u1, p.x());
-      v0 = std::min(v0, p.y()), v1 = std::max(v1, p.y());
-    }
-  }
-  constexpr double kOutlineMarginPx = 2;  // Covers the chords between the outline's samples.
-  if (camera_) {
-    u0 -= kOutlineMarginPx, v0 -= kOutlineMarginPx, u1 += kOutlineMarginPx, v1 += kOutlineMarginPx;
-  }
-  constexpr double kMaxRegionPx = 4096;
-  if (!(u1 - u0 < kMaxRegionPx && v1 - v0 < kMaxRegionPx)) {
-    result->failure = FitFailure::kDiverged;
-    result->message = "the tag's region is larger than 4096 px";
-    return false;
-  }
+  RegionBox region;
+  if (!RegionInImage(g, &region, result)) return false;
+  double u0 = region.u0, u1 = region.u1, v0 = region.v0, v1 = region.v1;
+  const std::vector<Eigen::Vector2d>& outline = region.outline;
   if (camera_ && cache_width_ == 0) {
     cache_i0_ = static_cast<int>(std::floor(u0)) - kModelCacheMarginPx;
     cache_j0_ = static_cast<int>(std::floor(v0)) - kModelCacheMarginPx;
@@ -208,30 +245,10 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
     cache_height_ = static_cast<int>(std::ceil(v1)) + kModelCacheMarginPx - cache_j0_ + 1;
     model_cache_.assign(static_cast<size_t>(cache_width_) * cache_height_, PixelModel());
   }
-  // With a camera, the part of row j within kOutlineMarginPx of the outline (every pixel of the
-  // region is inside it): the x extent of the outline's segments clipped to |y - j| <= margin.
-  // Not when a point of the outline has no pixel (past the lens's valid region): the box then.
+  // With a camera each row is cut to the outline (OutlineRowSpan); not when a point of the
+  // outline has no pixel (past the lens's valid region): the box then.
   bool outline_spans = camera_ != nullptr;
   for (const Eigen::Vector2d& p : outline) outline_spans &= p.allFinite();
-  auto outline_span = [&](int j, double* lo, double* hi) {
-    *lo = 1e300, *hi = -1e300;
-    for (size_t e = 0; e < outline.size(); ++e) {
-      const Eigen::Vector2d& a = outline[e];
-      const Eigen::Vector2d& b = outline[(e + 1) % outline.size()];
-      const double ya = a.y() - j, yb = b.y() - j;
-      if (std::min(ya, yb) > kOutlineMarginPx || std::max(ya, yb) < -kOutlineMarginPx) continue;
-      double t0 = 0, t1 = 1;
-      if (ya != yb) {
-        const double ta = (-kOutlineMarginPx - ya) / (yb - ya);
-        const double tb = (kOutlineMarginPx - ya) / (yb - ya);
-        t0 = std::max(0.0, std::min(ta, tb)), t1 = std::min(1.0, std::max(ta, tb));
-      }
-      for (const double t : {t0, t1}) {
-        const double xt = a.x() + t * (b.x() - a.x());
-        *lo = std::min(*lo, xt - kOutlineMarginPx), *hi = std::max(*hi, xt + kOutlineMarginPx);
-      }
-    }
-  };
   long inside = 0, outside = 0;
   const int i0 = static_cast<int>(std::floor(u0)), i1 = static_cast<int>(std::ceil(u1));
   const int j0 = static_cast<int>(std::floor(v0)), j1 = static_cast<int>(std::ceil(v1));
@@ -242,7 +259,7 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
     double lo = i0, hi = i1;
     if (outline_spans) {
       double span_lo = 0, span_hi = 0;
-      outline_span(j, &span_lo, &span_hi);
+      OutlineRowSpan(outline, j, &span_lo, &span_hi);
       lo = std::max(lo, span_lo), hi = std::min(hi, span_hi);
     }
     const double y = (j - centre_.y()) / scale_;
