@@ -1,7 +1,7 @@
 // Kalibr AprilGrids in real frames (CTest label "data"): ../shared/data/aprilgrid-frames
 // (aprilgrid-rs's test set: EuRoC and TUM VI calibration frames, SOURCE.md), read through
-// detect --images with configs/targets/aprilgrid_6x6.yaml. docs/aprilgrid_frames.md has the study
-// these figures come from (tools/aprilgrid_frames.py).
+// detect --images with tests/fixtures/aprilgrid_6x6.yaml (a copy of configs/targets/).
+// docs/aprilgrid_frames.md has the study these figures come from (tools/aprilgrid_frames.py).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,7 +19,7 @@ namespace calibench {
 namespace {
 
 const std::string kTarget =
-    std::string(CALIBENCH_SOURCE_DIR) + "/configs/targets/aprilgrid_6x6.yaml";
+    std::string(CALIBENCH_SOURCE_DIR) + "/tests/fixtures/aprilgrid_6x6.yaml";
 
 // Tags found per frame, measured (Debian's AprilTag 3.3 and OpenCV 4.6). Required: all but
 // kTagsSlack of them, room for a corner-case quad that another library build fits differently;
