@@ -15,17 +15,16 @@ namespace photometric_internal {
 // only through the edges' shape.
 constexpr double kSigmaSettledPx = 5e-3;
 
-PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) {
-  PhotometricFitResult result;
-  result.corners = initial;
+bool TagFit::Start(const std::array<Eigen::Vector2d, 4>& initial, ParamVector* x,
+                   PhotometricFitResult* result) {
   // The model plane's corners: the pixels, or their points on the tangent plane about the tag's
   // centre ray (the mean of the corners' unit rays).
   std::array<Eigen::Vector2d, 4> model_corners = initial;
   if (camera_ && !TangentPlane::AboutPixels(*camera_, initial, &plane_, &model_corners)) {
-    result.failure = FitFailure::kDiverged;
-    result.message =
+    result->failure = FitFailure::kDiverged;
+    result->message =
         "a corner is outside the camera's valid region, or the corners span half the sphere";
-    return result;
+    return false;
   }
   centre_.setZero();
   double perimeter = 0, pixel_perimeter = 0;
@@ -37,15 +36,14 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
   scale_ = perimeter / 8;  // Half the mean edge length.
   centre_jacobian_ = ModelJacobian(Eigen::Vector2d::Zero());
   px_per_unit_ = 1 / std::sqrt(std::abs(centre_jacobian_.determinant()));
-  ParamVector x = ParamVector::Zero();
   if (!(pixel_perimeter > 8) || !(scale_ > 0) || !centre_jacobian_.allFinite() ||
-      !InitialHomography(initial, &x)) {
-    result.failure = FitFailure::kDiverged;
-    result.message = "the detector's corners do not span a quadrilateral";
-    return result;
+      !InitialHomography(initial, x)) {
+    result->failure = FitFailure::kDiverged;
+    result->message = "the detector's corners do not span a quadrilateral";
+    return false;
   }
-  x[kSigma] = options_.initial_blur_px;
-  if (!Classify(x, &result)) return result;
+  (*x)[kSigma] = options_.initial_blur_px;
+  if (!Classify(*x, result)) return false;
   // Levels: the medians of the pixels deep in black and of those far from every black rectangle.
   std::vector<double> dark, bright, all;
   for (const FitPixel& px : pixels_) {
@@ -57,16 +55,58 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
     std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
     return v[k];
   };
-  x[kBlack] = dark.size() >= 8 ? quantile(dark, 0.5) : quantile(all, 0.05);
-  x[kWhite] = bright.size() >= 8 ? quantile(bright, 0.5) : quantile(all, 0.95);
-  if (!(x[kWhite] - x[kBlack] >= options_.min_contrast_gray)) {
-    result.failure = FitFailure::kLowContrast;
-    result.message = "the tag's region has a contrast of " + std::to_string(x[kWhite] - x[kBlack]) +
-                     " gray levels (min_contrast_gray " +
-                     std::to_string(options_.min_contrast_gray) + ")";
-    return result;
+  (*x)[kBlack] = dark.size() >= 8 ? quantile(dark, 0.5) : quantile(all, 0.05);
+  (*x)[kWhite] = bright.size() >= 8 ? quantile(bright, 0.5) : quantile(all, 0.95);
+  if (!((*x)[kWhite] - (*x)[kBlack] >= options_.min_contrast_gray)) {
+    result->failure = FitFailure::kLowContrast;
+    result->message =
+        "the tag's region has a contrast of " + std::to_string((*x)[kWhite] - (*x)[kBlack]) +
+        " gray levels (min_contrast_gray " + std::to_string(options_.min_contrast_gray) + ")";
+    return false;
   }
+  return true;
+}
 
+void TagFit::CornerCovariances(const ParamVector& x, const ParamMatrix& jtj,
+                               double residual_variance,
+                               const std::array<Eigen::Vector2d, 4>& corners,
+                               PhotometricFitResult* result) const {
+  // Cramer-Rao: cov(x) = sigma_n^2 (J^T J)^-1; corner k's derivative in G by the implicit
+  // function theorem on pi(G c~) = q_k: dc / dG_ij = -A^-1 Jpi[:, i] c~_j, A = Jpi G[:, 0:2].
+  ParamMatrix info = jtj;
+  if (!options_.fit_shading) {
+    for (int i : {kShadeX, kShadeY}) {
+      info.row(i).setZero();
+      info.col(i).setZero();
+      info(i, i) = 1;
+    }
+  }
+  const ParamMatrix covariance = residual_variance * info.ldlt().solve(ParamMatrix::Identity());
+  const Eigen::Matrix3d g = HomographyOf(x);
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d c = corners[k].homogeneous();
+    const Eigen::Vector3d h = g * c;
+    Eigen::Matrix<double, 2, 3> jpi;
+    jpi << 1 / h.z(), 0, -h.x() / (h.z() * h.z()), 0, 1 / h.z(), -h.y() / (h.z() * h.z());
+    const Eigen::Matrix2d a_inv = (jpi * g.leftCols<2>()).inverse();
+    const Eigen::Matrix2d to_pixel = PixelJacobian(corners[k]);
+    Eigen::Matrix<double, 2, 8> d;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        if (i == 2 && j == 2) continue;
+        d.col(3 * i + j) = -to_pixel * a_inv * jpi.col(i) * c[j];
+      }
+    }
+    result->corner_covariance_px2[k] = d * covariance.topLeftCorner<8, 8>() * d.transpose();
+    result->crlb_px[k] = std::sqrt(std::max(0.0, result->corner_covariance_px2[k].trace() / 2));
+  }
+}
+
+PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) {
+  PhotometricFitResult result;
+  result.corners = initial;
+  ParamVector x = ParamVector::Zero();
+  if (!Start(initial, &x, &result)) return result;
   double cost = 0;
   ParamMatrix jtj;
   ParamVector jtr;
@@ -188,35 +228,7 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
       return result;
     }
   }
-  // Cramer-Rao: cov(x) = sigma_n^2 (J^T J)^-1; corner k's derivative in G by the implicit
-  // function theorem on pi(G c~) = q_k: dc / dG_ij = -A^-1 Jpi[:, i] c~_j, A = Jpi G[:, 0:2].
-  ParamMatrix info = jtj;
-  if (!options_.fit_shading) {
-    for (int i : {kShadeX, kShadeY}) {
-      info.row(i).setZero();
-      info.col(i).setZero();
-      info(i, i) = 1;
-    }
-  }
-  const ParamMatrix covariance = (cost / dof) * info.ldlt().solve(ParamMatrix::Identity());
-  const Eigen::Matrix3d g = HomographyOf(x);
-  for (int k = 0; k < 4; ++k) {
-    const Eigen::Vector3d c = corners[k].homogeneous();
-    const Eigen::Vector3d h = g * c;
-    Eigen::Matrix<double, 2, 3> jpi;
-    jpi << 1 / h.z(), 0, -h.x() / (h.z() * h.z()), 0, 1 / h.z(), -h.y() / (h.z() * h.z());
-    const Eigen::Matrix2d a_inv = (jpi * g.leftCols<2>()).inverse();
-    const Eigen::Matrix2d to_pixel = PixelJacobian(corners[k]);
-    Eigen::Matrix<double, 2, 8> d;
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) {
-        if (i == 2 && j == 2) continue;
-        d.col(3 * i + j) = -to_pixel * a_inv * jpi.col(i) * c[j];
-      }
-    }
-    result.corner_covariance_px2[k] = d * covariance.topLeftCorner<8, 8>() * d.transpose();
-    result.crlb_px[k] = std::sqrt(std::max(0.0, result.corner_covariance_px2[k].trace() / 2));
-  }
+  CornerCovariances(x, jtj, cost / dof, corners, &result);
   result.corners = pixel_corners;
   return result;
 }

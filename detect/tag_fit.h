@@ -84,6 +84,17 @@ class TagFit {
   PhotometricFitResult Run(const std::array<Eigen::Vector2d, 4>& initial);
 
  private:
+  // The fit's start from the detector's corners: the model plane (centre_, scale_, the tangent
+  // plane with a camera), the homography through the corners, sigma = initial_blur_px, the pixels
+  // classified and the levels from their medians. False with the failure set when the corners span
+  // no quadrilateral, the region is unusable or its contrast is below min_contrast_gray.
+  bool Start(const std::array<Eigen::Vector2d, 4>& initial, ParamVector* x,
+             PhotometricFitResult* result);
+  // Each corner's covariance and crlb_px at the solution (header of photometric_fit.h): the
+  // corners are functions of G, cov = D_k [residual_variance (J^T J)^-1]_GG D_k^T.
+  void CornerCovariances(const ParamVector& x, const ParamMatrix& jtj, double residual_variance,
+                         const std::array<Eigen::Vector2d, 4>& corners,
+                         PhotometricFitResult* result) const;
   // The region (the black square and its white margin) in the image under homography g: its box
   // in pixels (grown by kOutlineMarginPx with a camera) and, with a camera, its outline. False
   // with the failure set for a degenerate homography, a region across its horizon, or one larger
