@@ -82,7 +82,12 @@ const std::vector<ColumnInfo>& SummaryColumns() {
   return columns;
 }
 
-bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::string* why) {
+namespace {
+
+// The rows of runs.csv grouped by (scenario, method), in first-seen order: per summarised metric
+// the values of the ok rows, the CRLB of every row and the reported std of the ok rows. False with
+// *why naming the file (unreadable, not a runs.csv, a record of the wrong width).
+bool ReadPairs(const std::string& runs_csv, std::vector<Pair>* pairs_out, std::string* why) {
   std::ifstream in(runs_csv, std::ios::binary);
   if (!in) {
     if (why) *why = runs_csv + ": cannot open for reading";
@@ -116,7 +121,8 @@ bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::s
       return false;
     }
   }
-  std::vector<Pair> pairs;
+  std::vector<Pair>& pairs = *pairs_out;
+  pairs.clear();
   std::map<std::pair<std::string, std::string>, size_t> index;
   while (reader.Next(&fields, &reason)) {
     if (fields.size() != header.size()) {
@@ -165,48 +171,60 @@ bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::s
     if (why) *why = runs_csv + ": " + reason;
     return false;
   }
+  return true;
+}
+
+// Metric m of pair p as one summary.csv line (SummaryColumns).
+std::string SummaryLine(const Pair& p, size_t m) {
+  const std::vector<std::string>& metrics = SummaryMetrics();
+  const std::vector<double>& v = p.values[m];
+  double mean = kNaN, std = kNaN, rmse = kNaN;
+  if (!v.empty()) {
+    double sum = 0, sum_sq = 0;
+    for (double x : v) sum += x, sum_sq += x * x;
+    mean = sum / v.size();
+    if (v.size() > 1) {
+      double ss = 0;
+      for (double x : v) ss += (x - mean) * (x - mean);
+      std = std::sqrt(ss / (v.size() - 1));
+    }
+    if (Summarised()[m]->summary == Summary::kWithRmse) rmse = std::sqrt(sum_sq / v.size());
+  }
+  const double crlb = Median(p.crlb[m]);
+  const std::vector<double> a = Absolute(v);
+  return CsvLine({p.scenario,
+                  p.sweep,
+                  p.point,
+                  p.params,
+                  p.method,
+                  metrics[m],
+                  std::to_string(p.n),
+                  std::to_string(p.n_failed),
+                  std::to_string(v.size()),
+                  FormatNumber(Median(v)),
+                  FormatNumber(mean),
+                  FormatNumber(std),
+                  FormatNumber(Quantile(v, 0.025)),
+                  FormatNumber(Quantile(v, 0.975)),
+                  FormatNumber(rmse),
+                  FormatNumber(crlb),
+                  FormatNumber(crlb > 0 ? rmse / crlb : kNaN),
+                  FormatNumber(Median(a)),
+                  FormatNumber(Quantile(a, 0.025)),
+                  FormatNumber(Quantile(a, 0.975)),
+                  FormatNumber(Median(p.stds[m]))});
+}
+
+}  // namespace
+
+bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::string* why) {
+  std::vector<Pair> pairs;
+  if (!ReadPairs(runs_csv, &pairs, why)) return false;
   std::vector<std::string> out_header;
   for (const ColumnInfo& c : SummaryColumns()) out_header.push_back(c.name);
   std::string out = CsvLine(out_header);
   for (const Pair& p : pairs) {
-    for (size_t m = 0; m < metrics.size(); ++m) {
-      const std::vector<double>& v = p.values[m];
-      double mean = kNaN, std = kNaN, rmse = kNaN;
-      if (!v.empty()) {
-        double sum = 0, sum_sq = 0;
-        for (double x : v) sum += x, sum_sq += x * x;
-        mean = sum / v.size();
-        if (v.size() > 1) {
-          double ss = 0;
-          for (double x : v) ss += (x - mean) * (x - mean);
-          std = std::sqrt(ss / (v.size() - 1));
-        }
-        if (Summarised()[m]->summary == Summary::kWithRmse) rmse = std::sqrt(sum_sq / v.size());
-      }
-      const double crlb = Median(p.crlb[m]);
-      const std::vector<double> a = Absolute(v);
-      out += CsvLine({p.scenario,
-                      p.sweep,
-                      p.point,
-                      p.params,
-                      p.method,
-                      metrics[m],
-                      std::to_string(p.n),
-                      std::to_string(p.n_failed),
-                      std::to_string(v.size()),
-                      FormatNumber(Median(v)),
-                      FormatNumber(mean),
-                      FormatNumber(std),
-                      FormatNumber(Quantile(v, 0.025)),
-                      FormatNumber(Quantile(v, 0.975)),
-                      FormatNumber(rmse),
-                      FormatNumber(crlb),
-                      FormatNumber(crlb > 0 ? rmse / crlb : kNaN),
-                      FormatNumber(Median(a)),
-                      FormatNumber(Quantile(a, 0.025)),
-                      FormatNumber(Quantile(a, 0.975)),
-                      FormatNumber(Median(p.stds[m]))});
-    }
+    for (size_t m = 0; m < SummaryMetrics().size(); ++m) out += SummaryLine(p, m);
   }
   *summary_csv = std::move(out);
   return true;
