@@ -100,6 +100,60 @@ ZhangResult CalibrateFisheye(const std::vector<View>& planar_views,
                 "deg");
 }
 
+// Every stride-th view with at least 4 points as OpenCV's float point lists; *used_views gets
+// their indices. False with *why when a point is off the board plane z = 0.
+bool OpenCvPoints(const std::vector<View>& views, int stride,
+                  std::vector<std::vector<cv::Point3f>>* object_points,
+                  std::vector<std::vector<cv::Point2f>>* image_points, std::vector<int>* used_views,
+                  std::string* why) {
+  for (size_t v = 0; v < views.size(); v += stride) {
+    const View& view = views[v];
+    if (view.points.size() < 4) continue;
+    std::vector<cv::Point3f> obj;
+    std::vector<cv::Point2f> img;
+    for (size_t i = 0; i < view.points.size(); ++i) {
+      if (std::abs(view.points[i].z()) > 1e-9) {
+        *why = "zhang needs planar targets: view " + std::to_string(v) + " has a point off z = 0";
+        return false;
+      }
+      obj.emplace_back(view.points[i].x(), view.points[i].y(), 0.f);
+      img.emplace_back(view.pixels[i].x(), view.pixels[i].y());
+    }
+    object_points->push_back(std::move(obj));
+    image_points->push_back(std::move(img));
+    used_views->push_back(static_cast<int>(v));
+  }
+  return true;
+}
+
+// cv::calibrateCamera's flags for a radtan `model` (the equidistant family goes to cv::fisheye).
+// False with *why for the omnidirectional families, which OpenCV cannot start.
+bool OpenCvFlags(LensModel model, int* flags, std::string* why) {
+  switch (model) {
+    case LensModel::kPinhole:
+      *flags = cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
+      break;
+    case LensModel::kPinholeK2:
+      *flags = cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
+      break;
+    case LensModel::kPinholeRadTan4:
+      *flags = cv::CALIB_FIX_K3;
+      break;
+    case LensModel::kPinholeRadTan5:
+    case LensModel::kPinholeEqui:  // Equidistant: cv::fisheye (CalibrateFisheye).
+      break;
+    case LensModel::kUnified:
+    case LensModel::kEucm:
+    case LensModel::kDoubleSphere: {
+      *why = std::string("zhang: OpenCV has no initialisation for the ") + ToString(model) +
+             " lens model (radtan and equidistant only); the wide start (batch/wide_init.h) "
+             "starts it";
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOptions& options) {
@@ -114,22 +168,9 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
 
   std::vector<std::vector<cv::Point3f>> object_points;
   std::vector<std::vector<cv::Point2f>> image_points;
-  for (size_t v = 0; v < planar_views.size(); v += options.view_stride) {
-    const View& view = planar_views[v];
-    if (view.points.size() < 4) continue;
-    std::vector<cv::Point3f> obj;
-    std::vector<cv::Point2f> img;
-    for (size_t i = 0; i < view.points.size(); ++i) {
-      if (std::abs(view.points[i].z()) > 1e-9) {
-        return finish(MethodStatus::kFailed, "zhang needs planar targets: view " +
-                                                 std::to_string(v) + " has a point off z = 0");
-      }
-      obj.emplace_back(view.points[i].x(), view.points[i].y(), 0.f);
-      img.emplace_back(view.pixels[i].x(), view.pixels[i].y());
-    }
-    object_points.push_back(std::move(obj));
-    image_points.push_back(std::move(img));
-    result.used_views.push_back(static_cast<int>(v));
+  if (!OpenCvPoints(planar_views, options.view_stride, &object_points, &image_points,
+                    &result.used_views, &why)) {
+    return finish(MethodStatus::kFailed, why);
   }
   if (object_points.size() < 2) {
     return finish(MethodStatus::kFailed, "zhang needs at least 2 views of the board");
@@ -138,29 +179,7 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
     return CalibrateFisheye(planar_views, object_points, image_points, options, &result, clock);
   }
   int flags = 0;
-  switch (options.model) {
-    case LensModel::kPinhole:
-      flags = cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
-      break;
-    case LensModel::kPinholeK2:
-      flags = cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
-      break;
-    case LensModel::kPinholeRadTan4:
-      flags = cv::CALIB_FIX_K3;
-      break;
-    case LensModel::kPinholeRadTan5:
-    case LensModel::kPinholeEqui:  // Equidistant: handled above (cv::fisheye).
-      break;
-    case LensModel::kUnified:
-    case LensModel::kEucm:
-    case LensModel::kDoubleSphere: {
-      const std::string model = ToString(options.model);
-      return finish(MethodStatus::kFailed,
-                    "zhang: OpenCV has no initialisation for the " + model +
-                        " lens model (radtan and equidistant only); the wide start "
-                        "(batch/wide_init.h) starts it");
-    }
-  }
+  if (!OpenCvFlags(options.model, &flags, &why)) return finish(MethodStatus::kFailed, why);
   // LM's normal equations by LU, not OpenCV's default SVD: the SVD of the (6 views + intrinsics)^2
   // matrix at every iteration was 90% of a call (0.4 s on 30 views); the system is positive
   // definite for a calibration that converges, and the solution agrees to ~1e-9 relative.
