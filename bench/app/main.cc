@@ -12,7 +12,7 @@
 #include <iostream>
 #include <string>
 
-#include "bench/app/calibrate.h"
+#include "bench/app/calibrate_cmd.h"
 #include "bench/app/corner_bias_cmd.h"
 #include "bench/app/detect_images.h"
 #include "bench/app/frames_io.h"
@@ -27,14 +27,6 @@
 #include "bench/run/table.h"
 
 namespace {
-
-std::string LensModelList() {
-  std::string list;
-  for (const std::string& name : calibench::LensModelNames()) {
-    list += (list.empty() ? "" : ", ") + name;
-  }
-  return list;
-}
 
 // SIGINT / SIGTERM during `run`: finish writing the task in hand, then stop (run.partial stays
 // resumable with --resume).
@@ -135,155 +127,6 @@ int Report(const std::vector<std::string>& dirs, const std::string& out_dir) {
   ::execv(c_argv[0], c_argv.data());
   std::cerr << "calibench: report: cannot run /usr/bin/python3: " << std::strerror(errno) << "\n";
   return 2;
-}
-
-struct CalibrateArgs {
-  std::string points_path, images_dir, target_path, init_path, format;
-  std::string out_path = "camera.yaml", model = "pinhole-k2";
-  bool skew = false, model_given = false, evaluate = false;
-  int corner_iterations = 4;      // Re-fits of the corners through the estimate (aprilgrid, lens).
-  int threads = 0;                // Images read and detected in parallel (0: every core).
-  std::string corner_refinement;  // Empty: the default (photometric; see ImagePointOptions).
-};
-
-// Writes camera.yaml of a usable calibration (exit 0), or exits 4 (unusable) or 3 (unwritable).
-int FinishCalibration(const calibench::CalibrateReport& report, const std::string& out_path,
-                      calibench::CameraFormat format) {
-  std::string why;
-  if (!report.IsUsable()) return 4;
-  if (!calibench::WriteCameraFile(out_path, format, report.camera, &why)) {
-    std::cerr << "calibench: --out: " << why << "\n";
-    return 3;
-  }
-  std::cerr << "calibench: wrote " << out_path << " (" << calibench::ToString(format) << ")\n";
-  return 0;
-}
-
-// CalibrateFromPoints; with --model auto, the model selection (its table printed) and its pick,
-// which *options then holds. False when auto picks nothing.
-bool FitCamera(const calibench::PointData& data, bool auto_model,
-               calibench::CalibrateOptions* options, calibench::CalibrateReport* report) {
-  if (!auto_model) {
-    *report = calibench::CalibrateFromPoints(data, *options);
-    return true;
-  }
-  calibench::ModelSelectOptions select;
-  select.estimate_skew = options->estimate_skew;
-  const calibench::ModelSelection selection = calibench::SelectLensModel(data, select);
-  std::cout << calibench::FormatModelSelection(selection) << "\n";
-  if (!selection.IsUsable()) return false;
-  const calibench::ModelScore& chosen = selection.scores[selection.chosen];
-  options->model = chosen.model;
-  *report = chosen.report;
-  return true;
-}
-
-// calibrate --images: the target's corners in the images, the fit (FitCamera), the corners re-fit
-// through the lens (aprilgrid, photometric), the reports and the camera file.
-int CalibrateImages(const CalibrateArgs& args, bool auto_model, calibench::CalibrateOptions options,
-                    calibench::CameraFormat format) {
-  calibench::CalibrationTarget target;
-  std::string why;
-  if (args.target_path.empty()) {
-    std::cerr << "calibench: --images needs --target TARGET.yaml (Kalibr aprilgrid or "
-                 "checkerboard)\n";
-    return 2;
-  }
-  if (!calibench::LoadTargetYaml(args.target_path, &target, &why)) {
-    std::cerr << "calibench: --target: " << why << "\n";
-    return 2;
-  }
-  // With --init, the given camera's lens draws the corner fit from the first pass.
-  calibench::ImagePointOptions image_options;
-  // --model auto: the candidates include wide lenses, whose bent tag edges need the curved fit.
-  image_options.lens =
-      auto_model ? calibench::LensFamily::kUnified : calibench::FamilyOf(options.model);
-  if (options.init) image_options.camera = options.init->intrinsics;
-  image_options.threads = args.threads;
-  if (!args.corner_refinement.empty()) {
-    calibench::CornerRefinement refinement;
-    if (!calibench::ParseCornerRefinement(args.corner_refinement, &refinement)) {
-      std::cerr << "calibench: --corner-refinement: '" << args.corner_refinement
-                << "' is not a refinement\n";
-      return 2;
-    }
-    image_options.refinement = refinement;
-  }
-  // The re-fit through the lens is the photometric fit's.
-  const bool photometric =
-      image_options.refinement.value_or(calibench::CornerRefinement::kPhotometric) ==
-      calibench::CornerRefinement::kPhotometric;
-  calibench::ImageCalibration state;
-  image_options.tag_cache = &state.tags;
-  if (!calibench::LoadImagePoints(args.images_dir, target, &state.data, &state.images,
-                                  &state.used_index, &why, image_options)) {
-    std::cerr << "calibench: --images: " << why << "\n";
-    return 2;
-  }
-  if (options.init && !calibench::CheckInitImageSize(*options.init, args.init_path, state.data,
-                                                     args.images_dir, &why)) {
-    std::cerr << "calibench: --init: " << why << "\n";
-    return 2;
-  }
-  if (!FitCamera(state.data, auto_model, &options, &state.report)) return 4;
-  if (!args.evaluate && target.type == calibench::CalibrationTarget::Type::kAprilGrid &&
-      options.model != calibench::LensModel::kPinhole && args.corner_iterations > 0 &&
-      photometric) {
-    calibench::IterateCornersThroughTheLens(args.images_dir, target, image_options, options,
-                                            args.corner_iterations, &state, std::cerr);
-  }
-  const calibench::CalibrateReport& report = state.report;
-  std::cout << calibench::FormatCalibrateReport(report, state.data);
-  std::cout << calibench::FormatImageReport(state.images, state.used_index, report);
-  return FinishCalibration(report, args.out_path, format);
-}
-
-int Calibrate(const CalibrateArgs& args) {
-  calibench::CalibrateOptions options;
-  std::string why;
-  const bool auto_model = args.model == "auto";
-  if (!auto_model && !calibench::ParseLensModel(args.model, &options.model)) {
-    std::cerr << "calibench: --model: unknown lens model '" << args.model << "' ("
-              << LensModelList() << ", auto)\n";
-    return 2;
-  }
-  if (auto_model && !args.init_path.empty()) {
-    std::cerr << "calibench: --model auto fits every candidate model from scratch; --init gives "
-                 "one camera (name its --model, or drop --init)\n";
-    return 2;
-  }
-  options.estimate_skew = args.skew;
-  calibench::CameraFormat format = calibench::CameraFormatFromPath(args.out_path);
-  if (!args.format.empty() && !calibench::ParseCameraFormat(args.format, &format, &why)) {
-    std::cerr << "calibench: --format: " << why << "\n";
-    return 2;
-  }
-  if (!args.init_path.empty()) {
-    calibench::CameraFile init;
-    if (!calibench::ReadCameraFile(args.init_path, &init, &why)) {
-      std::cerr << "calibench: --init: " << why << "\n";
-      return 2;
-    }
-    // The given camera's own model, unless --model says otherwise (refining into another one).
-    if (!args.model_given || args.evaluate) options.model = init.lens_model;
-    if (!args.skew || args.evaluate) options.estimate_skew = init.estimate_skew;
-    options.init = init;
-    options.init_path = args.init_path;
-    options.evaluate_only = args.evaluate;
-  } else if (args.evaluate) {
-    std::cerr << "calibench: --evaluate needs --init CAMERA_FILE (the calibration to evaluate)\n";
-    return 2;
-  }
-  if (!args.images_dir.empty()) return CalibrateImages(args, auto_model, options, format);
-  calibench::PointData data;
-  if (!calibench::LoadPointData(args.points_path, &data, &why)) {
-    std::cerr << "calibench: --points: " << why << "\n";
-    return 2;
-  }
-  calibench::CalibrateReport report;
-  if (!FitCamera(data, auto_model, &options, &report)) return 4;
-  std::cout << calibench::FormatCalibrateReport(report, data);
-  return FinishCalibration(report, args.out_path, format);
 }
 
 struct FramesArgs {
@@ -399,7 +242,7 @@ CLI::App* AddRunCommand(CLI::App* app, RunArgs* run_args) {
 }
 
 // `calibrate`: its options into *cal.
-CLI::App* AddCalibrateCommand(CLI::App* app, CalibrateArgs* cal) {
+CLI::App* AddCalibrateCommand(CLI::App* app, calibench::CalibrateArgs* cal) {
   CLI::App* calibrate =
       app->add_subcommand("calibrate", "Calibrate a camera from point files or from images");
   CLI::Option* points_option = calibrate->add_option(
@@ -414,7 +257,7 @@ CLI::App* AddCalibrateCommand(CLI::App* app, CalibrateArgs* cal) {
                         "extension: .cameramodel = mrcal, *camchain*.yaml = kalibr, else opencv)");
   calibrate->add_option("--format", cal->format, "Output format: opencv, kalibr or mrcal");
   calibrate->add_option("--model", cal->model,
-                        "Lens model: " + LensModelList() +
+                        "Lens model: " + calibench::LensModelList() +
                             ", or auto (fit pinhole-radtan4/5, pinhole-equi, unified, eucm, "
                             "double-sphere; pick the simplest within noise of the best "
                             "held-out RMS)");
@@ -559,7 +402,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
       ->required()
       ->check(CLI::ExistingDirectory);
   report->add_option("--out", report_out, "Report directory (default: FIRST_DIR/report)");
-  CalibrateArgs cal;
+  calibench::CalibrateArgs cal;
   CLI::App* calibrate = AddCalibrateCommand(&app, &cal);
   FramesArgs render_args, detect_args;
   CLI::App* render =
@@ -616,7 +459,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
         return 2;
       }
       cal.model_given = calibrate->get_option("--model")->count() > 0;
-      return Calibrate(cal);
+      return calibench::Calibrate(cal);
     }
   } catch (const std::exception& e) {  // A bug, not bad data: say so instead of aborting.
     std::cerr << "calibench: internal error: " << e.what() << "\n";

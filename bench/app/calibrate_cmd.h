@@ -1,0 +1,27 @@
+// `calibench calibrate`: a camera from point files (--points) or from a folder of images of a
+// target (--images, bench/app/image_points.h), optionally from or against a given camera (--init,
+// --evaluate), or with the lens model chosen (--model auto, model_select.h); the report on stdout,
+// the camera file written atomically (camera_io.h).
+#pragma once
+
+#include <string>
+
+namespace calibench {
+
+struct CalibrateArgs {
+  std::string points_path, images_dir, target_path, init_path, format;
+  std::string out_path = "camera.yaml", model = "pinhole-k2";
+  bool skew = false, model_given = false, evaluate = false;
+  int corner_iterations = 4;      // Re-fits of the corners through the estimate (aprilgrid, lens).
+  int threads = 0;                // Images read and detected in parallel (0: every core).
+  std::string corner_refinement;  // Empty: the default (photometric; see ImagePointOptions).
+};
+
+// 0 on success; 2 with a message for bad arguments or input; 3 when the camera file cannot be
+// written; 4 when no usable calibration came out.
+int Calibrate(const CalibrateArgs& args);
+
+// The lens model names, comma-separated (for help and error texts).
+std::string LensModelList();
+
+}  // namespace calibench
