@@ -497,8 +497,8 @@ std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
       crlb_px = fit.crlb_px;
     }
     if (edge_fit && !RefineTagCorners(view, options_.refine, &tag)) {
-      if (found
-              .from_copy[t]) {  // Raw corners of a modified copy are biased: no refinement, no tag.
+      // Raw corners of a modified copy are biased: no refinement, no tag.
+      if (found.from_copy[t]) {
         ++local.unrefined_copy_tags;
         continue;
       }

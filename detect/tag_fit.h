@@ -139,20 +139,6 @@ class TagFit {
   std::vector<RectSlots> pixel_rects_;
   std::array<Eigen::Vector2d, 4> classified_corners_;
   double classified_sigma_ = 0;
-  // With a camera: each pixel's model point and ModelJacobian, computed once a fit (the model
-  // plane is fixed during it) over the first classification's box grown by kModelCacheMarginPx;
-  // pixels outside it are computed each time.
-  struct PixelModel {
-    Eigen::Vector2d p_hat;
-    Eigen::Matrix2d m;
-    int8_t state = 0;  // 0: not computed, 1: valid, -1: no model point (ModelOf false).
-  };
-  static constexpr int kModelCacheMarginPx = 4;
-  std::vector<PixelModel> model_cache_;
-  int cache_i0_ = 0, cache_j0_ = 0, cache_width_ = 0, cache_height_ = 0;
-  // The model point and d p^ / d pixel of pixel (i, j) through the camera, cached; false where
-  // ModelOf is.
-  bool CachedModelOf(int i, int j, Eigen::Vector2d* p_hat, Eigen::Matrix2d* m);
 };
 
 }  // namespace photometric_internal

@@ -191,22 +191,6 @@ bool TagFit::RegionInImage(const Eigen::Matrix3d& g, RegionBox* box,
   return true;
 }
 
-bool TagFit::CachedModelOf(int i, int j, Eigen::Vector2d* p_hat, Eigen::Matrix2d* m) {
-  const int ci = i - cache_i0_, cj = j - cache_j0_;
-  PixelModel* entry = ci >= 0 && cj >= 0 && ci < cache_width_ && cj < cache_height_
-                          ? &model_cache_[static_cast<size_t>(cj) * cache_width_ + ci]
-                          : nullptr;
-  if (entry && entry->state != 0) {
-    *p_hat = entry->p_hat;
-    *m = entry->m;
-    return entry->state > 0;
-  }
-  const bool valid = ModelOf(Eigen::Vector2d(i, j), p_hat);
-  if (valid) *m = ModelJacobian(*p_hat);
-  if (entry) *entry = {*p_hat, *m, static_cast<int8_t>(valid ? 1 : -1)};
-  return valid;
-}
-
 bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   pixels_.clear();
   pixel_lines_.clear();
@@ -236,22 +220,16 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   }
   RegionBox region;
   if (!RegionInImage(g, &region, result)) return false;
-  double u0 = region.u0, u1 = region.u1, v0 = region.v0, v1 = region.v1;
   const std::vector<Eigen::Vector2d>& outline = region.outline;
-  if (camera_ && cache_width_ == 0) {
-    cache_i0_ = static_cast<int>(std::floor(u0)) - kModelCacheMarginPx;
-    cache_j0_ = static_cast<int>(std::floor(v0)) - kModelCacheMarginPx;
-    cache_width_ = static_cast<int>(std::ceil(u1)) + kModelCacheMarginPx - cache_i0_ + 1;
-    cache_height_ = static_cast<int>(std::ceil(v1)) + kModelCacheMarginPx - cache_j0_ + 1;
-    model_cache_.assign(static_cast<size_t>(cache_width_) * cache_height_, PixelModel());
-  }
   // With a camera each row is cut to the outline (OutlineRowSpan); not when a point of the
   // outline has no pixel (past the lens's valid region): the box then.
   bool outline_spans = camera_ != nullptr;
   for (const Eigen::Vector2d& p : outline) outline_spans &= p.allFinite();
   long inside = 0, outside = 0;
-  const int i0 = static_cast<int>(std::floor(u0)), i1 = static_cast<int>(std::ceil(u1));
-  const int j0 = static_cast<int>(std::floor(v0)), j1 = static_cast<int>(std::ceil(v1));
+  const int i0 = static_cast<int>(std::floor(region.u0));
+  const int i1 = static_cast<int>(std::ceil(region.u1));
+  const int j0 = static_cast<int>(std::floor(region.v0));
+  const int j1 = static_cast<int>(std::ceil(region.v1));
   const std::array<double, 4> limit_sign = {1, -1, 1, -1};
   std::vector<double> line_values(lines.size()), line_steps(lines.size());
   for (int j = j0; j <= j1; ++j) {
@@ -294,8 +272,9 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
       Eigen::Matrix2d m = Eigen::Matrix2d::Identity() / scale_;
       if (camera_) {
         Eigen::Vector2d p_hat;
-        if (!CachedModelOf(i, j, &p_hat, &m)) continue;
+        if (!ModelOf(Eigen::Vector2d(i, j), &p_hat)) continue;
         p = p_hat.homogeneous();
+        m = ModelJacobian(p_hat);
       }
       // Signed distance (px) to line l: (l . p^~) / |M^T l_xy| (the model's gradient in pixels).
       auto distance = [&](size_t l) {

@@ -210,13 +210,15 @@ std::vector<Eigen::Vector2d> TagRadialMoves(double bias_px,
 
 std::unique_ptr<MeasurementSource> ApplyDiagnostics(std::unique_ptr<MeasurementSource> source,
                                                     const SceneTruth& scene,
-                                                    const std::vector<int>& grid_of_point,
+                                                    const std::vector<AprilGrid>& grids,
                                                     const DiagnosticsOptions& options,
                                                     std::string* why) {
   if (!source || !options.Check(why)) return nullptr;
   if (options.CornerErrorActive()) {
-    if (options.corner_error_grid >= 0 &&
-        !std::count(grid_of_point.begin(), grid_of_point.end(), options.corner_error_grid)) {
+    std::vector<int> grid_of_point;  // Grids' corners follow each other, 4 a tag.
+    for (size_t g = 0; g < grids.size(); ++g)
+      grid_of_point.insert(grid_of_point.end(), 4 * grids[g].NumTags(), static_cast<int>(g));
+    if (options.corner_error_grid >= static_cast<int>(grids.size())) {
       if (why)
         *why = "corner_error_grid " + std::to_string(options.corner_error_grid) + " names no grid";
       return nullptr;

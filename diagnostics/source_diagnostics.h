@@ -25,6 +25,7 @@
 
 #include "sim/measurements.h"
 #include "sim/scene.h"
+#include "sim/target.h"
 
 namespace calibench {
 
@@ -50,12 +51,13 @@ struct DiagnosticsOptions {
 };
 
 // `source` wrapped in the decorators `options` asks for (the source itself when none). `scene`:
-// the truth the source measures; `grid_of_point`: each scene point's grid (AprilGrids, in their
-// order). Null (and *why) when a decorator cannot apply: the corner error needs a source held
-// within segments whose frames name their points, and a grid index that exists.
+// the truth the source measures; `grids`: the AprilGrids whose corners its points are (their
+// order and numbering: sim/target.h). Null (and *why) when a decorator cannot apply: the corner
+// error needs a source held within segments whose frames name their points, and a grid index that
+// exists.
 std::unique_ptr<MeasurementSource> ApplyDiagnostics(std::unique_ptr<MeasurementSource> source,
                                                     const SceneTruth& scene,
-                                                    const std::vector<int>& grid_of_point,
+                                                    const std::vector<AprilGrid>& grids,
                                                     const DiagnosticsOptions& options,
                                                     std::string* why);
 

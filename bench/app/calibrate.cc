@@ -315,14 +315,10 @@ RefitEffect PredictRefit(const ImageTagCache& tags, const CameraIntrinsics* fitt
                          const CameraIntrinsics& next, const PointData& data) {
   RefitEffect effect;
   if (!tags.filled) return effect;
-  const CameraIntrinsics* through =
-      fitted_through && fitted_through->IsDistorted() ? fitted_through : nullptr;
   double bend = 0;
   for (const FoundTags& found : tags.per_image) {
     for (const TagDetection& tag : found.tags) {
-      const double change = next.IsDistorted() || through
-                                ? EdgeBendChangePx(through, next, tag.corners)
-                                : 0.0;  // Both draw straight edges.
+      const double change = EdgeBendChangePx(fitted_through, next, tag.corners);
       if (!std::isfinite(change)) return effect;
       bend = std::max(bend, change);
     }
@@ -389,17 +385,14 @@ void IterateCornersThroughTheLens(const std::string& dir, const CalibrationTarge
       log << line;
       break;
     }
-    ImageCalibration next;
-    next.tags = std::move(state->tags);
+    ImageCalibration next;  // Its tags stay in state->tags (the cache) until it replaces *state.
     std::string why;
     ImagePointOptions image_options = images;
     image_options.lens = FamilyOf(options.model);
     image_options.camera = state->report.camera.intrinsics;
-    image_options.tag_cache = &next.tags;
-    const bool loaded = LoadImagePoints(dir, target, &next.data, &next.images, &next.used_index,
-                                        &why, image_options);
-    state->tags = std::move(next.tags);
-    if (!loaded) {
+    image_options.tag_cache = &state->tags;
+    if (!LoadImagePoints(dir, target, &next.data, &next.images, &next.used_index, &why,
+                         image_options)) {
       log << "corners through the lens: pass " << pass << " failed (" << why
           << "); keeping the previous calibration\n";
       break;

@@ -205,10 +205,9 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
       return;
     }
     const GrayImageView image(gray.data, gray.cols, gray.rows, static_cast<int>(gray.step));
-    FoundTags found_here;
-    const FoundTags& found =
-        reuse ? cache->per_image[f] : (found_here = detectors[worker]->FindTags(image));
-    if (cache && !reuse) cache->per_image[f] = found;
+    FoundTags found_here;  // Without a cache.
+    FoundTags& found = cache ? cache->per_image[f] : found_here;
+    if (!reuse) found = detectors[worker]->FindTags(image);
     for (const Observation& o :
          detectors[worker]->RefineTags(image, found, fit_camera, &out.counts)) {
       out.view.points.push_back(grid_corners[o.point_id]);

@@ -33,11 +33,7 @@ std::unique_ptr<MeasurementSource> MakeSource(const ScenarioConfig& s, const Sce
     source = OracleSource::Create(scene, s.OracleSourceOptions(), base->seed, why);
   }
   if (source && s.diagnostics.Active()) {
-    std::vector<int> grid_of_point;
-    const std::vector<AprilGrid> grids = s.points.AprilGrids();
-    for (size_t g = 0; g < grids.size(); ++g)
-      grid_of_point.insert(grid_of_point.end(), 4 * grids[g].NumTags(), static_cast<int>(g));
-    source = ApplyDiagnostics(std::move(source), scene, grid_of_point, s.diagnostics, why);
+    source = ApplyDiagnostics(std::move(source), scene, s.points.AprilGrids(), s.diagnostics, why);
     if (!source && why) *why = "diagnostics: " + *why;
   }
   base->measure_ms =

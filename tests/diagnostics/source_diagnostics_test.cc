@@ -27,15 +27,12 @@ TEST(CornerError, KeepsThePartItNames) {
   const auto detected = RenderedSource::Create(rig.scene, rig.grids, options, 11, &why);
   ASSERT_NE(detected, nullptr) << why;
   using Part = CornerErrorPart;
-  std::vector<int> grid_of_point;
-  for (size_t g = 0; g < rig.grids.size(); ++g)
-    grid_of_point.insert(grid_of_point.end(), 4 * rig.grids[g].NumTags(), static_cast<int>(g));
   auto run = [&](Part part, int grid) {
     DiagnosticsOptions o;
     o.corner_error_part = part;
     o.corner_error_grid = grid;
     auto source = ApplyDiagnostics(RenderedSource::Create(rig.scene, rig.grids, options, 11, &why),
-                                   rig.scene, grid_of_point, o, &why);
+                                   rig.scene, rig.grids, o, &why);
     EXPECT_NE(source, nullptr) << why;
     return source;
   };
@@ -136,9 +133,8 @@ TEST(TagRadialBias, AddsTheExactProjectionsMovesToTheOracle) {
   ASSERT_NE(plain, nullptr) << why;
   DiagnosticsOptions options;
   options.tag_radial_bias_px = 0.01;
-  const std::vector<int> grid_of_point(rig.scene.points.size(), 0);
   auto biased = ApplyDiagnostics(OracleSource::Create(rig.scene, oracle, 3, &why), rig.scene,
-                                 grid_of_point, options, &why);
+                                 rig.grids, options, &why);
   ASSERT_NE(biased, nullptr) << why;
   for (int k = 0; k < plain->NumFrames(); ++k) {
     Frame a, b;
@@ -155,11 +151,11 @@ TEST(TagRadialBias, AddsTheExactProjectionsMovesToTheOracle) {
   }
   DiagnosticsOptions none;
   MeasurementSource* raw = plain.get();
-  EXPECT_EQ(ApplyDiagnostics(std::move(plain), rig.scene, grid_of_point, none, &why).get(), raw);
+  EXPECT_EQ(ApplyDiagnostics(std::move(plain), rig.scene, rig.grids, none, &why).get(), raw);
   DiagnosticsOptions clip;
   clip.corner_error_clip_px = 0;
-  EXPECT_EQ(ApplyDiagnostics(OracleSource::Create(rig.scene, oracle, 3, &why), rig.scene,
-                             grid_of_point, clip, &why),
+  EXPECT_EQ(ApplyDiagnostics(OracleSource::Create(rig.scene, oracle, 3, &why), rig.scene, rig.grids,
+                             clip, &why),
             nullptr);
   EXPECT_NE(why.find("name their points"), std::string::npos) << why;
 }
