@@ -2,7 +2,7 @@
 // runs. For each frame time t_k = k / frame_rate_hz (k = 0, 1, ... while t_k < duration):
 //   1. place every AprilGrid in the camera: cam_from_board = CamFromParent * ParentFromPoints(t_k)
 //      * points_from_board (scene.h, target.h);
-//   2. render the 8-bit frame (sim/render.h) with pixel noise drawn from (trial seed, k);
+//   2. render the 8-bit frame (sim/scene_renderer.h) with pixel noise drawn from (trial seed, k);
 //   3. detect, refine and match the tags (frame_detector.h): the frame holds the detected points
 //      x_bar_i(t_k) (exact 3D positions: the target is known) and their detected pixels.
 // Measurements are held from t_k until t_k+1, as OracleSource's sampled mode does, so the two are
@@ -20,6 +20,7 @@
 #include "sim/measurements.h"
 #include "sim/render.h"
 #include "sim/scene.h"
+#include "sim/scene_renderer.h"
 #include "sim/target.h"
 
 namespace calibench {
@@ -108,30 +109,6 @@ class RenderedSource final : public MeasurementSource {
   std::vector<double> breakpoints_;
   std::vector<Frame> frames_;
   DetectionStats stats_;
-};
-
-// Frame k of a trial, one definition for RenderedSource and `calibench render`: the scene's grids
-// at time t, rendered with pixel noise drawn from (trial seed, k). Keeps references to the scene
-// and the grids, which must outlive it. Render() is const and thread-safe.
-class SceneRenderer {
- public:
-  // nullptr (and *why) for invalid options or a grid family the library does not have.
-  static std::unique_ptr<SceneRenderer> Create(const SceneTruth& scene,
-                                               const std::vector<AprilGrid>& grids,
-                                               const RenderOptions& options, std::string* why);
-  // The boards at time t as the renderer takes them (cam_from_board from the scene's motion).
-  std::vector<BoardView> ViewsAt(double t) const;
-  // Renders frame k (time t); *views receives ViewsAt(t).
-  bool Render(double t, uint64_t trial_seed, int k, GrayImage* image, std::vector<BoardView>* views,
-              std::string* why) const;
-
- private:
-  SceneRenderer(const SceneTruth& scene, const std::vector<AprilGrid>& grids)
-      : scene_(scene), grids_(grids) {}
-  const SceneTruth& scene_;
-  const std::vector<AprilGrid>& grids_;
-  std::vector<std::shared_ptr<const TagFamily>> families_;  // Per grid.
-  std::unique_ptr<FrameRenderer> renderer_;
 };
 
 }  // namespace calibench

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "bench/run/csv.h"
+#include "sim/scene_renderer.h"
 #include "util/format.h"
 #include "util/random.h"
 

@@ -19,6 +19,7 @@
 #include "detect/frame_detector.h"
 #include "detect/rendered_source.h"
 #include "sim/render.h"
+#include "sim/scene_renderer.h"
 #include "sim/synthetic.h"
 
 namespace calibench {
