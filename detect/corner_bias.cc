@@ -306,6 +306,130 @@ struct StageSums {
   int attempts = 0;
 };
 
+// The crop around the tag in view0: its outline (white margin included) projected along the sides
+// (a lens bends them), padded by 8 + 4 blur px, clipped to the image. False when less than 16 px
+// of it is in the image.
+bool TagCrop(const CornerBiasCase& c, const CornerBiasCamera& camera, const AprilGrid& grid,
+             const TagView& view0, int* x0, int* y0, int* x1, int* y1) {
+  *x0 = camera.width, *y0 = camera.height, *x1 = 0, *y1 = 0;
+  const double m = (grid.tag_spacing + 0.5) * grid.tag_size_m, s = grid.tag_size_m;
+  const std::array<Eigen::Vector3d, 4> outline = {
+      Eigen::Vector3d(-m, -m, 0), Eigen::Vector3d(s + m, -m, 0), Eigen::Vector3d(s + m, s + m, 0),
+      Eigen::Vector3d(-m, s + m, 0)};
+  const double pad = 8 + 4 * c.blur_sigma_px;
+  for (int i = 0; i < 4; ++i) {
+    for (double t : {0.0, 0.25, 0.5, 0.75}) {
+      const Eigen::Vector3d in_board = outline[i] + t * (outline[(i + 1) % 4] - outline[i]);
+      Eigen::Vector2d q;
+      if (!ProjectPoint(camera.intrinsics, view0.board.cam_from_board * in_board, &q)) continue;
+      *x0 = std::min(*x0, static_cast<int>(std::floor(q.x() - pad)));
+      *y0 = std::min(*y0, static_cast<int>(std::floor(q.y() - pad)));
+      *x1 = std::max(*x1, static_cast<int>(std::ceil(q.x() + pad)));
+      *y1 = std::max(*y1, static_cast<int>(std::ceil(q.y() + pad)));
+    }
+  }
+  *x0 = std::max(0, *x0), *y0 = std::max(0, *y0);
+  *x1 = std::min(camera.width - 1, *x1), *y1 = std::min(camera.height - 1, *y1);
+  return *x1 - *x0 >= 16 && *y1 - *y0 >= 16;
+}
+
+// The frame detectors of the refining stages, as the study configures them (nullptr: the stage
+// does not run; the lens-aware one needs a lens). False (and *why) when one cannot be made.
+bool StageDetectors(const CornerBiasCase& c, const AprilGrid& grid,
+                    const CornerBiasOptions& options, const CameraIntrinsics& crop_camera,
+                    std::array<std::unique_ptr<FrameDetector>, kNumCornerStages>* detectors,
+                    std::string* why) {
+  for (const CornerStage stage :
+       {CornerStage::kEdgeFit, CornerStage::kPhotometric, CornerStage::kLensAware}) {
+    if (stage == CornerStage::kLensAware && c.lens == CornerBiasLens::kNone) continue;
+    FrameDetectorOptions o;
+    o.detector.quad_decimate = options.quad_decimate;
+    o.refinement = stage == CornerStage::kEdgeFit ? CornerRefinement::kEdgeFit
+                                                  : CornerRefinement::kPhotometric;
+    o.refine.curved_edges =
+        c.lens == CornerBiasLens::kEquidistant || c.lens == CornerBiasLens::kDoubleSphere190;
+    if (stage == CornerStage::kLensAware) o.camera = crop_camera;
+    (*detectors)[static_cast<int>(stage)] = FrameDetector::Create({grid}, o, why);
+    if (!(*detectors)[static_cast<int>(stage)]) return false;
+  }
+  return true;
+}
+
+// One draw's frame, cropped: the image, where its pixel (0, 0) is in the frame, and the tag's
+// exact corners in the frame.
+struct CroppedDraw {
+  const GrayImage& image;
+  const Eigen::Vector2d& crop_origin;
+  const std::array<Eigen::Vector2d, 4>& truth;
+};
+
+// Every stage on one draw: AprilTag alone, then each refining detector, timed; the errors of the
+// tag's corners (when found) go to the stage's view_errors, refusals to result->stages.
+void RunStages(const CroppedDraw& draw, const AprilTagDetector& raw_detector,
+               const std::array<std::unique_ptr<FrameDetector>, kNumCornerStages>& detectors,
+               std::array<StageSums, kNumCornerStages>* sums, CornerBiasResult* result) {
+  using Clock = std::chrono::steady_clock;
+  auto micros = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::micro>(b - a).count();
+  };
+  const GrayImage& image = draw.image;
+  const uint8_t* crop = image.pixels.data();
+  const int crop_w = image.width, crop_h = image.height;
+  {
+    StageSums& s = (*sums)[static_cast<int>(CornerStage::kRaw)];
+    const Clock::time_point t0 = Clock::now();
+    const std::vector<TagDetection> tags = raw_detector.Detect(crop, crop_w, crop_h, image.width);
+    s.us_sum += micros(t0, Clock::now());
+    ++s.attempts;
+    for (const TagDetection& tag : tags) {
+      if (tag.id != 0) continue;
+      std::array<Eigen::Vector2d, 4> e;
+      for (int i = 0; i < 4; ++i) e[i] = tag.corners[i] + draw.crop_origin - draw.truth[i];
+      s.view_errors.push_back(e);
+      break;
+    }
+  }
+  for (int st = 1; st < kNumCornerStages; ++st) {
+    if (!detectors[st]) continue;
+    StageSums& s = (*sums)[st];
+    DetectionCounts counts;
+    const Clock::time_point t0 = Clock::now();
+    const std::vector<Observation> obs =
+        detectors[st]->Detect(crop, crop_w, crop_h, image.width, &counts);
+    s.us_sum += micros(t0, Clock::now());
+    ++s.attempts;
+    CornerStageResult& out = result->stages[st];
+    for (int f = 1; f < kNumFitFailures; ++f) out.refused[f] += counts.refused_tags[f];
+    if (obs.size() != 4) continue;  // Points 0..3: the tag's four corners, sorted.
+    std::array<Eigen::Vector2d, 4> e;
+    for (int i = 0; i < 4; ++i) {
+      e[i] = obs[i].pixel + draw.crop_origin - draw.truth[obs[i].point_id];
+      if (std::isfinite(obs[i].crlb_px)) s.crlb_sum += obs[i].crlb_px / 4;
+    }
+    s.view_errors.push_back(e);
+  }
+}
+
+// Each stage's figures from its sums; result->ok when some stage found the tag.
+void FinishStages(const std::array<StageSums, kNumCornerStages>& sums,
+                  const std::array<std::unique_ptr<FrameDetector>, kNumCornerStages>& detectors,
+                  CornerBiasResult* result) {
+  for (int st = 0; st < kNumCornerStages; ++st) {
+    CornerStageResult& out = result->stages[st];
+    const StageSums& s = sums[st];
+    out.run = st == 0 || detectors[st] != nullptr;
+    if (!out.run) continue;
+    out.detections = s.sums.draws;
+    out.failed = s.attempts - s.sums.draws;
+    out.corners = s.sums.Stats();
+    out.rms_px = s.sums.RmsPerAxis();
+    out.us_per_tag = s.attempts > 0 ? s.us_sum / s.attempts : 0;
+    if (st >= static_cast<int>(CornerStage::kPhotometric) && s.sums.draws > 0)
+      out.crlb_px = s.crlb_sum / s.sums.draws;
+    if (out.detections > 0) result->ok = true;
+  }
+}
+
 }  // namespace
 
 CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
@@ -339,30 +463,10 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
 
   // Every stage sees the crop around the tag (its white margin, squares and blur, plus 8 px): the
   // detector's cost is per pixel, and the rest of the frame is a flat white board.
-  int x0 = camera.width, y0 = camera.height, x1 = 0, y1 = 0;
-  {
-    const double m = (grid.tag_spacing + 0.5) * grid.tag_size_m, s = grid.tag_size_m;
-    const std::array<Eigen::Vector3d, 4> outline = {
-        Eigen::Vector3d(-m, -m, 0), Eigen::Vector3d(s + m, -m, 0), Eigen::Vector3d(s + m, s + m, 0),
-        Eigen::Vector3d(-m, s + m, 0)};
-    const double pad = 8 + 4 * c.blur_sigma_px;
-    for (int i = 0; i < 4; ++i) {
-      for (double t : {0.0, 0.25, 0.5, 0.75}) {  // Along the sides: a lens bends them.
-        const Eigen::Vector3d in_board = outline[i] + t * (outline[(i + 1) % 4] - outline[i]);
-        Eigen::Vector2d q;
-        if (!ProjectPoint(k, view0.board.cam_from_board * in_board, &q)) continue;
-        x0 = std::min(x0, static_cast<int>(std::floor(q.x() - pad)));
-        y0 = std::min(y0, static_cast<int>(std::floor(q.y() - pad)));
-        x1 = std::max(x1, static_cast<int>(std::ceil(q.x() + pad)));
-        y1 = std::max(y1, static_cast<int>(std::ceil(q.y() + pad)));
-      }
-    }
-    x0 = std::max(0, x0), y0 = std::max(0, y0);
-    x1 = std::min(camera.width - 1, x1), y1 = std::min(camera.height - 1, y1);
-    if (x1 - x0 < 16 || y1 - y0 < 16) {
-      result.message = "the tag is outside the image";
-      return result;
-    }
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  if (!TagCrop(c, camera, grid, view0, &x0, &y0, &x1, &y1)) {
+    result.message = "the tag is outside the image";
+    return result;
   }
   const Eigen::Vector2d crop_origin(x0, y0);
   CameraIntrinsics crop_camera = k;  // The same lens, its principal point in crop pixels.
@@ -385,29 +489,13 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
   if (!raw_detector) return result;
   // The frame detectors of the refining stages (nullptr: the stage does not run).
   std::array<std::unique_ptr<FrameDetector>, kNumCornerStages> detectors;
-  for (const CornerStage stage :
-       {CornerStage::kEdgeFit, CornerStage::kPhotometric, CornerStage::kLensAware}) {
-    if (stage == CornerStage::kLensAware && c.lens == CornerBiasLens::kNone) continue;
-    FrameDetectorOptions o;
-    o.detector.quad_decimate = options.quad_decimate;
-    o.refinement = stage == CornerStage::kEdgeFit ? CornerRefinement::kEdgeFit
-                                                  : CornerRefinement::kPhotometric;
-    o.refine.curved_edges =
-        c.lens == CornerBiasLens::kEquidistant || c.lens == CornerBiasLens::kDoubleSphere190;
-    if (stage == CornerStage::kLensAware) o.camera = crop_camera;
-    detectors[static_cast<int>(stage)] = FrameDetector::Create({grid}, o, &result.message);
-    if (!detectors[static_cast<int>(stage)]) return result;
-  }
+  if (!StageDetectors(c, grid, options, crop_camera, &detectors, &result.message)) return result;
   render.noise_sigma_gray = options.noise_sigma_gray;
   renderer = FrameRenderer::Create(crop_camera, render, &result.message);
   if (!renderer) return result;
 
   std::array<StageSums, kNumCornerStages> sums;
   GrayImage image;
-  using Clock = std::chrono::steady_clock;
-  auto micros = [](Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double, std::micro>(b - a).count();
-  };
   for (int v = 0; v < options.views; ++v) {
     const uint64_t view_seed = Mix64(options.seed ^ Mix64(1000003ULL * case_index + v));
     Rng shift_rng(view_seed);
@@ -420,59 +508,11 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
     for (int d = 0; d < options.draws; ++d) {
       Rng rng(Mix64(view_seed + 1 + d));
       if (!renderer->Render({view.board}, &rng, &image, &result.message)) return result;
-      const uint8_t* crop = image.pixels.data();
-      const int crop_w = image.width, crop_h = image.height;
-      {
-        StageSums& s = sums[static_cast<int>(CornerStage::kRaw)];
-        const Clock::time_point t0 = Clock::now();
-        const std::vector<TagDetection> tags =
-            raw_detector->Detect(crop, crop_w, crop_h, image.width);
-        s.us_sum += micros(t0, Clock::now());
-        ++s.attempts;
-        for (const TagDetection& tag : tags) {
-          if (tag.id != 0) continue;
-          std::array<Eigen::Vector2d, 4> e;
-          for (int i = 0; i < 4; ++i) e[i] = tag.corners[i] + crop_origin - view.truth[i];
-          s.view_errors.push_back(e);
-          break;
-        }
-      }
-      for (int st = 1; st < kNumCornerStages; ++st) {
-        if (!detectors[st]) continue;
-        StageSums& s = sums[st];
-        DetectionCounts counts;
-        const Clock::time_point t0 = Clock::now();
-        const std::vector<Observation> obs =
-            detectors[st]->Detect(crop, crop_w, crop_h, image.width, &counts);
-        s.us_sum += micros(t0, Clock::now());
-        ++s.attempts;
-        CornerStageResult& out = result.stages[st];
-        for (int f = 1; f < kNumFitFailures; ++f) out.refused[f] += counts.refused_tags[f];
-        if (obs.size() != 4) continue;  // Points 0..3: the tag's four corners, sorted.
-        std::array<Eigen::Vector2d, 4> e;
-        for (int i = 0; i < 4; ++i) {
-          e[i] = obs[i].pixel + crop_origin - view.truth[obs[i].point_id];
-          if (std::isfinite(obs[i].crlb_px)) s.crlb_sum += obs[i].crlb_px / 4;
-        }
-        s.view_errors.push_back(e);
-      }
+      RunStages({image, crop_origin, view.truth}, *raw_detector, detectors, &sums, &result);
     }
     for (StageSums& s : sums) s.sums.AddView(s.view_errors, view.radial);
   }
-  for (int st = 0; st < kNumCornerStages; ++st) {
-    CornerStageResult& out = result.stages[st];
-    const StageSums& s = sums[st];
-    out.run = st == 0 || detectors[st] != nullptr;
-    if (!out.run) continue;
-    out.detections = s.sums.draws;
-    out.failed = s.attempts - s.sums.draws;
-    out.corners = s.sums.Stats();
-    out.rms_px = s.sums.RmsPerAxis();
-    out.us_per_tag = s.attempts > 0 ? s.us_sum / s.attempts : 0;
-    if (st >= static_cast<int>(CornerStage::kPhotometric) && s.sums.draws > 0)
-      out.crlb_px = s.crlb_sum / s.sums.draws;
-    if (out.detections > 0) result.ok = true;
-  }
+  FinishStages(sums, detectors, &result);
   const CornerStageResult& aware = result.stage(CornerStage::kLensAware);
   result.crlb_px = aware.run ? aware.crlb_px : result.stage(CornerStage::kPhotometric).crlb_px;
   if (!result.ok) result.message = "the tag was found by no stage in any draw";

@@ -107,6 +107,36 @@ class TagFit {
   // Selects the pixels for parameters x (classification radius from sigma). False with the
   // failure set when the region is unusable.
   bool Classify(const ParamVector& x, PhotometricFitResult* result);
+  // Classify's pieces. The pattern's lines under homography g: raw (l = G^T m, on the model
+  // plane), scaled (unit normal, in px without a camera) and the squares of raw's l_x, l_y that
+  // |M^T l_xy|^2 needs with a camera. False (degenerate homography) for a line without a normal.
+  struct ImageLines {
+    std::vector<Eigen::Vector3d> scaled, raw, squares;
+  };
+  bool LinesInImage(const Eigen::Matrix3d& g, ImageLines* lines,
+                    PhotometricFitResult* result) const;
+  // Narrows [*lo, *hi] to row j's part of the region: the outline's span (with a camera) or the
+  // span inside the four limit lines, each linear in i along the row (without).
+  void RowSpan(int j, const RegionBox& region, bool outline_spans, const ImageLines& lines,
+               double reach, double* lo, double* hi) const;
+  // A pixel of the region: (i, j), its model point p^~ and d p^ / d pixel.
+  struct PixelAt {
+    int i, j;
+    Eigen::Vector3d p;
+    Eigen::Matrix2d m;
+  };
+  // Lines within near_px of a pixel get a profile slot; a pixel is kept when a rectangle's border
+  // is within include_px of it.
+  struct ClassifyMargins {
+    double near_px, include_px;
+  };
+  // Keeps the pixel (with its line slots and rectangles) when some rectangle's border is near.
+  // *line_values: each line's signed distance (px) at the pixel; with a camera computed here.
+  void AddPixel(const PixelAt& at, const ImageLines& lines, const ClassifyMargins& margins,
+                std::vector<double>* line_values);
+  // False with the failure set when too much of the region is outside the image or too few
+  // pixels were kept.
+  bool EnoughPixels(long inside, long outside, PhotometricFitResult* result) const;
   // Cost, J^T J and J^T r at x; false when x is invalid (a pixel behind the homography's horizon).
   bool Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, ParamVector* jtr) const;
   bool InitialHomography(const std::array<Eigen::Vector2d, 4>& corners, ParamVector* x) const;

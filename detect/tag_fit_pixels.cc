@@ -191,20 +191,11 @@ bool TagFit::RegionInImage(const Eigen::Matrix3d& g, RegionBox* box,
   return true;
 }
 
-bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
-  pixels_.clear();
-  pixel_lines_.clear();
-  pixel_rects_.clear();
-  pixel_jacobians_.clear();
-  const Eigen::Matrix3d g = HomographyOf(x);
-  const double reach = EdgeProfileReachPx(x[kSigma]);
-  // Margin: corners may move kReclassifyPx before the pixels are classified again.
-  const double near_px = reach + kReclassifyPx;
-  const double include_px = near_px;  // Flat pixels up to the re-classification margin.
-  std::vector<Eigen::Vector3d> lines(layout_.lines.size()), raw_lines(lines.size()),
-      line_squares(lines.size());
-  constexpr double kFarPx = 1e30;  // A line's distance where only its side matters (below).
-  for (size_t i = 0; i < lines.size(); ++i) {
+bool TagFit::LinesInImage(const Eigen::Matrix3d& g, ImageLines* lines,
+                          PhotometricFitResult* result) const {
+  const size_t n_lines = layout_.lines.size();
+  lines->scaled.resize(n_lines), lines->raw.resize(n_lines), lines->squares.resize(n_lines);
+  for (size_t i = 0; i < n_lines; ++i) {
     const Eigen::Vector3d l = g.transpose() * layout_.lines[i].m;
     const double n = l.head<2>().norm();
     if (!(n > 0)) {
@@ -212,139 +203,103 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
       result->message = "degenerate homography";
       return false;
     }
-    raw_lines[i] = l;
-    lines[i] = scale_ * l / n;  // Without a camera: f(p) = lines[i] . p^~ in px.
+    lines->raw[i] = l;
+    lines->scaled[i] = scale_ * l / n;  // Without a camera: f(p) = scaled[i] . p^~ in px.
     // |M^T l_xy|^2 = l_xy^T M M^T l_xy = (M M^T)_00 l_x^2 + 2 (M M^T)_01 l_x l_y + (M M^T)_11
     // l_y^2.
-    line_squares[i] = Eigen::Vector3d(l.x() * l.x(), 2 * l.x() * l.y(), l.y() * l.y());
+    lines->squares[i] = Eigen::Vector3d(l.x() * l.x(), 2 * l.x() * l.y(), l.y() * l.y());
   }
-  RegionBox region;
-  if (!RegionInImage(g, &region, result)) return false;
-  const std::vector<Eigen::Vector2d>& outline = region.outline;
-  // With a camera each row is cut to the outline (OutlineRowSpan); not when a point of the
-  // outline has no pixel (past the lens's valid region): the box then.
-  bool outline_spans = camera_ != nullptr;
-  for (const Eigen::Vector2d& p : outline) outline_spans &= p.allFinite();
-  long inside = 0, outside = 0;
-  const int i0 = static_cast<int>(std::floor(region.u0));
-  const int i1 = static_cast<int>(std::ceil(region.u1));
-  const int j0 = static_cast<int>(std::floor(region.v0));
-  const int j1 = static_cast<int>(std::ceil(region.v1));
-  const std::array<double, 4> limit_sign = {1, -1, 1, -1};
-  std::vector<double> line_values(lines.size()), line_steps(lines.size());
-  for (int j = j0; j <= j1; ++j) {
-    // The row's span inside the region: each limit line is linear in i along the row.
-    double lo = i0, hi = i1;
-    if (outline_spans) {
-      double span_lo = 0, span_hi = 0;
-      OutlineRowSpan(outline, j, &span_lo, &span_hi);
-      lo = std::max(lo, span_lo), hi = std::min(hi, span_hi);
-    }
-    const double y = (j - centre_.y()) / scale_;
-    for (int k = 0; k < 4 && !camera_; ++k) {
-      const Eigen::Vector3d& l = lines[layout_.limits[k]];
-      // limit_sign * (l.x (i - cx) / S + l.y y + l.z) > reach.
-      const double slope = limit_sign[k] * l.x() / scale_;
-      const double offset =
-          limit_sign[k] * (l.y() * y + l.z() - l.x() * centre_.x() / scale_) - reach;
-      if (std::abs(slope) < 1e-12) {
-        if (offset <= 0) hi = lo - 1;
-      } else if (slope > 0) {
-        lo = std::max(lo, -offset / slope);
-      } else {
-        hi = std::min(hi, -offset / slope);
-      }
-    }
-    const int row_lo = static_cast<int>(std::floor(lo)), row_hi = static_cast<int>(std::ceil(hi));
-    const int first_i = std::max(i0, row_lo);
-    if (!camera_) {  // Along the row each line's distance grows by a constant: l.x / S a pixel.
-      for (size_t l = 0; l < lines.size(); ++l) {
-        line_values[l] = lines[l].dot(
-            Eigen::Vector3d((first_i - 1 - centre_.x()) / scale_, (j - centre_.y()) / scale_, 1));
-        line_steps[l] = lines[l].x() / scale_;
-      }
-    }
-    for (int i = first_i; i <= std::min(i1, row_hi); ++i) {
-      if (!camera_) {
-        for (size_t l = 0; l < lines.size(); ++l) line_values[l] += line_steps[l];
-      }
-      Eigen::Vector3d p((i - centre_.x()) / scale_, (j - centre_.y()) / scale_, 1);
-      Eigen::Matrix2d m = Eigen::Matrix2d::Identity() / scale_;
-      if (camera_) {
-        Eigen::Vector2d p_hat;
-        if (!ModelOf(Eigen::Vector2d(i, j), &p_hat)) continue;
-        p = p_hat.homogeneous();
-        m = ModelJacobian(p_hat);
-      }
-      // Signed distance (px) to line l: (l . p^~) / |M^T l_xy| (the model's gradient in pixels).
-      auto distance = [&](size_t l) {
-        return camera_ ? raw_lines[l].dot(p) / (m.transpose() * raw_lines[l].head<2>()).norm()
-                       : lines[l].dot(p);
-      };
-      bool in_region = true;
-      for (int k = 0; k < 4 && in_region; ++k) {
-        in_region = limit_sign[k] * distance(layout_.limits[k]) > reach;
-      }
-      if (!in_region) continue;
-      if (i < 0 || j < 0 || i >= image_.width || j >= image_.height) {
-        ++outside;
-        continue;
-      }
-      ++inside;
-      FitPixel px{p.head<2>(),
-                  static_cast<double>(image_.at(i, j)),
-                  static_cast<int>(pixel_lines_.size()),
-                  0,
-                  static_cast<int>(pixel_rects_.size()),
-                  0,
-                  0};
-      auto slot = [&](int line) {
-        // A line farther than the margin keeps its profile's constant until reclassification.
-        if (!(std::abs(line_values[line]) < near_px)) {
-          return line_values[line] > 0 ? kSlotOne : kSlotZero;
-        }
-        for (int k = 0; k < px.num_lines; ++k) {
-          if (pixel_lines_[px.first_line + k] == line) return static_cast<uint8_t>(k);
-        }
-        pixel_lines_.push_back(line);
-        return static_cast<uint8_t>(px.num_lines++);
-      };
-      bool include = false;
-      if (camera_) {
-        // A line at or beyond near_px only counts by its side (the rectangles' tests and slots
-        // compare the distances with +-near_px): (l . p)^2 >= near_px^2 |M^T l_xy|^2 says so
-        // without the root and the division.
-        const Eigen::Matrix2d mmt = m * m.transpose();
-        for (size_t l = 0; l < lines.size(); ++l) {
-          const double value = raw_lines[l].dot(p);
-          const double norm_sq = mmt(0, 0) * line_squares[l].x() + mmt(0, 1) * line_squares[l].y() +
-                                 mmt(1, 1) * line_squares[l].z();
-          line_values[l] = value * value >= near_px * near_px * norm_sq
-                               ? (value > 0 ? kFarPx : -kFarPx)
-                               : value / std::sqrt(norm_sq);
-        }
-      }
-      for (size_t r = 0; r < layout_.rects.size(); ++r) {
-        const Layout::Rect& rect = layout_.rects[r];
-        const double inside_min = std::min({line_values[rect.x0], -line_values[rect.x1],
-                                            line_values[rect.y0], -line_values[rect.y1]});
-        include |= inside_min > -include_px && inside_min < include_px;
-        if (inside_min >= near_px) {
-          ++px.deep;
-        } else if (inside_min > -near_px && px.num_lines <= kMaxLinesPerPixel - 4) {
-          pixel_rects_.push_back({slot(rect.x0), slot(rect.x1), slot(rect.y0), slot(rect.y1)});
-          ++px.num_rects;
-        }
-      }
-      if (include) {
-        pixels_.push_back(px);
-        if (camera_) pixel_jacobians_.push_back(m);
-      } else {
-        pixel_lines_.resize(px.first_line);
-        pixel_rects_.resize(px.first_rect);
-      }
+  return true;
+}
+
+namespace {
+// Per limit k of the region: the side of its line where the region lies.
+constexpr std::array<double, 4> kLimitSign = {1, -1, 1, -1};
+}  // namespace
+
+void TagFit::RowSpan(int j, const RegionBox& region, bool outline_spans, const ImageLines& lines,
+                     double reach, double* lo, double* hi) const {
+  if (outline_spans) {
+    double span_lo = 0, span_hi = 0;
+    OutlineRowSpan(region.outline, j, &span_lo, &span_hi);
+    *lo = std::max(*lo, span_lo), *hi = std::min(*hi, span_hi);
+  }
+  if (camera_) return;
+  const double y = (j - centre_.y()) / scale_;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d& l = lines.scaled[layout_.limits[k]];
+    // kLimitSign * (l.x (i - cx) / S + l.y y + l.z) > reach.
+    const double slope = kLimitSign[k] * l.x() / scale_;
+    const double offset =
+        kLimitSign[k] * (l.y() * y + l.z() - l.x() * centre_.x() / scale_) - reach;
+    if (std::abs(slope) < 1e-12) {
+      if (offset <= 0) *hi = *lo - 1;
+    } else if (slope > 0) {
+      *lo = std::max(*lo, -offset / slope);
+    } else {
+      *hi = std::min(*hi, -offset / slope);
     }
   }
+}
+
+void TagFit::AddPixel(const PixelAt& at, const ImageLines& lines, const ClassifyMargins& margins,
+                      std::vector<double>* line_values) {
+  std::vector<double>& values = *line_values;
+  FitPixel px{at.p.head<2>(),
+              static_cast<double>(image_.at(at.i, at.j)),
+              static_cast<int>(pixel_lines_.size()),
+              0,
+              static_cast<int>(pixel_rects_.size()),
+              0,
+              0};
+  auto slot = [&](int line) {
+    // A line farther than the margin keeps its profile's constant until reclassification.
+    if (!(std::abs(values[line]) < margins.near_px)) {
+      return values[line] > 0 ? kSlotOne : kSlotZero;
+    }
+    for (int k = 0; k < px.num_lines; ++k) {
+      if (pixel_lines_[px.first_line + k] == line) return static_cast<uint8_t>(k);
+    }
+    pixel_lines_.push_back(line);
+    return static_cast<uint8_t>(px.num_lines++);
+  };
+  if (camera_) {
+    // A line at or beyond near_px only counts by its side (the rectangles' tests and slots
+    // compare the distances with +-near_px): (l . p)^2 >= near_px^2 |M^T l_xy|^2 says so
+    // without the root and the division.
+    constexpr double kFarPx = 1e30;  // A line's distance where only its side matters.
+    const Eigen::Matrix2d mmt = at.m * at.m.transpose();
+    const double near_sq = margins.near_px * margins.near_px;
+    for (size_t l = 0; l < lines.raw.size(); ++l) {
+      const double value = lines.raw[l].dot(at.p);
+      const double norm_sq = mmt(0, 0) * lines.squares[l].x() + mmt(0, 1) * lines.squares[l].y() +
+                             mmt(1, 1) * lines.squares[l].z();
+      values[l] = value * value >= near_sq * norm_sq ? (value > 0 ? kFarPx : -kFarPx)
+                                                     : value / std::sqrt(norm_sq);
+    }
+  }
+  bool include = false;
+  for (const Layout::Rect& rect : layout_.rects) {
+    const double inside_min =
+        std::min({values[rect.x0], -values[rect.x1], values[rect.y0], -values[rect.y1]});
+    include |= inside_min > -margins.include_px && inside_min < margins.include_px;
+    if (inside_min >= margins.near_px) {
+      ++px.deep;
+    } else if (inside_min > -margins.near_px && px.num_lines <= kMaxLinesPerPixel - 4) {
+      pixel_rects_.push_back({slot(rect.x0), slot(rect.x1), slot(rect.y0), slot(rect.y1)});
+      ++px.num_rects;
+    }
+  }
+  if (include) {
+    pixels_.push_back(px);
+    if (camera_) pixel_jacobians_.push_back(at.m);
+  } else {
+    pixel_lines_.resize(px.first_line);
+    pixel_rects_.resize(px.first_rect);
+  }
+}
+
+bool TagFit::EnoughPixels(long inside, long outside, PhotometricFitResult* result) const {
   if (outside > options_.max_outside_fraction * static_cast<double>(inside + outside)) {
     result->failure = FitFailure::kImageBorder;
     result->message = "the tag's region is cut by the image border (" + std::to_string(outside) +
@@ -357,6 +312,77 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
                       " usable pixels (min_pixels " + std::to_string(options_.min_pixels) + ")";
     return false;
   }
+  return true;
+}
+
+bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
+  pixels_.clear();
+  pixel_lines_.clear();
+  pixel_rects_.clear();
+  pixel_jacobians_.clear();
+  const Eigen::Matrix3d g = HomographyOf(x);
+  const double reach = EdgeProfileReachPx(x[kSigma]);
+  // Margin: corners may move kReclassifyPx before the pixels are classified again. Flat pixels are
+  // included up to the same margin.
+  const ClassifyMargins margins{reach + kReclassifyPx, reach + kReclassifyPx};
+  ImageLines lines;
+  if (!LinesInImage(g, &lines, result)) return false;
+  RegionBox region;
+  if (!RegionInImage(g, &region, result)) return false;
+  // With a camera each row is cut to the outline (OutlineRowSpan); not when a point of the
+  // outline has no pixel (past the lens's valid region): the box then.
+  bool outline_spans = camera_ != nullptr;
+  for (const Eigen::Vector2d& p : region.outline) outline_spans &= p.allFinite();
+  long inside = 0, outside = 0;
+  const int i0 = static_cast<int>(std::floor(region.u0));
+  const int i1 = static_cast<int>(std::ceil(region.u1));
+  const int j0 = static_cast<int>(std::floor(region.v0));
+  const int j1 = static_cast<int>(std::ceil(region.v1));
+  std::vector<double> line_values(lines.scaled.size()), line_steps(lines.scaled.size());
+  for (int j = j0; j <= j1; ++j) {
+    // The row's span inside the region: each limit line is linear in i along the row.
+    double lo = i0, hi = i1;
+    RowSpan(j, region, outline_spans, lines, reach, &lo, &hi);
+    const int row_lo = static_cast<int>(std::floor(lo)), row_hi = static_cast<int>(std::ceil(hi));
+    const int first_i = std::max(i0, row_lo);
+    if (!camera_) {  // Along the row each line's distance grows by a constant: l.x / S a pixel.
+      for (size_t l = 0; l < lines.scaled.size(); ++l) {
+        line_values[l] = lines.scaled[l].dot(
+            Eigen::Vector3d((first_i - 1 - centre_.x()) / scale_, (j - centre_.y()) / scale_, 1));
+        line_steps[l] = lines.scaled[l].x() / scale_;
+      }
+    }
+    for (int i = first_i; i <= std::min(i1, row_hi); ++i) {
+      if (!camera_) {
+        for (size_t l = 0; l < lines.scaled.size(); ++l) line_values[l] += line_steps[l];
+      }
+      PixelAt at{i, j, Eigen::Vector3d((i - centre_.x()) / scale_, (j - centre_.y()) / scale_, 1),
+                 Eigen::Matrix2d::Identity() / scale_};
+      if (camera_) {
+        Eigen::Vector2d p_hat;
+        if (!ModelOf(Eigen::Vector2d(i, j), &p_hat)) continue;
+        at.p = p_hat.homogeneous();
+        at.m = ModelJacobian(p_hat);
+      }
+      // Signed distance (px) to line l: (l . p^~) / |M^T l_xy| (the model's gradient in pixels).
+      auto distance = [&](size_t l) {
+        return camera_ ? lines.raw[l].dot(at.p) / (at.m.transpose() * lines.raw[l].head<2>()).norm()
+                       : lines.scaled[l].dot(at.p);
+      };
+      bool in_region = true;
+      for (int k = 0; k < 4 && in_region; ++k) {
+        in_region = kLimitSign[k] * distance(layout_.limits[k]) > reach;
+      }
+      if (!in_region) continue;
+      if (i < 0 || j < 0 || i >= image_.width || j >= image_.height) {
+        ++outside;
+        continue;
+      }
+      ++inside;
+      AddPixel(at, lines, margins, &line_values);
+    }
+  }
+  if (!EnoughPixels(inside, outside, result)) return false;
   CornersOf(g, &classified_corners_);
   classified_sigma_ = x[kSigma];
   return true;

@@ -555,6 +555,148 @@ bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, 
   return true;
 }
 
+namespace {
+
+// A pixel corner's ray in the table's coordinates (RaySpace), lifted to a homogeneous ray by
+// LiftRay: from the table, or without distortion A^-1 (i - 0.5, j - 0.5, 1), as in the table.
+struct CornerRays {
+  const std::vector<Eigen::Vector2d>& table;  // Empty without distortion.
+  const Eigen::Matrix3d& a_inv;
+  size_t stride;  // w + 1.
+  Eigen::Vector2d operator()(int i, int j) const {
+    return !table.empty()
+               ? table[static_cast<size_t>(j) * stride + i]
+               : Eigen::Vector2d((a_inv * Eigen::Vector3d(i - 0.5, j - 0.5, 1.0)).head<2>());
+  }
+};
+
+// Pass 1's result per pixel corner, row-major over (w + 1) x (h + 1): the hit (kOffBoard or
+// 2 * board + (1 if white)) and where on that board.
+struct CornerHits {
+  std::vector<int16_t>& hit;
+  std::vector<Eigen::Vector2f>& in_board;  // Float: 1e-7 m on a 1 m board.
+  size_t stride;
+};
+
+// Pass 1: what each pixel corner sees (the nearest board along its ray), and where on it.
+void TraceCorners(const std::vector<BoardShader>& boards, const CornerRays& rays, RaySpace space,
+                  int h, CornerHits* hits) {
+  thread_local std::vector<double> depths;  // Per column: the nearest board's depth on this row.
+  depths.resize(hits->stride);
+  for (int j = 0; j <= h; ++j) {
+    std::fill(depths.begin(), depths.end(), std::numeric_limits<double>::infinity());
+    for (size_t b = 0; b < boards.size(); ++b) {
+      const BoardShader& board = boards[b];
+      if (j < board.j0() || j > board.j1()) continue;
+      for (int i = board.i0(); i <= board.i1(); ++i) {
+        const size_t k = j * hits->stride + i;
+        const Eigen::Vector3d ray = LiftRay(space, rays(i, j));
+        double bx = 0, by = 0, depth = 0;
+        if (!board.ToBoard(ray, &bx, &by, &depth) || !(depth < depths[i])) continue;
+        depths[i] = depth;
+        hits->hit[k] = static_cast<int16_t>(2 * b + board.Shade(bx, by));
+        hits->in_board[k] = Eigen::Vector2f(bx, by);
+      }
+    }
+  }
+}
+
+// Whether the pixel whose top-left corner is k00 sees only `board`: its four corners hit it and no
+// other board's bounds cover the pixel (i, j).
+bool SeesOneBoard(const std::vector<BoardShader>& boards, const CornerHits& hits, size_t k00, int i,
+                  int j) {
+  const std::vector<int16_t>& c = hits.hit;
+  const size_t k01 = k00 + hits.stride;
+  const int board = c[k00] / 2;
+  bool one_board = c[k00] >= 0 && c[k00 + 1] / 2 == board && c[k01] / 2 == board &&
+                   c[k01 + 1] >= 0 && c[k01 + 1] / 2 == board && c[k00 + 1] >= 0 && c[k01] >= 0;
+  for (size_t b = 0; one_board && b < boards.size(); ++b) {
+    if (static_cast<int>(b) != board && boards[b].Covers(i, j)) one_board = false;
+  }
+  return one_board;
+}
+
+// The n x n samples' sum of a pixel on one board, their board points interpolated between the
+// corners' (a homography is affine to 1e-6 px over one pixel). lut: off-board, black, white.
+float SumOnOneBoard(const BoardShader& shader, const std::array<float, 3>& lut,
+                    const CornerHits& hits, size_t k00, const std::vector<Eigen::Vector2d>& offsets,
+                    int n) {
+  const size_t k01 = k00 + hits.stride;
+  // b(fa, fb) = p + fa u + fb v + fa fb q over the pixel, from its corners' board points.
+  const Eigen::Vector2d p = hits.in_board[k00].cast<double>();
+  const Eigen::Vector2d u = hits.in_board[k00 + 1].cast<double>() - p;
+  const Eigen::Vector2d v = hits.in_board[k01].cast<double>() - p;
+  const Eigen::Vector2d q = hits.in_board[k01 + 1].cast<double>() - p - u - v;
+  // Cell-edge lines of one direction only cross the pixel when all four corners share the
+  // column key or the row key (keys are monotone, the footprint is in the corners' hull).
+  int kx[4], ky[4];
+  for (int c = 0; c < 4; ++c) {
+    const Eigen::Vector2f& corner = hits.in_board[c < 2 ? k00 + c : k01 + c - 2];
+    shader.AxisKeys(corner.x(), corner.y(), &kx[c], &ky[c]);
+  }
+  const bool one_direction = (kx[0] == kx[1] && kx[0] == kx[2] && kx[0] == kx[3]) ||
+                             (ky[0] == ky[1] && ky[0] == ky[2] && ky[0] == ky[3]);
+  return SumSamples(n, one_direction, [&](int a, int b) {
+    const Eigen::Vector2d& f = offsets[b * n + a];
+    const double fa = f.x(), fb = f.y();
+    const Eigen::Vector2d point = p + fa * u + fb * v + fa * fb * q;
+    return lut[shader.Shade(point.x(), point.y()) + 1];
+  });
+}
+
+// The pixel box [x0, x1) x [y0, y1) of the visible boards (empty: x0 = w, y0 = h).
+std::array<int, 4> BoardsBox(const std::vector<BoardShader>& boards, int w, int h) {
+  int x0 = w, x1 = 0, y0 = h, y1 = 0;
+  for (const BoardShader& board : boards) {
+    if (board.i0() > board.i1() || board.j0() > board.j1()) continue;  // Not visible.
+    x0 = std::min(x0, board.i0()), x1 = std::max(x1, board.i1());
+    y0 = std::min(y0, board.j0()), y1 = std::max(y1, board.j1());
+  }
+  return {x0, x1, y0, y1};
+}
+
+// The n x n samples' sum of a pixel whose corners see more than one board or a board's edge: each
+// sample traced to the nearest board, its ray interpolated between the corners' or, where a corner
+// has no ray (outside the lens's valid region), unprojected by sample_ray(u, v, &ray).
+struct TracedPixel {
+  int i, j;
+  const CornerRays& rays;
+  const std::vector<BoardShader>& boards;
+  const std::vector<float>& gray_of;  // Gray level of hit h at h + 1 (h = kOffBoard: -1).
+  const std::vector<Eigen::Vector2d>& offsets;
+  RaySpace space;
+};
+template <typename SampleRayFn>
+float SumTracedSamples(const TracedPixel& pixel, int n, const SampleRayFn& sample_ray) {
+  const int i = pixel.i, j = pixel.j;
+  const Eigen::Vector2d r00 = pixel.rays(i, j), r10 = pixel.rays(i + 1, j);
+  const Eigen::Vector2d r01 = pixel.rays(i, j + 1), r11 = pixel.rays(i + 1, j + 1);
+  const bool exact = std::isnan(r00.x() + r10.x() + r01.x() + r11.x());
+  const auto gray = [&](int hit) { return pixel.gray_of[hit + 1]; };
+  float sum = 0;
+  for (int b = 0; b < n; ++b) {
+    for (int a = 0; a < n; ++a) {
+      const Eigen::Vector2d& f = pixel.offsets[b * n + a];
+      const double fa = f.x(), fb = f.y();
+      if (exact) {
+        Eigen::Vector3d ray;
+        if (!sample_ray(i - 0.5 + fa, j - 0.5 + fb, &ray)) {
+          sum += gray(kOffBoard);
+          continue;
+        }
+        sum += gray(TraceBoards(pixel.boards, ray));
+        continue;
+      }
+      const Eigen::Vector2d q =
+          (1 - fb) * ((1 - fa) * r00 + fa * r10) + fb * ((1 - fa) * r01 + fa * r11);
+      sum += gray(TraceBoards(pixel.boards, LiftRay(pixel.space, q)));
+    }
+  }
+  return sum;
+}
+
+}  // namespace
+
 bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen::Matrix3d& ray_map,
                                 const CameraIntrinsics& camera, std::vector<float>* values_out,
                                 std::array<int, 4>* boards_box, std::string* why) const {
@@ -577,53 +719,27 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
     gray_of[2 * b + 1] = static_cast<float>(o.black_gray);
     gray_of[2 * b + 2] = static_cast<float>(o.white_gray);
   }
-  const auto gray = [&gray_of](int hit) { return gray_of[hit + 1]; };
   // Pass 1, pixel corners: what each sees, and where on its board.
   const size_t stride = w + 1;
   // Per-thread scratch buffers, reused from frame to frame (no page faults per frame).
   thread_local std::vector<int16_t> corners;
-  thread_local std::vector<Eigen::Vector2f> corner_in_board;  // Float: 1e-7 m on a 1 m board.
-  thread_local std::vector<double> depths;
+  thread_local std::vector<Eigen::Vector2f> corner_in_board;
   const size_t num_corners = static_cast<size_t>(w + 1) * (h + 1);
   corners.assign(num_corners, kOffBoard);
   corner_in_board.resize(num_corners);
-  // Without distortion the ray of corner (i, j) is A^-1 (i - 0.5, j - 0.5, 1), as in the table.
   const Eigen::Matrix3d a_inv = intrinsics_.Matrix().inverse();
-  const bool table = !corner_rays_.empty();
+  const CornerRays corner_rays{corner_rays_, a_inv, stride};
+  CornerHits hits{corners, corner_in_board, stride};
   const RaySpace space = RaySpaceOf(intrinsics_.family);
-  // A corner's ray in the table's coordinates (RaySpace), lifted to a homogeneous ray by LiftRay.
-  const auto corner_ray = [&](int i, int j) -> Eigen::Vector2d {
-    return table ? corner_rays_[static_cast<size_t>(j) * stride + i]
-                 : Eigen::Vector2d((a_inv * Eigen::Vector3d(i - 0.5, j - 0.5, 1.0)).head<2>());
-  };
-  depths.resize(stride);
-  std::vector<float>& values = *values_out;
-  values.resize(static_cast<size_t>(w) * h);
-  for (int j = 0; j <= h; ++j) {
-    std::fill(depths.begin(), depths.end(), std::numeric_limits<double>::infinity());
-    for (size_t b = 0; b < boards.size(); ++b) {
-      const BoardShader& board = boards[b];
-      if (j < board.j0() || j > board.j1()) continue;
-      for (int i = board.i0(); i <= board.i1(); ++i) {
-        const size_t k = j * stride + i;
-        const Eigen::Vector3d ray = LiftRay(space, corner_ray(i, j));
-        double bx = 0, by = 0, depth = 0;
-        if (!board.ToBoard(ray, &bx, &by, &depth) || !(depth < depths[i])) continue;
-        depths[i] = depth;
-        corners[k] = static_cast<int16_t>(2 * b + board.Shade(bx, by));
-        corner_in_board[k] = Eigen::Vector2f(bx, by);
-      }
-    }
-  }
-  // Pass 2, pixels: one shade if the four corners agree, else n x n samples. When the four corners
-  // see the same board and no other board may be in the pixel, the samples' board coordinates are
-  // interpolated between the corners' (a homography is affine to 1e-6 px over one pixel).
+  TraceCorners(boards, corner_rays, space, h, &hits);
+  // Pass 2, pixels: one shade if the four corners agree, else n x n samples: interpolated on the
+  // board when the pixel sees one board only (SumOnOneBoard), traced otherwise.
   std::vector<Eigen::Vector2d> offsets(static_cast<size_t>(n) * n);
   for (int b = 0; b < n; ++b) {
     for (int a = 0; a < n; ++a) offsets[b * n + a] = SampleOffset(a, b, n);
   }
-  const int16_t* hits = corners.data();
-  float* out = values.data();
+  std::vector<float>& values = *values_out;
+  values.resize(static_cast<size_t>(w) * h);
   for (int j = 0; j < h; ++j) {
     // Pixels with no board's bounds at any corner see the background.
     int i_begin = w, i_end = 0;
@@ -632,9 +748,9 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
       i_begin = std::min(i_begin, std::max(0, board.i0() - 1));
       i_end = std::max(i_end, std::min(w, board.i1() + 1));
     }
-    float* row = out + static_cast<size_t>(j) * w;
-    std::fill(row, row + w, gray(kOffBoard));
-    const int16_t* top = hits + j * stride;
+    float* row = values.data() + static_cast<size_t>(j) * w;
+    std::fill(row, row + w, gray_of[kOffBoard + 1]);
+    const int16_t* top = corners.data() + j * stride;
     const int16_t* bottom = top + stride;
     for (int i = i_begin; i < i_end; ++i) {
       const int c00 = top[i];
@@ -642,72 +758,23 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
         row[i] = gray_of[c00 + 1];
         continue;
       }
-      const size_t k00 = j * stride + i, k01 = k00 + stride;
-      const int board = c00 / 2;
-      bool one_board = c00 >= 0 && corners[k00 + 1] / 2 == board && corners[k01] / 2 == board &&
-                       corners[k01 + 1] >= 0 && corners[k01 + 1] / 2 == board &&
-                       corners[k00 + 1] >= 0 && corners[k01] >= 0;
-      for (size_t b = 0; one_board && b < boards.size(); ++b) {
-        if (static_cast<int>(b) != board && boards[b].Covers(i, j)) one_board = false;
-      }
+      const size_t k00 = j * stride + i;
       float sum = 0;
-      if (one_board) {
-        // b(fa, fb) = p + fa u + fb v + fa fb q over the pixel, from its corners' board points.
-        const Eigen::Vector2d p = corner_in_board[k00].cast<double>();
-        const Eigen::Vector2d u = corner_in_board[k00 + 1].cast<double>() - p;
-        const Eigen::Vector2d v = corner_in_board[k01].cast<double>() - p;
-        const Eigen::Vector2d q = corner_in_board[k01 + 1].cast<double>() - p - u - v;
-        const float lut[3] = {gray(kOffBoard), gray(2 * board), gray(2 * board + 1)};
-        const BoardShader& shader = boards[board];
-        // Cell-edge lines of one direction only cross the pixel when all four corners share the
-        // column key or the row key (keys are monotone, the footprint is in the corners' hull).
-        int kx[4], ky[4];
-        for (int c = 0; c < 4; ++c) {
-          const Eigen::Vector2f& corner = corner_in_board[c < 2 ? k00 + c : k01 + c - 2];
-          shader.AxisKeys(corner.x(), corner.y(), &kx[c], &ky[c]);
-        }
-        const bool one_direction = (kx[0] == kx[1] && kx[0] == kx[2] && kx[0] == kx[3]) ||
-                                   (ky[0] == ky[1] && ky[0] == ky[2] && ky[0] == ky[3]);
-        sum = SumSamples(n, one_direction, [&](int a, int b) {
-          const Eigen::Vector2d& f = offsets[b * n + a];
-          const double fa = f.x(), fb = f.y();
-          const Eigen::Vector2d point = p + fa * u + fb * v + fa * fb * q;
-          return lut[shader.Shade(point.x(), point.y()) + 1];
-        });
-        values[j * w + i] = sum / static_cast<float>(n * n);
-        continue;
+      if (SeesOneBoard(boards, hits, k00, i, j)) {
+        const int board = c00 / 2;
+        const std::array<float, 3> lut = {gray_of[kOffBoard + 1], gray_of[2 * board + 1],
+                                          gray_of[2 * board + 2]};
+        sum = SumOnOneBoard(boards[board], lut, hits, k00, offsets, n);
+      } else {
+        const auto sample_ray = [&](double u, double v, Eigen::Vector3d* ray) {
+          return SampleRay(a_inv, u, v, ray);
+        };
+        sum = SumTracedSamples({i, j, corner_rays, boards, gray_of, offsets, space}, n, sample_ray);
       }
-      const Eigen::Vector2d r00 = corner_ray(i, j), r10 = corner_ray(i + 1, j);
-      const Eigen::Vector2d r01 = corner_ray(i, j + 1), r11 = corner_ray(i + 1, j + 1);
-      const bool exact = std::isnan(r00.x() + r10.x() + r01.x() + r11.x());
-      for (int b = 0; b < n; ++b) {
-        for (int a = 0; a < n; ++a) {
-          const Eigen::Vector2d& f = offsets[b * n + a];
-          const double fa = f.x(), fb = f.y();
-          if (exact) {  // A corner outside the lens's valid region: unproject the sample.
-            Eigen::Vector3d ray;
-            if (!SampleRay(a_inv, i - 0.5 + fa, j - 0.5 + fb, &ray)) {
-              sum += gray(kOffBoard);
-              continue;
-            }
-            sum += gray(TraceBoards(boards, ray));
-            continue;
-          }
-          const Eigen::Vector2d q =
-              (1 - fb) * ((1 - fa) * r00 + fa * r10) + fb * ((1 - fa) * r01 + fa * r11);
-          sum += gray(TraceBoards(boards, LiftRay(space, q)));
-        }
-      }
-      values[j * w + i] = sum / static_cast<float>(n * n);
+      row[i] = sum / static_cast<float>(n * n);
     }
   }
-  int x0 = w, x1 = 0, y0 = h, y1 = 0;
-  for (const BoardShader& board : boards) {
-    if (board.i0() > board.i1() || board.j0() > board.j1()) continue;  // Not visible.
-    x0 = std::min(x0, board.i0()), x1 = std::max(x1, board.i1());
-    y0 = std::min(y0, board.j0()), y1 = std::max(y1, board.j1());
-  }
-  *boards_box = {x0, x1, y0, y1};
+  *boards_box = BoardsBox(boards, w, h);
   return true;
 }
 
