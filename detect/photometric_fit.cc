@@ -105,47 +105,67 @@ void TagFit::CornerCovariances(const ParamVector& x, const ParamMatrix& jtj,
 PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) {
   PhotometricFitResult result;
   result.corners = initial;
-  ParamVector x = ParamVector::Zero();
-  if (!Start(initial, &x, &result)) return result;
-  double cost = 0;
-  ParamMatrix jtj;
-  ParamVector jtr;
-  if (!Evaluate(x, &cost, &jtj, &jtr)) {
+  FitState state;
+  state.x = ParamVector::Zero();
+  if (!Start(initial, &state.x, &result)) return result;
+  if (!Evaluate(state.x, &state.cost, &state.jtj, &state.jtr)) {
     result.failure = FitFailure::kDiverged;
     result.message = "the initial homography is invalid over the tag's region";
     return result;
   }
+  CornersOf(HomographyOf(state.x), &state.corners);
+  if (!Minimize(initial, &state, &result)) return result;
+  // A PSF wider than the one the pixels were classified with reaches farther: classify again.
+  if (state.x[kSigma] > classified_sigma_ + kReclassifySigmaPx &&
+      (!Classify(state.x, &result) || !Evaluate(state.x, &state.cost, &state.jtj, &state.jtr))) {
+    if (result.ok()) result.failure = FitFailure::kDiverged;
+    return result;
+  }
+  const double dof = std::max(1.0, static_cast<double>(pixels_.size()) - kNumParams);
+  std::array<Eigen::Vector2d, 4> pixel_corners;
+  if (!CheckSolution(state, initial, dof, &pixel_corners, &result)) return result;
+  CornerCovariances(state.x, state.jtj, state.cost / dof, state.corners, &result);
+  result.corners = pixel_corners;
+  return result;
+}
+
+bool TagFit::StepCorners(const ParamVector& trial, const std::array<Eigen::Vector2d, 4>& initial,
+                         const std::array<Eigen::Vector2d, 4>& corners, StepMoves* moves) const {
+  // A step is tried only while every corner stays near the detector's: farther, the region
+  // (and the cost of one evaluation) would grow without bound.
+  bool valid =
+      trial[kSigma] <= options_.max_blur_px && CornersOf(HomographyOf(trial), &moves->corners);
+  moves->moved = moves->since_classified = 0;
+  for (int k = 0; k < 4 && valid; ++k) {
+    const Eigen::Vector2d c = ToPixel(moves->corners[k]);
+    valid = (c - initial[k]).norm() <= 2 * options_.max_correction_px;
+    moves->moved = std::max(moves->moved, px_per_unit_ * (moves->corners[k] - corners[k]).norm());
+    moves->since_classified =
+        std::max(moves->since_classified,
+                 px_per_unit_ * (moves->corners[k] - classified_corners_[k]).norm());
+  }
+  return valid;
+}
+
+bool TagFit::Minimize(const std::array<Eigen::Vector2d, 4>& initial, FitState* state,
+                      PhotometricFitResult* result) {
+  ParamVector& x = state->x;
   double lambda = 1e-4;
   bool converged = false;
-  std::array<Eigen::Vector2d, 4> corners;
-  CornersOf(HomographyOf(x), &corners);
   int it = 0;
   double last_moved = 0;  // Corner movement of the last accepted step (px); 0 before the first.
   for (; it < options_.max_iterations && !converged; ++it) {
-    ParamMatrix a = jtj;
+    ParamMatrix a = state->jtj;
     for (int i = 0; i < kNumParams; ++i) a(i, i) = a(i, i) * (1 + lambda) + 1e-12;
     if (!options_.fit_shading) {
       for (int i : {kShadeX, kShadeY}) a(i, i) = 1;
     }
-    const ParamVector step = a.ldlt().solve(jtr);
+    const ParamVector step = a.ldlt().solve(state->jtr);
     ParamVector trial = x + step;
     trial[kSigma] = std::max(trial[kSigma], kMinSigmaPx);
-    double trial_cost = 0;
-    ParamMatrix trial_jtj;
-    ParamVector trial_jtr;
-    std::array<Eigen::Vector2d, 4> trial_corners;
-    // A step is tried only while every corner stays near the detector's: farther, the region
-    // (and the cost of one evaluation) would grow without bound.
-    bool valid = step.allFinite() && trial[kSigma] <= options_.max_blur_px &&
-                 CornersOf(HomographyOf(trial), &trial_corners);
-    double moved = 0, since_classified = 0;
-    for (int k = 0; k < 4 && valid; ++k) {
-      const Eigen::Vector2d c = ToPixel(trial_corners[k]);
-      valid = (c - initial[k]).norm() <= 2 * options_.max_correction_px;
-      moved = std::max(moved, px_per_unit_ * (trial_corners[k] - corners[k]).norm());
-      since_classified = std::max(
-          since_classified, px_per_unit_ * (trial_corners[k] - classified_corners_[k]).norm());
-    }
+    StepMoves moves;
+    const bool valid = step.allFinite() && StepCorners(trial, initial, state->corners, &moves);
+    const double moved = moves.moved;
     const bool sigma_settled = std::abs(trial[kSigma] - x[kSigma]) < kSigmaSettledPx;
     // The corners' error left after this step: the steps still to come, which shrink by
     // q = moved / last_moved each where Gauss-Newton converges at least linearly, sum to
@@ -156,11 +176,15 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
       // The step is taken without another evaluation (the information J^T J and the cost at x are
       // those of the solution to within it).
       x = trial;
-      corners = trial_corners;
+      state->corners = moves.corners;
       converged = true;
       break;
     }
-    if (!valid || !Evaluate(trial, &trial_cost, &trial_jtj, &trial_jtr) || !(trial_cost < cost)) {
+    double trial_cost = 0;
+    ParamMatrix trial_jtj;
+    ParamVector trial_jtr;
+    if (!valid || !Evaluate(trial, &trial_cost, &trial_jtj, &trial_jtr) ||
+        !(trial_cost < state->cost)) {
       // At the minimum, steps below the tolerance may no longer lower the cost in floating point.
       converged = valid && moved < options_.convergence_px && sigma_settled;
       lambda *= 10;
@@ -168,69 +192,64 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
       continue;
     }
     x = trial;
-    corners = trial_corners;
+    state->corners = moves.corners;
     last_moved = moved;
-    cost = trial_cost;
-    jtj = trial_jtj;
-    jtr = trial_jtr;
+    state->cost = trial_cost;
+    state->jtj = trial_jtj;
+    state->jtr = trial_jtr;
     lambda = std::max(lambda / 10, 1e-9);
     converged = moved < options_.convergence_px && sigma_settled;
-    if (since_classified > kReclassifyPx ||
-        x[kSigma] > classified_sigma_ +
-                        kReclassifySigmaPx) {  // The pixels' rectangle lists may be stale: rebuild.
-      if (!Classify(x, &result)) return result;
-      if (!Evaluate(x, &cost, &jtj, &jtr)) break;
+    // The pixels' rectangle lists may be stale: rebuild.
+    if (moves.since_classified > kReclassifyPx ||
+        x[kSigma] > classified_sigma_ + kReclassifySigmaPx) {
+      if (!Classify(x, result)) return false;
+      if (!Evaluate(x, &state->cost, &state->jtj, &state->jtr)) break;
       converged = false;
     }
   }
-  result.iterations = it;
-  if (!converged) {
-    result.failure =
-        it >= options_.max_iterations ? FitFailure::kNotConverged : FitFailure::kDiverged;
-    result.message =
-        it >= options_.max_iterations
-            ? "not converged in " + std::to_string(options_.max_iterations) + " iterations"
-            : "no step lowers the cost";
-    return result;
-  }
-  // A PSF wider than the one the pixels were classified with reaches farther: classify again.
-  if (x[kSigma] > classified_sigma_ + kReclassifySigmaPx &&
-      (!Classify(x, &result) || !Evaluate(x, &cost, &jtj, &jtr))) {
-    if (result.ok()) result.failure = FitFailure::kDiverged;
-    return result;
-  }
-  result.pixels = static_cast<int>(pixels_.size());
-  result.blur_px = x[kSigma];
-  result.black_gray = x[kBlack];
-  result.white_gray = x[kWhite];
-  const double dof = std::max(1.0, static_cast<double>(pixels_.size()) - kNumParams);
-  result.residual_rms_gray = std::sqrt(cost / dof);
+  result->iterations = it;
+  if (converged) return true;
+  result->failure =
+      it >= options_.max_iterations ? FitFailure::kNotConverged : FitFailure::kDiverged;
+  result->message =
+      it >= options_.max_iterations
+          ? "not converged in " + std::to_string(options_.max_iterations) + " iterations"
+          : "no step lowers the cost";
+  return false;
+}
+
+bool TagFit::CheckSolution(const FitState& state, const std::array<Eigen::Vector2d, 4>& initial,
+                           double dof, std::array<Eigen::Vector2d, 4>* pixel_corners,
+                           PhotometricFitResult* result) const {
+  const ParamVector& x = state.x;
+  result->pixels = static_cast<int>(pixels_.size());
+  result->blur_px = x[kSigma];
+  result->black_gray = x[kBlack];
+  result->white_gray = x[kWhite];
+  result->residual_rms_gray = std::sqrt(state.cost / dof);
   const double contrast = x[kWhite] - x[kBlack];
   if (!(contrast >= options_.min_contrast_gray) ||
-      !(contrast >= options_.min_contrast_to_residual * result.residual_rms_gray)) {
-    result.failure = FitFailure::kLowContrast;
-    result.message = "fitted contrast " + std::to_string(contrast) + " gray levels against a " +
-                     std::to_string(result.residual_rms_gray) +
-                     " gray-level residual RMS (min_contrast_gray " +
-                     std::to_string(options_.min_contrast_gray) + ", min_contrast_to_residual " +
-                     std::to_string(options_.min_contrast_to_residual) + ")";
-    return result;
+      !(contrast >= options_.min_contrast_to_residual * result->residual_rms_gray)) {
+    result->failure = FitFailure::kLowContrast;
+    result->message = "fitted contrast " + std::to_string(contrast) + " gray levels against a " +
+                      std::to_string(result->residual_rms_gray) +
+                      " gray-level residual RMS (min_contrast_gray " +
+                      std::to_string(options_.min_contrast_gray) + ", min_contrast_to_residual " +
+                      std::to_string(options_.min_contrast_to_residual) + ")";
+    return false;
   }
-  std::array<Eigen::Vector2d, 4> pixel_corners;
   for (int k = 0; k < 4; ++k) {
-    pixel_corners[k] = ToPixel(corners[k]);
-    if (!((pixel_corners[k] - initial[k]).norm() <= options_.max_correction_px)) {
-      result.failure = FitFailure::kMoved;
-      result.message = "corner " + std::to_string(k) + " moved " +
-                       std::to_string((pixel_corners[k] - initial[k]).norm()) +
-                       " px from the detector's (max_correction_px " +
-                       std::to_string(options_.max_correction_px) + ")";
-      return result;
+    (*pixel_corners)[k] = ToPixel(state.corners[k]);
+    const double moved = ((*pixel_corners)[k] - initial[k]).norm();
+    if (!(moved <= options_.max_correction_px)) {
+      result->failure = FitFailure::kMoved;
+      result->message = "corner " + std::to_string(k) + " moved " + std::to_string(moved) +
+                        " px from the detector's (max_correction_px " +
+                        std::to_string(options_.max_correction_px) + ")";
+      return false;
     }
   }
-  CornerCovariances(x, jtj, cost / dof, corners, &result);
-  result.corners = pixel_corners;
-  return result;
+  return true;
 }
 
 }  // namespace photometric_internal

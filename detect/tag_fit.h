@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "detect/photometric_fit.h"
+#include "detect/tag_model.h"
 #include "detect/tangent_plane.h"
 
 namespace calibench {
@@ -69,6 +70,28 @@ struct FitPixel {
 // x0, x1, y0, y1 among the pixel's lines (its lines within reach), or kSlotZero / kSlotOne.
 using RectSlots = std::array<uint8_t, 4>;
 
+// TagFit::Evaluate's pieces. Per line under homography g: l = G^T m, its unit (l / |l_xy|) and
+// 1 / |l_xy|; false when a line has no normal.
+struct EvalLines {
+  std::vector<Eigen::Vector3d> unit, raw;
+  std::vector<double> inv_norm;
+};
+// Per pixel, per line of its rectangles (slots 0..num_lines-1; kSlotZero/kSlotOne are the
+// constants): P(f), P'(f), dP/dsigma(f), and d b / d f (weight; the constant slots collect unread
+// weight). The profile is odd about one half: the far edge of a rectangle contributes 1 - P(f),
+// so that [P(d_0) + P(d_1) - 1] = P(f_0) - P(f_1) with f the signed distance towards larger x
+// (or y). Per line also its distance f (px) and image normal (unit, towards larger f), for the
+// quadrant correction at the rectangles' vertices (tag_model.h), and with a camera 1 / N and
+// r = M M^T l_xy / N, N = |M^T l_xy| (f = l . p^~ / N, d f / d l = (p^~ - f (r, 0)) / N).
+struct PixelLines {
+  std::array<EdgeProfileValue, kNumSlots> profile;
+  std::array<double, kNumSlots> weight{};
+  std::array<double, kMaxLinesPerPixel> distance;
+  std::array<Eigen::Vector2d, kMaxLinesPerPixel> normal;
+  std::array<double, kMaxLinesPerPixel> lens_inv_n;
+  std::array<Eigen::Vector2d, kMaxLinesPerPixel> lens_r;
+};
+
 class TagFit {
  public:
   TagFit(const GrayImageView& image, const TagPattern& pattern, const PhotometricFitOptions& o,
@@ -90,6 +113,33 @@ class TagFit {
   // no quadrilateral, the region is unusable or its contrast is below min_contrast_gray.
   bool Start(const std::array<Eigen::Vector2d, 4>& initial, ParamVector* x,
              PhotometricFitResult* result);
+  // The fit's iterate: parameters, cost, J^T J and J^T r at x, and the tag's corners (model plane).
+  struct FitState {
+    ParamVector x;
+    double cost = 0;
+    ParamMatrix jtj;
+    ParamVector jtr;
+    std::array<Eigen::Vector2d, 4> corners;
+  };
+  // Levenberg-Marquardt from *state (evaluated at its x) until the corners move by less than
+  // convergence_px and sigma has settled, re-classifying the pixels when the corners or sigma move
+  // past the margins. False with the failure set when it does not converge.
+  bool Minimize(const std::array<Eigen::Vector2d, 4>& initial, FitState* state,
+                PhotometricFitResult* result);
+  // A trial step's corners and how far they moved (px) from the current ones and from those the
+  // pixels were classified with. False when sigma exceeds max_blur_px or a corner leaves
+  // 2 max_correction_px of the detector's.
+  struct StepMoves {
+    std::array<Eigen::Vector2d, 4> corners;
+    double moved = 0, since_classified = 0;
+  };
+  bool StepCorners(const ParamVector& trial, const std::array<Eigen::Vector2d, 4>& initial,
+                   const std::array<Eigen::Vector2d, 4>& corners, StepMoves* moves) const;
+  // Fills the result's levels, blur and residual RMS and *pixel_corners; false with the failure
+  // set for a contrast too low for the residuals or a corner moved past max_correction_px.
+  bool CheckSolution(const FitState& state, const std::array<Eigen::Vector2d, 4>& initial,
+                     double dof, std::array<Eigen::Vector2d, 4>* pixel_corners,
+                     PhotometricFitResult* result) const;
   // Each corner's covariance and crlb_px at the solution (header of photometric_fit.h): the
   // corners are functions of G, cov = D_k [residual_variance (J^T J)^-1]_GG D_k^T.
   void CornerCovariances(const ParamVector& x, const ParamMatrix& jtj, double residual_variance,
@@ -139,6 +189,16 @@ class TagFit {
   bool EnoughPixels(long inside, long outside, PhotometricFitResult* result) const;
   // Cost, J^T J and J^T r at x; false when x is invalid (a pixel behind the homography's horizon).
   bool Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, ParamVector* jtr) const;
+  // Evaluate's pieces.
+  bool EvaluationLines(const Eigen::Matrix3d& g, EvalLines* lines) const;
+  // Fills the distance, normal and profile (tables: vertical, horizontal lines) of each line of
+  // pixel `index` at its model point p^~ (and the lens terms with a camera).
+  void ProfileLines(size_t index, const Eigen::Vector3d& p, const EvalLines& lines,
+                    const std::array<EdgeProfileTable, 2>& tables, PixelLines* out) const;
+  // d b / d G_ij = sum over lines of weight m_i (d f / d l_j), m = (1, 0, m_2) for vertical lines
+  // and (0, 1, m_2) for horizontal ones (the model's gradient is this times shade * contrast).
+  Eigen::Matrix3d HomographyGradient(size_t index, const Eigen::Vector3d& p, const EvalLines& lines,
+                                     const PixelLines& pl) const;
   bool InitialHomography(const std::array<Eigen::Vector2d, 4>& corners, ParamVector* x) const;
   // The model plane: pixels themselves, or with a camera the tangent plane about the tag's centre
   // ray (tangent_plane.h), where the tag's edges are straight. p^ = (model point - centre_) /

@@ -388,125 +388,192 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   return true;
 }
 
+namespace {
+
+// The quadrature rules per rho, built once per vertex: without a lens every pixel of a vertex has
+// the same rho (its two lines' normals), so a few entries serve the whole tag.
+class QuadrantRules {
+ public:
+  const QuadrantRule& For(double rho) {
+    for (int i = 0; i < num_; ++i) {
+      if (rules_[i].rho == rho) return rules_[i];
+    }
+    const int slot = next_;
+    next_ = (next_ + 1) % static_cast<int>(rules_.size());
+    num_ = std::max(num_, slot + 1);
+    rules_[slot] = QuadrantRuleFor(rho);
+    return rules_[slot];
+  }
+
+ private:
+  std::array<QuadrantRule, 16> rules_;
+  int num_ = 0, next_ = 0;
+};
+
+// The model's normalised brightness b at a pixel (0 white, 1 black) and d b / d sigma: its deep
+// rectangles, plus per near rectangle [P(f_x0) - P(f_x1)] [P(f_y0) - P(f_y1)] and the quadrant
+// corrections at its vertices (tag_model.h). Adds d b / d f to lines->weight per slot.
+struct Brightness {
+  double b, db_dsigma;
+};
+// The PSF's sigma (px) and its total variance with the pixel box, s2 = sigma^2 + 1/12.
+struct Psf {
+  double sigma, s2, inv_s;
+  explicit Psf(double sigma_px)
+      : sigma(sigma_px), s2(sigma_px * sigma_px + 1.0 / 12), inv_s(1 / std::sqrt(s2)) {}
+};
+Brightness PixelBrightness(const FitPixel& px, const RectSlots* rects, const Psf& psf,
+                           PixelLines* lines, QuadrantRules* rules) {
+  const double sigma = psf.sigma, s2 = psf.s2, inv_s = psf.inv_s;
+  const auto& profile = lines->profile;
+  auto& weight = lines->weight;
+  double b = px.deep, db_dsigma = 0;
+  for (int k = 0; k < px.num_rects; ++k) {
+    const RectSlots& r = rects[k];
+    const EdgeProfileValue &a0 = profile[r[0]], &a1 = profile[r[1]];
+    const EdgeProfileValue &c0 = profile[r[2]], &c1 = profile[r[3]];
+    const double fx = a0.p - a1.p, fy = c0.p - c1.p;
+    b += fx * fy;
+    db_dsigma += (a0.dp_dsigma - a1.dp_dsigma) * fy + (c0.dp_dsigma - c1.dp_dsigma) * fx;
+    weight[r[0]] += a0.dp_dd * fy;
+    weight[r[1]] -= a1.dp_dd * fy;
+    weight[r[2]] += c0.dp_dd * fx;
+    weight[r[3]] -= c1.dp_dd * fx;
+    // The vertices whose two edges are within reach and not orthogonal in the image: the
+    // quadrant {x > x_i, y > y_j} enters the rectangle with the sign (-1)^(i + j).
+    for (int i = 0; i < 2; ++i) {
+      for (int j = 2; j < 4; ++j) {
+        const int sx = r[i], sy = r[j];
+        if (sx >= kMaxLinesPerPixel || sy >= kMaxLinesPerPixel) continue;
+        const double rho = lines->normal[sx].dot(lines->normal[sy]);
+        const double qa = lines->distance[sx] * inv_s, qb = lines->distance[sy] * inv_s;
+        if (std::abs(rho) < 1e-4 || std::abs(qa) > kQuadrantCorrectionReach ||
+            std::abs(qb) > kQuadrantCorrectionReach) {
+          continue;
+        }
+        const QuadrantCorrection c = QuadrantCorrectionAt(qa, qb, rules->For(rho));
+        const double sign = (i + j) % 2 == 0 ? 1.0 : -1.0;
+        b += sign * c.c;
+        weight[sx] += sign * c.dc_da * inv_s;
+        weight[sy] += sign * c.dc_db * inv_s;
+        // a = d / s, ds/dsigma = sigma / s: da/dsigma = -a sigma / s^2.
+        db_dsigma -= sign * (qa * c.dc_da + qb * c.dc_db) * sigma / s2;
+      }
+    }
+  }
+  return {b, db_dsigma};
+}
+
+// Adds the pixel's row jac to the upper triangle of J^T J (column-major) and jac r to J^T r,
+// from parameter `first` on (the others are zero).
+void AccumulateNormalEquations(const ParamVector& jac, double r, int first, ParamMatrix* jtj,
+                               ParamVector* jtr) {
+  double* h = jtj->data();
+  for (int col = first; col < kNumParams; ++col) {
+    const double jc = jac[col];
+    for (int row = first; row <= col; ++row) h[col * kNumParams + row] += jac[row] * jc;
+  }
+  for (int i = first; i < kNumParams; ++i) (*jtr)[i] += jac[i] * r;
+}
+
+}  // namespace
+
+bool TagFit::EvaluationLines(const Eigen::Matrix3d& g, EvalLines* lines) const {
+  const size_t num_lines = layout_.lines.size();
+  lines->unit.resize(num_lines), lines->raw.resize(num_lines), lines->inv_norm.resize(num_lines);
+  for (size_t i = 0; i < num_lines; ++i) {
+    const Eigen::Vector3d l = g.transpose() * layout_.lines[i].m;
+    const double n = l.head<2>().norm();
+    if (!(n > 1e-12)) return false;
+    lines->raw[i] = l;
+    lines->unit[i] = l / n;
+    lines->inv_norm[i] = 1 / n;
+  }
+  return true;
+}
+
+void TagFit::ProfileLines(size_t index, const Eigen::Vector3d& p, const EvalLines& lines,
+                          const std::array<EdgeProfileTable, 2>& tables, PixelLines* out) const {
+  const FitPixel& px = pixels_[index];
+  const int* lines_of_pixel = pixel_lines_.data() + px.first_line;
+  for (int k = 0; k < px.num_lines; ++k) {
+    const int line = lines_of_pixel[k];
+    double f;
+    if (camera_) {
+      const Eigen::Matrix2d& m = pixel_jacobians_[index];
+      const Eigen::Vector2d mt_l = m.transpose() * lines.raw[line].head<2>();
+      out->lens_inv_n[k] = 1 / mt_l.norm();
+      out->lens_r[k] = m * mt_l * out->lens_inv_n[k];
+      f = lines.raw[line].dot(p) * out->lens_inv_n[k];
+      out->normal[k] = mt_l * out->lens_inv_n[k];
+    } else {
+      f = scale_ * lines.unit[line].dot(p);
+      out->normal[k] = lines.unit[line].head<2>();
+    }
+    out->distance[k] = f;
+    out->profile[k] = layout_.lines[line].vertical ? tables[0](f) : tables[1](f);
+  }
+}
+
+Eigen::Matrix3d TagFit::HomographyGradient(size_t index, const Eigen::Vector3d& p,
+                                           const EvalLines& lines, const PixelLines& pl) const {
+  const FitPixel& px = pixels_[index];
+  const int* lines_of_pixel = pixel_lines_.data() + px.first_line;
+  Eigen::Matrix3d dg = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < px.num_lines; ++k) {
+    const int line = lines_of_pixel[k];
+    Eigen::Vector3d df;  // weight * d f / d l.
+    if (camera_) {
+      const double w = pl.lens_inv_n[k] * pl.weight[k],
+                   f = lines.raw[line].dot(p) * pl.lens_inv_n[k];
+      df = Eigen::Vector3d(w * (p.x() - f * pl.lens_r[k].x()), w * (p.y() - f * pl.lens_r[k].y()),
+                           w);
+    } else {
+      const Eigen::Vector3d& u = lines.unit[line];
+      const double w = scale_ * lines.inv_norm[line] * pl.weight[k], f = u.dot(p);
+      df = Eigen::Vector3d(w * (p.x() - f * u.x()), w * (p.y() - f * u.y()), w);
+    }
+    const TagLine& tag_line = layout_.lines[line];
+    dg.row(tag_line.vertical ? 0 : 1) += df;
+    dg.row(2) += tag_line.m.z() * df;
+  }
+  return dg;
+}
+
 bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
                       ParamVector* jtr) const {
   const Eigen::Matrix3d g = HomographyOf(x);
   const double sigma = std::max(x[kSigma], kMinSigmaPx);
   const double black = x[kBlack], white = x[kWhite], contrast = black - white;
   const Eigen::Vector2d shading(x[kShadeX], x[kShadeY]);
-  const size_t num_lines = layout_.lines.size();
-  // Per line: f(p) = S (l . p^) / |l_xy| = unit . p^ (px) and d f / d l = S (p^ - (l^ . p^) l^_xy0)
-  // / |l_xy|, with l = G^T m linear in G.
-  std::vector<Eigen::Vector3d> unit(num_lines), raw(num_lines);
-  std::vector<double> inv_norm(num_lines);
-  for (size_t i = 0; i < num_lines; ++i) {
-    const Eigen::Vector3d l = g.transpose() * layout_.lines[i].m;
-    const double n = l.head<2>().norm();
-    if (!(n > 1e-12)) return false;
-    raw[i] = l;
-    unit[i] = l / n;
-    inv_norm[i] = 1 / n;
-  }
+  EvalLines lines;
+  if (!EvaluationLines(g, &lines)) return false;
   // The edges' normals in the image (with a camera: at the tag's centre) for the pixel box.
   auto image_normal = [&](int line) -> Eigen::Vector2d {
-    return (centre_jacobian_.transpose() * raw[line].head<2>()).normalized();
+    return (centre_jacobian_.transpose() * lines.raw[line].head<2>()).normalized();
   };
-  EdgeProfileTable vertical, horizontal;
-  vertical.Build(sigma, image_normal(layout_.middle_vertical));
-  horizontal.Build(sigma, image_normal(layout_.middle_horizontal));
+  std::array<EdgeProfileTable, 2> tables;  // Vertical, horizontal lines.
+  tables[0].Build(sigma, image_normal(layout_.middle_vertical));
+  tables[1].Build(sigma, image_normal(layout_.middle_horizontal));
 
   jtj->setZero();
   jtr->setZero();
   *cost = 0;
-  // Per pixel, per line of its rectangles: P (f), P' (f), dP/dsigma (f), and d b / d f. The profile
-  // is odd about one half: the far edge of a rectangle contributes 1 - P(f), so that
-  // [P(d_0) + P(d_1) - 1] = P(f_0) - P(f_1) with f the signed distance towards larger x (or y).
-  std::array<EdgeProfileValue, kNumSlots> profile;
-  std::array<double, kNumSlots> weight{};  // The constant slots collect unread weight.
-  profile[kSlotZero] = {0, 0, 0};
-  profile[kSlotOne] = {1, 0, 0};
-  // With a camera, per line: 1 / N and r = M M^T l_xy / N, N = |M^T l_xy| (f = l . p^~ / N,
-  // d f / d l = (p^~ - f (r, 0)) / N).
-  std::array<double, kMaxLinesPerPixel> lens_inv_n;
-  std::array<Eigen::Vector2d, kMaxLinesPerPixel> lens_r;
-  // Per line: its signed distance f (px) and its image normal (unit, towards larger f), for the
-  // quadrant correction at the rectangles' vertices (tag_model.h).
-  std::array<double, kMaxLinesPerPixel> distance;
-  std::array<Eigen::Vector2d, kMaxLinesPerPixel> normal;
-  const double s2 = sigma * sigma + 1.0 / 12, inv_s = 1 / std::sqrt(s2);
-  // The quadrature per rho, built once per vertex: without a lens every pixel of a vertex has the
-  // same rho (its two lines' normals), so a few entries serve the whole tag.
-  std::array<QuadrantRule, 16> rules;
-  int num_rules = 0, next_rule = 0;
-  auto rule_for = [&](double rho) -> const QuadrantRule& {
-    for (int i = 0; i < num_rules; ++i) {
-      if (rules[i].rho == rho) return rules[i];
-    }
-    const int slot = next_rule;
-    next_rule = (next_rule + 1) % static_cast<int>(rules.size());
-    num_rules = std::max(num_rules, slot + 1);
-    rules[slot] = QuadrantRuleFor(rho);
-    return rules[slot];
-  };
-  Eigen::Matrix<double, kNumParams, 1> jac;
+  PixelLines pl;
+  pl.profile[kSlotZero] = {0, 0, 0};
+  pl.profile[kSlotOne] = {1, 0, 0};
+  QuadrantRules rules;
+  const Psf psf(sigma);
+  ParamVector jac;
   for (size_t index = 0; index < pixels_.size(); ++index) {
     const FitPixel& px = pixels_[index];
     const Eigen::Vector3d p(px.p.x(), px.p.y(), 1);
     if (!((g.row(2) * p)(0) > 0)) return false;  // Behind the homography's horizon.
-    std::fill(weight.begin(), weight.begin() + px.num_lines, 0.0);
-    const int* lines_of_pixel = pixel_lines_.data() + px.first_line;
-    for (int k = 0; k < px.num_lines; ++k) {
-      const int line = lines_of_pixel[k];
-      double f;
-      if (camera_) {
-        const Eigen::Matrix2d& m = pixel_jacobians_[index];
-        const Eigen::Vector2d mt_l = m.transpose() * raw[line].head<2>();
-        lens_inv_n[k] = 1 / mt_l.norm();
-        lens_r[k] = m * mt_l * lens_inv_n[k];
-        f = raw[line].dot(p) * lens_inv_n[k];
-        normal[k] = mt_l * lens_inv_n[k];
-      } else {
-        f = scale_ * unit[line].dot(p);
-        normal[k] = unit[line].head<2>();
-      }
-      distance[k] = f;
-      profile[k] = layout_.lines[line].vertical ? vertical(f) : horizontal(f);
-    }
-    double b = px.deep, db_dsigma = 0;
-    for (int k = 0; k < px.num_rects; ++k) {
-      const RectSlots& r = pixel_rects_[px.first_rect + k];
-      const EdgeProfileValue &a0 = profile[r[0]], &a1 = profile[r[1]];
-      const EdgeProfileValue &c0 = profile[r[2]], &c1 = profile[r[3]];
-      const double fx = a0.p - a1.p, fy = c0.p - c1.p;
-      b += fx * fy;
-      db_dsigma += (a0.dp_dsigma - a1.dp_dsigma) * fy + (c0.dp_dsigma - c1.dp_dsigma) * fx;
-      weight[r[0]] += a0.dp_dd * fy;
-      weight[r[1]] -= a1.dp_dd * fy;
-      weight[r[2]] += c0.dp_dd * fx;
-      weight[r[3]] -= c1.dp_dd * fx;
-      // The vertices whose two edges are within reach and not orthogonal in the image: the
-      // quadrant {x > x_i, y > y_j} enters the rectangle with the sign (-1)^(i + j).
-      for (int i = 0; i < 2; ++i) {
-        for (int j = 2; j < 4; ++j) {
-          const int sx = r[i], sy = r[j];
-          if (sx >= kMaxLinesPerPixel || sy >= kMaxLinesPerPixel) continue;
-          const double rho = normal[sx].dot(normal[sy]);
-          const double qa = distance[sx] * inv_s, qb = distance[sy] * inv_s;
-          if (std::abs(rho) < 1e-4 || std::abs(qa) > kQuadrantCorrectionReach ||
-              std::abs(qb) > kQuadrantCorrectionReach) {
-            continue;
-          }
-          const QuadrantCorrection c = QuadrantCorrectionAt(qa, qb, rule_for(rho));
-          const double sign = (i + j) % 2 == 0 ? 1.0 : -1.0;
-          b += sign * c.c;
-          weight[sx] += sign * c.dc_da * inv_s;
-          weight[sy] += sign * c.dc_db * inv_s;
-          // a = d / s, ds/dsigma = sigma / s: da/dsigma = -a sigma / s^2.
-          db_dsigma -= sign * (qa * c.dc_da + qb * c.dc_db) * sigma / s2;
-        }
-      }
-    }
-    const double base = white + contrast * b;
+    std::fill(pl.weight.begin(), pl.weight.begin() + px.num_lines, 0.0);
+    ProfileLines(index, p, lines, tables, &pl);
+    const Brightness br =
+        PixelBrightness(px, pixel_rects_.data() + px.first_rect, psf, &pl, &rules);
+    const double base = white + contrast * br.b;
     const double shade = 1 + shading.dot(px.p);
     double model = shade * base;
     jac.setZero();
@@ -516,41 +583,17 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
       censored = (model >= 255 && px.gray >= 255) || (model <= 0 && px.gray <= 0);
       model = std::clamp(model, 0.0, 255.0);
     } else {
-      // d model / d G_ij = sum over lines of w m_i (d f / d l_j); m = (1, 0, m_2) for vertical
-      // lines and (0, 1, m_2) for horizontal ones.
-      Eigen::Matrix3d dg = Eigen::Matrix3d::Zero();
-      for (int k = 0; k < px.num_lines; ++k) {
-        const int line = lines_of_pixel[k];
-        Eigen::Vector3d df;  // weight * d f / d l.
-        if (camera_) {
-          const double w = lens_inv_n[k] * weight[k], f = raw[line].dot(p) * lens_inv_n[k];
-          df = Eigen::Vector3d(w * (p.x() - f * lens_r[k].x()), w * (p.y() - f * lens_r[k].y()), w);
-        } else {
-          const Eigen::Vector3d& u = unit[line];
-          const double w = scale_ * inv_norm[line] * weight[k], f = u.dot(p);
-          df = Eigen::Vector3d(w * (p.x() - f * u.x()), w * (p.y() - f * u.y()), w);
-        }
-        const TagLine& tag_line = layout_.lines[line];
-        dg.row(tag_line.vertical ? 0 : 1) += df;
-        dg.row(2) += tag_line.m.z() * df;
-      }
-      dg *= shade * contrast;
+      const Eigen::Matrix3d dg = HomographyGradient(index, p, lines, pl) * (shade * contrast);
       jac << dg(0, 0), dg(0, 1), dg(0, 2), dg(1, 0), dg(1, 1), dg(1, 2), dg(2, 0), dg(2, 1),
-          shade * contrast * db_dsigma, shade * b, shade * (1 - b), base * px.p.x(),
+          shade * contrast * br.db_dsigma, shade * br.b, shade * (1 - br.b), base * px.p.x(),
           base * px.p.y();
       if (!options_.fit_shading) jac[kShadeX] = jac[kShadeY] = 0;
     }
     if (censored) continue;
     const double r = px.gray - model;
     *cost += r * r;
-    double* h = jtj->data();  // Column-major: the upper triangle is (row <= col).
     // A pixel beyond every edge's reach depends only on the levels and the shading.
-    const int first = px.num_rects == 0 ? kBlack : 0;
-    for (int col = first; col < kNumParams; ++col) {
-      const double jc = jac[col];
-      for (int row = first; row <= col; ++row) h[col * kNumParams + row] += jac[row] * jc;
-    }
-    for (int i = first; i < kNumParams; ++i) (*jtr)[i] += jac[i] * r;
+    AccumulateNormalEquations(jac, r, px.num_rects == 0 ? kBlack : 0, jtj, jtr);
   }
   *jtj = jtj->selfadjointView<Eigen::Upper>();
   return true;
