@@ -293,6 +293,124 @@ bool ShardSpec::Parse(const std::string& text, std::string* why) {
   return true;
 }
 
+namespace {
+
+// This shard's tasks among all of the configuration's, in order, and their indices.
+struct ShardTasks {
+  std::vector<TrialTask> tasks;
+  std::vector<long> owned;
+  long total = 0;  // Tasks of the whole sweep.
+};
+ShardTasks TasksOfShard(const RunConfig& config, const std::vector<std::vector<int>>& groups,
+                        const ShardSpec& shard) {
+  ShardTasks out;
+  const std::vector<TrialTask> all_tasks = ListTasks(config.scenarios, groups);
+  out.total = static_cast<long>(all_tasks.size());
+  for (const TrialTask& t : all_tasks) {
+    if (!shard.Owns(t.index)) continue;
+    out.tasks.push_back(t);
+    out.owned.push_back(t.index);
+  }
+  return out;
+}
+
+enum class DirectoryState { kFailed, kComplete, kReady };
+
+// Makes `dir` ready to receive rows: a fresh run writes the resolved configuration and an empty
+// run.partial; --resume checks that the configuration is the interrupted run's and truncates
+// run.partial to its last whole task (summary->tasks_resumed), or finds the run complete.
+DirectoryState PrepareDirectory(const std::string& resolved, const std::string& index_header,
+                                const ShardTasks& shard, const RunDirOptions& options,
+                                IndexEntry* last, RunDirSummary* summary, std::string* why) {
+  const std::string& dir = options.out_dir;
+  const std::string partial = dir + "/" + kPartial;
+  const std::string resolved_path = dir + "/config.resolved.yaml";
+  if (!options.resume || !(fs::exists(partial + "/tasks.idx") || fs::exists(dir + "/tasks.idx"))) {
+    if (!WriteFileAtomically(resolved_path, resolved, why)) return DirectoryState::kFailed;
+    if (!CreatePartial(partial, index_header, last, why)) return DirectoryState::kFailed;
+    return DirectoryState::kReady;
+  }
+  if (Slurp(resolved_path) != resolved) {
+    *why = resolved_path +
+           ": --resume: the configuration differs from the interrupted run's; run without "
+           "--resume to start over";
+    return DirectoryState::kFailed;
+  }
+  if (!fs::exists(partial + "/tasks.idx")) {  // Finished before: only check and re-finalise.
+    std::string header;
+    std::vector<IndexEntry> entries;
+    long bytes = 0;
+    if (!ReadIndex(dir + "/tasks.idx", &header, &entries, &bytes, why)) {
+      return DirectoryState::kFailed;
+    }
+    if (header != index_header) {
+      *why = dir + "/tasks.idx: another shard's directory";
+      return DirectoryState::kFailed;
+    }
+    summary->tasks_resumed = summary->tasks_total;
+    return DirectoryState::kComplete;
+  }
+  if (fs::exists(partial + "/runs.csv")) {
+    if (!TruncatePartial(partial, index_header, shard.owned, last, &summary->tasks_resumed, why)) {
+      return DirectoryState::kFailed;
+    }
+  } else {
+    summary->tasks_resumed = summary->tasks_total;  // Cut short while moving files: finish that.
+  }
+  return DirectoryState::kReady;
+}
+
+// The CSV blocks of one task's rows, one per streamed file (kStreamed).
+void TaskBlocks(const std::vector<RunRow>& rows, const std::map<std::string, int>& band_samples,
+                std::string (&blocks)[kFiles]) {
+  for (const RunRow& r : rows) {
+    blocks[0] += CsvLine(RunRowFields(r));
+    blocks[1] += CsvLine(TimingFields(r));
+    blocks[3] += EventLines(r);
+    if (r.trial == 0) blocks[4] += TrackLines(r);
+    blocks[5] += TrackErrorLines(r, band_samples.at(r.scenario));
+    for (const auto& [t, e] : r.curve) {
+      blocks[2] += CsvLine(
+          {r.scenario, std::to_string(r.trial), r.method, FormatNumber(t), FormatNumber(e)});
+    }
+  }
+}
+
+// Runs `remaining` (tasks first.. of the shard) and appends each task's rows to run.partial in
+// task order. False (and *error) when a write fails or should_stop interrupts.
+bool RunRemaining(const RunConfig& config, const std::vector<std::vector<int>>& groups,
+                  const std::vector<TrialTask>& remaining, long first, const IndexEntry& last,
+                  const RunDirOptions& options, RunDirSummary* summary, std::string* error) {
+  const std::string partial = options.out_dir + "/" + kPartial;
+  PartialWriter writer;
+  if (!writer.Open(partial, last, error)) return false;
+  TaskRunOptions run_options;
+  run_options.threads = options.threads;
+  run_options.max_buffered_tasks = options.max_buffered_tasks;
+  run_options.curve_trials = options.curve_trials;
+  std::map<std::string, int> band_samples;  // Per scenario: tracking.band_samples.
+  for (const ScenarioConfig& s : config.scenarios) band_samples[s.name] = s.tracking.band_samples;
+  auto commit = [&](size_t position, std::vector<RunRow>&& rows) {
+    std::string blocks[kFiles];
+    TaskBlocks(rows, band_samples, blocks);
+    if (!writer.Append(remaining[position].index, blocks, error)) return false;
+    summary->rows_written += static_cast<long>(rows.size());
+    ++summary->tasks_run;
+    if (options.progress) options.progress(first + summary->tasks_run, summary->tasks_total);
+    if (options.should_stop && options.should_stop()) {
+      *error = "interrupted after " + std::to_string(summary->tasks_run) +
+               " tasks: continue with --resume";
+      return false;
+    }
+    return true;
+  };
+  RunTasksInOrder(config.scenarios, groups, remaining, run_options, commit);
+  if (!writer.Close() && error->empty()) *error = partial + ": closing the files failed";
+  return error->empty();
+}
+
+}  // namespace
+
 RunDirSummary RunToDirectory(const RunConfig& config, const RunDirOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   RunDirSummary summary;
@@ -304,102 +422,34 @@ RunDirSummary RunToDirectory(const RunConfig& config, const RunDirOptions& optio
     return summary;
   };
   const std::string& dir = options.out_dir;
-  const std::string partial = dir + "/" + kPartial;
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) return fail(dir + ": cannot create the output directory: " + ec.message());
 
   const std::vector<std::vector<int>> groups = MeasurementGroups(config.scenarios);
-  const std::vector<TrialTask> all_tasks = ListTasks(config.scenarios, groups);
-  const long total = static_cast<long>(all_tasks.size());
-  std::vector<TrialTask> tasks;  // This shard's.
-  std::vector<long> owned;
-  for (const TrialTask& t : all_tasks) {
-    if (!options.shard.Owns(t.index)) continue;
-    tasks.push_back(t);
-    owned.push_back(t.index);
-  }
-  summary.tasks_total = static_cast<long>(tasks.size());
-  const std::string index_header = IndexHeader(options.shard, total);
-  const std::string resolved = ResolvedYaml(config);
-  const std::string resolved_path = dir + "/config.resolved.yaml";
+  const ShardTasks shard = TasksOfShard(config, groups, options.shard);
+  summary.tasks_total = static_cast<long>(shard.tasks.size());
+  const std::string index_header = IndexHeader(options.shard, shard.total);
   std::string why;
-
   IndexEntry last;
-  bool fresh = true;
-  if (options.resume && (fs::exists(partial + "/tasks.idx") || fs::exists(dir + "/tasks.idx"))) {
-    if (Slurp(resolved_path) != resolved) {
-      return fail(resolved_path +
-                  ": --resume: the configuration differs from the interrupted "
-                  "run's; run without --resume to start over");
-    }
-    if (!fs::exists(partial + "/tasks.idx")) {  // Finished before: only check and re-finalise.
-      std::string header;
-      std::vector<IndexEntry> entries;
-      long bytes = 0;
-      if (!ReadIndex(dir + "/tasks.idx", &header, &entries, &bytes, &why)) return fail(why);
-      if (header != index_header) return fail(dir + "/tasks.idx: another shard's directory");
-      summary.tasks_resumed = summary.tasks_total;
+  switch (
+      PrepareDirectory(ResolvedYaml(config), index_header, shard, options, &last, &summary, &why)) {
+    case DirectoryState::kFailed:
+      return fail(why);
+    case DirectoryState::kComplete:
       summary.ok = true;
       summary.message = "already complete";
       return summary;
-    }
-    if (fs::exists(partial + "/runs.csv")) {
-      if (!TruncatePartial(partial, index_header, owned, &last, &summary.tasks_resumed, &why)) {
-        return fail(why);
-      }
-    } else {
-      summary.tasks_resumed = summary.tasks_total;  // Cut short while moving files: finish that.
-    }
-    fresh = false;
+    case DirectoryState::kReady:
+      break;
   }
-  if (fresh) {
-    if (!WriteFileAtomically(resolved_path, resolved, &why)) return fail(why);
-    if (!CreatePartial(partial, index_header, &last, &why)) return fail(why);
-  }
-
   const long first = summary.tasks_resumed;
-  const long count = summary.tasks_total - first;
-  if (count > 0) {
-    PartialWriter writer;
-    if (!writer.Open(partial, last, &why)) return fail(why);
-    TaskRunOptions run_options;
-    run_options.threads = options.threads;
-    run_options.max_buffered_tasks = options.max_buffered_tasks;
-    run_options.curve_trials = options.curve_trials;
-    const std::vector<TrialTask> remaining(tasks.begin() + first, tasks.end());
+  if (summary.tasks_total > first) {
+    const std::vector<TrialTask> remaining(shard.tasks.begin() + first, shard.tasks.end());
     std::string error;
-    std::map<std::string, int> band_samples;  // Per scenario: tracking.band_samples.
-    for (const ScenarioConfig& s : config.scenarios) {
-      band_samples[s.name] = s.tracking.band_samples;
+    if (!RunRemaining(config, groups, remaining, first, last, options, &summary, &error)) {
+      return fail(error);
     }
-    auto commit = [&](size_t position, std::vector<RunRow>&& rows) {
-      std::string blocks[kFiles];
-      for (const RunRow& r : rows) {
-        blocks[0] += CsvLine(RunRowFields(r));
-        blocks[1] += CsvLine(TimingFields(r));
-        blocks[3] += EventLines(r);
-        if (r.trial == 0) blocks[4] += TrackLines(r);
-        blocks[5] += TrackErrorLines(r, band_samples.at(r.scenario));
-        for (const auto& [t, e] : r.curve) {
-          blocks[2] += CsvLine(
-              {r.scenario, std::to_string(r.trial), r.method, FormatNumber(t), FormatNumber(e)});
-        }
-      }
-      if (!writer.Append(remaining[position].index, blocks, &error)) return false;
-      summary.rows_written += static_cast<long>(rows.size());
-      ++summary.tasks_run;
-      if (options.progress) options.progress(first + summary.tasks_run, summary.tasks_total);
-      if (options.should_stop && options.should_stop()) {
-        error = "interrupted after " + std::to_string(summary.tasks_run) +
-                " tasks: continue with --resume";
-        return false;
-      }
-      return true;
-    };
-    RunTasksInOrder(config.scenarios, groups, remaining, run_options, commit);
-    if (!writer.Close() && error.empty()) error = partial + ": closing the files failed";
-    if (!error.empty()) return fail(error);
   }
   if (!Finalize(config, dir, &why)) return fail(why);
   summary.ok = true;
@@ -407,25 +457,21 @@ RunDirSummary RunToDirectory(const RunConfig& config, const RunDirOptions& optio
   return summary;
 }
 
-bool MergeRunDirectories(const std::vector<std::string>& shard_dirs, const std::string& out_dir,
-                         std::string* why) {
-  if (shard_dirs.empty()) {
-    *why = "merge: no shard directories given";
-    return false;
-  }
-  const std::string resolved = Slurp(shard_dirs[0] + "/config.resolved.yaml");
-  if (resolved.empty()) {
-    *why = shard_dirs[0] + "/config.resolved.yaml: missing or empty";
-    return false;
-  }
-  struct Shard {
-    std::string dir;
-    std::vector<IndexEntry> entries;
-    size_t next = 1;
-  };
-  int count = -1;
-  long total = -1;
-  std::map<int, Shard> shards;
+namespace {
+
+// A finished shard's directory and its index; `next` is the next entry to copy.
+struct Shard {
+  std::string dir;
+  std::vector<IndexEntry> entries;
+  size_t next = 1;
+};
+
+// Reads every shard's index and checks that they are one sweep's: the same resolved
+// configuration, finished, each of 1/N..N/N once. *count = N, *total = the sweep's tasks.
+bool ReadShards(const std::vector<std::string>& shard_dirs, const std::string& resolved,
+                std::map<int, Shard>* shards, int* count, long* total, std::string* why) {
+  *count = -1;
+  *total = -1;
   for (const std::string& d : shard_dirs) {
     if (fs::exists(d + "/" + kPartial)) {
       *why = d + ": unfinished (run.partial exists): finish it with --resume first";
@@ -443,44 +489,36 @@ bool MergeRunDirectories(const std::vector<std::string>& shard_dirs, const std::
     int k = 0, n = 0;
     long t = 0;
     if (std::sscanf(header.c_str(), "# calibench tasks: shard %d/%d of %ld", &k, &n, &t) != 3 ||
-        (count >= 0 && (n != count || t != total)) || shards.count(k)) {
+        (*count >= 0 && (n != *count || t != *total)) || shards->count(k)) {
       *why = d + "/tasks.idx: '" + header.substr(0, header.size() - 1) +
              "' does not fit the other shards (each of 1/N..N/N once, one N)";
       return false;
     }
-    count = n;
-    total = t;
-    shards[k] = std::move(shard);
+    *count = n;
+    *total = t;
+    (*shards)[k] = std::move(shard);
   }
-  if (static_cast<int>(shards.size()) != count) {
-    *why = "merge: " + std::to_string(shards.size()) + " shard directories given, the sweep has " +
-           std::to_string(count) + " shards";
+  if (static_cast<int>(shards->size()) != *count) {
+    *why = "merge: " + std::to_string(shards->size()) + " shard directories given, the sweep has " +
+           std::to_string(*count) + " shards";
     return false;
   }
-  RunConfig config;
-  if (!LoadRunConfig(shard_dirs[0] + "/config.resolved.yaml", &config, why)) return false;
-  const std::string partial = out_dir + "/" + kPartial;
-  ShardSpec whole;
-  std::error_code ec;
-  fs::create_directories(out_dir, ec);
-  if (ec) {
-    *why = out_dir + ": cannot create the output directory: " + ec.message();
-    return false;
-  }
-  if (!WriteFileAtomically(out_dir + "/config.resolved.yaml", resolved, why)) return false;
-  IndexEntry last;
-  if (!CreatePartial(partial, IndexHeader(whole, total), &last, why)) return false;
-  PartialWriter writer;
-  if (!writer.Open(partial, last, why)) return false;
+  return true;
+}
+
+// Copies task 0..total-1, in order, from the shard that ran it (task t: shard t mod N + 1) to
+// `writer`, byte for byte.
+bool CopyTasks(std::map<int, Shard>* shards, int count, long total, PartialWriter* writer,
+               std::string* why) {
   std::map<int, std::array<std::ifstream, kFiles>> streams;
-  for (auto& [k, shard] : shards) {
+  for (auto& [k, shard] : *shards) {
     for (int f = 0; f < kFiles; ++f) {
       streams[k][f].open(shard.dir + "/" + kStreamed[f], std::ios::binary);
     }
   }
   for (long task = 0; task < total; ++task) {
     const int k = static_cast<int>(task % count) + 1;
-    Shard& shard = shards[k];
+    Shard& shard = (*shards)[k];
     if (shard.next >= shard.entries.size() || shard.entries[shard.next].task != task) {
       *why = shard.dir + "/tasks.idx: task " + std::to_string(task) + " is missing";
       return false;
@@ -496,8 +534,43 @@ bool MergeRunDirectories(const std::vector<std::string>& shard_dirs, const std::
         return false;
       }
     }
-    if (!writer.Append(task, blocks, why)) return false;
+    if (!writer->Append(task, blocks, why)) return false;
   }
+  return true;
+}
+
+}  // namespace
+
+bool MergeRunDirectories(const std::vector<std::string>& shard_dirs, const std::string& out_dir,
+                         std::string* why) {
+  if (shard_dirs.empty()) {
+    *why = "merge: no shard directories given";
+    return false;
+  }
+  const std::string resolved = Slurp(shard_dirs[0] + "/config.resolved.yaml");
+  if (resolved.empty()) {
+    *why = shard_dirs[0] + "/config.resolved.yaml: missing or empty";
+    return false;
+  }
+  std::map<int, Shard> shards;
+  int count = 0;
+  long total = 0;
+  if (!ReadShards(shard_dirs, resolved, &shards, &count, &total, why)) return false;
+  RunConfig config;
+  if (!LoadRunConfig(shard_dirs[0] + "/config.resolved.yaml", &config, why)) return false;
+  const std::string partial = out_dir + "/" + kPartial;
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) {
+    *why = out_dir + ": cannot create the output directory: " + ec.message();
+    return false;
+  }
+  if (!WriteFileAtomically(out_dir + "/config.resolved.yaml", resolved, why)) return false;
+  IndexEntry last;
+  if (!CreatePartial(partial, IndexHeader(ShardSpec(), total), &last, why)) return false;
+  PartialWriter writer;
+  if (!writer.Open(partial, last, why)) return false;
+  if (!CopyTasks(&shards, count, total, &writer, why)) return false;
   if (!writer.Close()) {
     *why = partial + ": closing the files failed";
     return false;
