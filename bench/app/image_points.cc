@@ -150,6 +150,106 @@ bool ReadGray8(const std::string& path, GrayImage* image, std::string* why, std:
   return true;
 }
 
+namespace {
+
+// One image's outcome, computed on its own (in parallel, into its slot); sizes are compared after.
+struct ImageOutcome {
+  ImageResult result;
+  View view;
+  cv::Size size;  // Empty when unreadable.
+  DetectionCounts counts;
+};
+
+// What one image contributes: a checkerboard's corners, or the AprilGrid's tags found (or taken
+// from *found when `reuse`) and refined (through fit_camera when given).
+struct ImageJob {
+  const CalibrationTarget& target;
+  const std::vector<Eigen::Vector3d>& grid_corners;  // AprilGrid: point id -> board point.
+  FrameDetector* detector;                           // AprilGrid only.
+  FoundTags* found;                                  // The image's tags (a cache slot or local).
+  bool reuse;
+  const CameraIntrinsics* fit_camera;
+};
+void ProcessImage(const fs::path& file, const ImageJob& job, ImageOutcome* out) {
+  ImageResult& r = out->result;
+  r.file = file.filename().string();
+  cv::Mat gray;
+  std::string note;
+  ReadGray8Mat(file.string(), &gray, &r.reason, &note);
+  if (gray.empty()) return;  // r.reason says why.
+  out->size = gray.size();
+  if (job.target.type != CalibrationTarget::Type::kAprilGrid) {
+    if (!FindCheckerboard(gray, job.target, &out->view, &r.reason)) {
+      r.reason = "no " + std::to_string(job.target.cols) + "x" + std::to_string(job.target.rows) +
+                 " checkerboard found";
+    }
+    return;
+  }
+  const GrayImageView image(gray.data, gray.cols, gray.rows, static_cast<int>(gray.step));
+  if (!job.reuse) *job.found = job.detector->FindTags(image);
+  for (const Observation& o :
+       job.detector->RefineTags(image, *job.found, job.fit_camera, &out->counts)) {
+    out->view.points.push_back(job.grid_corners[o.point_id]);
+    out->view.pixels.push_back(o.pixel);
+  }
+  r.reason = std::to_string(out->counts.tags) + " tags" + (note.empty() ? "" : " (" + note + ")");
+  if (out->counts.unknown_tags > 0) {
+    r.reason += ", " + std::to_string(out->counts.unknown_tags) + " ids not on the grid";
+  }
+}
+
+// The outcomes in file order: images of another size than the first readable one are refused,
+// views with kMinViewPoints or more are used. Returns the image size (empty: none readable).
+cv::Size CollectOutcomes(const CalibrationTarget& target, std::vector<ImageOutcome>* outcomes,
+                         PointData* data, ImageFolderReport* report, std::vector<int>* used_index) {
+  const bool aprilgrid = target.type == CalibrationTarget::Type::kAprilGrid;
+  cv::Size size;
+  for (ImageOutcome& out : *outcomes) {
+    ImageResult& r = out.result;
+    if (!out.size.empty() && size.empty()) size = out.size;
+    if (!out.size.empty() && out.size != size) {
+      r.reason = "size " + std::to_string(out.size.width) + "x" + std::to_string(out.size.height) +
+                 " differs from the first image's " + std::to_string(size.width) + "x" +
+                 std::to_string(size.height);
+      out.view = View();
+    } else if (aprilgrid && !out.size.empty()) {
+      report->tags_detected += out.counts.tags;
+      report->tags_possible += target.grid.NumTags();
+      report->unknown_tags += out.counts.unknown_tags;
+    }
+    r.points = static_cast<int>(out.view.points.size());
+    r.used = r.points >= static_cast<int>(kMinViewPoints);
+    if (!r.used && r.points > 0) {  // Unreadable or mis-sized images have no points.
+      r.reason += ": too few points (" + std::to_string(r.points) + " < " +
+                  std::to_string(kMinViewPoints) + ")";
+    }
+    if (r.used) {
+      data->views.push_back(std::move(out.view));
+      used_index->push_back(static_cast<int>(report->images.size()));
+      ++report->used;
+    }
+    report->images.push_back(r);
+  }
+  return size;
+}
+
+std::string TargetNotFound(const std::string& dir, size_t num_files,
+                           const CalibrationTarget& target, const ImageFolderReport& report) {
+  std::string why = dir + ": the target was found in none of " + std::to_string(num_files) +
+                    " images (check the target YAML: type, size, family, spacing)";
+  if (target.type == CalibrationTarget::Type::kAprilGrid) {
+    char rate[160];
+    std::snprintf(rate, sizeof(rate),
+                  "; %ld of %ld possible tags detected (detection rate %.3f), %ld unknown ids",
+                  report.tags_detected, report.tags_possible, report.DetectionRate(),
+                  report.unknown_tags);
+    why += rate;
+  }
+  return why;
+}
+
+}  // namespace
+
 bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, PointData* data,
                      ImageFolderReport* report, std::vector<int>* used_index, std::string* why,
                      const ImagePointOptions& options) {
@@ -180,87 +280,23 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
     cache->found_through_lens = through_lens;
   }
   const CameraIntrinsics* fit_camera = options.camera ? &*options.camera : nullptr;
-  // Each image on its own (in parallel, into its slot); sizes are compared after.
-  struct Outcome {
-    ImageResult result;
-    View view;
-    cv::Size size;  // Empty when unreadable.
-    DetectionCounts counts;
-  };
-  std::vector<Outcome> outcomes(files.size());
+  std::vector<ImageOutcome> outcomes(files.size());
   ParallelFor(files.size(), workers, [&](int worker, size_t f) {
-    Outcome& out = outcomes[f];
-    ImageResult& r = out.result;
-    r.file = files[f].filename().string();
-    cv::Mat gray;
-    std::string note;
-    ReadGray8Mat(files[f].string(), &gray, &r.reason, &note);
-    if (gray.empty()) return;  // r.reason says why.
-    out.size = gray.size();
-    if (!aprilgrid) {
-      if (!FindCheckerboard(gray, target, &out.view, &r.reason)) {
-        r.reason = "no " + std::to_string(target.cols) + "x" + std::to_string(target.rows) +
-                   " checkerboard found";
-      }
-      return;
-    }
-    const GrayImageView image(gray.data, gray.cols, gray.rows, static_cast<int>(gray.step));
     FoundTags found_here;  // Without a cache.
-    FoundTags& found = cache ? cache->per_image[f] : found_here;
-    if (!reuse) found = detectors[worker]->FindTags(image);
-    for (const Observation& o :
-         detectors[worker]->RefineTags(image, found, fit_camera, &out.counts)) {
-      out.view.points.push_back(grid_corners[o.point_id]);
-      out.view.pixels.push_back(o.pixel);
-    }
-    r.reason = std::to_string(out.counts.tags) + " tags" + (note.empty() ? "" : " (" + note + ")");
-    if (out.counts.unknown_tags > 0) {
-      r.reason += ", " + std::to_string(out.counts.unknown_tags) + " ids not on the grid";
-    }
+    const ImageJob job{target,
+                       grid_corners,
+                       aprilgrid ? detectors[worker].get() : nullptr,
+                       cache ? &cache->per_image[f] : &found_here,
+                       reuse,
+                       fit_camera};
+    ProcessImage(files[f], job, &outcomes[f]);
   });
-  cv::Size size;
-  for (Outcome& out : outcomes) {
-    ImageResult& r = out.result;
-    if (!out.size.empty() && size.empty()) size = out.size;
-    if (!out.size.empty() && out.size != size) {
-      r.reason = "size " + std::to_string(out.size.width) + "x" + std::to_string(out.size.height) +
-                 " differs from the first image's " + std::to_string(size.width) + "x" +
-                 std::to_string(size.height);
-      out.view = View();
-    } else if (aprilgrid && !out.size.empty()) {
-      report->tags_detected += out.counts.tags;
-      report->tags_possible += target.grid.NumTags();
-      report->unknown_tags += out.counts.unknown_tags;
-    }
-    r.points = static_cast<int>(out.view.points.size());
-    r.used = r.points >= static_cast<int>(kMinViewPoints);
-    if (!r.used && r.points > 0) {  // Unreadable or mis-sized images have no points.
-      r.reason += ": too few points (" + std::to_string(r.points) + " < " +
-                  std::to_string(kMinViewPoints) + ")";
-    }
-    if (r.used) {
-      data->views.push_back(std::move(out.view));
-      used_index->push_back(static_cast<int>(report->images.size()));
-      ++report->used;
-    }
-    report->images.push_back(r);
-  }
+  const cv::Size size = CollectOutcomes(target, &outcomes, data, report, used_index);
   if (cache) cache->filled = true;
   data->image_width = size.width;
   data->image_height = size.height;
   if (report->used == 0) {
-    if (why) {
-      *why = dir + ": the target was found in none of " + std::to_string(files.size()) +
-             " images (check the target YAML: type, size, family, spacing)";
-      if (target.type == CalibrationTarget::Type::kAprilGrid) {
-        char rate[160];
-        std::snprintf(rate, sizeof(rate),
-                      "; %ld of %ld possible tags detected (detection rate %.3f), %ld unknown ids",
-                      report->tags_detected, report->tags_possible, report->DetectionRate(),
-                      report->unknown_tags);
-        *why += rate;
-      }
-    }
+    if (why) *why = TargetNotFound(dir, files.size(), target, *report);
     return false;
   }
   return true;
