@@ -138,6 +138,34 @@ double ErrorNorm(const State& err, const State& y0, const State& y1, double rtol
   return worst;
 }
 
+// One Dormand-Prince 5(4) step of length `step` from (t, y), k[0] = y'(t): the stages k[1..6]
+// (k[6] = y'(t + step) at the 5th-order solution *y_new, first-same-as-last) and the error norm
+// (ErrorNorm; infinity when a stage's depth is <= 0 or non-finite).
+double DormandPrinceStep(double t, double step, int segment, const State& y, double rtol,
+                         AdaptiveOde* ode, State k[7], State* y_new) {
+  for (int s = 1; s < 7; ++s) {
+    State ys = y;
+    for (int j = 0; j < s; ++j) {
+      if (kA[s][j] != 0.0) ys += (step * kA[s][j]) * k[j];
+    }
+    if (s == 6) *y_new = ys;  // Row 7 of the tableau is the 5th-order solution (FSAL).
+    if (!ode->Derivative(t + kC[s] * step, segment, ys, &k[s])) {
+      return std::numeric_limits<double>::infinity();
+    }
+  }
+  State e = State::Zero();
+  for (int s = 0; s < 7; ++s) {
+    if (kE[s] != 0.0) e += (step * kE[s]) * k[s];
+  }
+  return ErrorNorm(e, y, *y_new, rtol);
+}
+
+// Covariance resetting: P = Gamma^-1 <- I / gamma_r (reset_gamma, or gamma0 when 0).
+void ResetCovariance(const AdaptiveOptions& options, State* y) {
+  const double gamma_r = options.reset_gamma > 0 ? options.reset_gamma : options.gamma0;
+  y->rightCols<16>() = Matrix16d::Identity() / gamma_r;
+}
+
 }  // namespace
 
 bool AdaptiveOptions::Check(std::string* why) const {
@@ -190,11 +218,18 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
   y.rightCols<16>() = Matrix16d::Identity() / options.gamma0;
   const Matrix16d p0 = y.rightCols<16>();
   if (observer) observer(0.0, theta0);
+  double t = 0.0;
+  // Stops the integration at t with the estimate reached.
+  auto stop = [&](MethodStatus status, const std::string& message) {
+    summary.final_time_s = t;
+    summary.theta_hat = y.col(0);
+    summary.rhs_evaluations = ode.evaluations();
+    return finish(status, message);
+  };
 
   const std::vector<double>& breaks = source.Breakpoints();
   State k[7];
   double h = options.initial_step_s;
-  double t = 0.0;
   long attempts = 0;
   size_t next_stop = 0;  // Into stop_times_s.
   for (int segment = 0; segment + 1 < static_cast<int>(breaks.size()); ++segment) {
@@ -219,23 +254,7 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
       const bool last = h >= t_end - t;
       const double step = last ? t_end - t : h;
       State y_new;
-      bool valid = true;
-      for (int s = 1; s < 7 && valid; ++s) {
-        State ys = y;
-        for (int j = 0; j < s; ++j) {
-          if (kA[s][j] != 0.0) ys += (step * kA[s][j]) * k[j];
-        }
-        if (s == 6) y_new = ys;  // Row 7 of the tableau is the 5th-order solution (FSAL).
-        valid = ode.Derivative(t + kC[s] * step, segment, ys, &k[s]);
-      }
-      double err = std::numeric_limits<double>::infinity();
-      if (valid) {
-        State e = State::Zero();
-        for (int s = 0; s < 7; ++s) {
-          if (kE[s] != 0.0) e += (step * kE[s]) * k[s];
-        }
-        err = ErrorNorm(e, y, y_new, options.rtol);
-      }
+      const double err = DormandPrinceStep(t, step, segment, y, options.rtol, &ode, k, &y_new);
       if (err <= 1.0) {
         t = last ? t_end : t + step;
         y = y_new;
@@ -247,29 +266,22 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
         h = std::min(options.max_step_s, last ? std::max(h, step * factor) : step * factor);
         if (options.reset_threshold > 0 && NeedsReset(y, options.reset_threshold)) {
           // Covariance resetting: Gamma <- gamma_r I; the system is stiff again, as at t = 0.
-          const double gamma_r = options.reset_gamma > 0 ? options.reset_gamma : options.gamma0;
-          y.rightCols<16>() = Matrix16d::Identity() / gamma_r;
+          ResetCovariance(options, &y);
           ++summary.resets;
           h = options.initial_step_s;
           if (t < segment_end && !ode.Derivative(t, segment, y, &k[0])) {
-            summary.final_time_s = t;
-            summary.theta_hat = y.col(0);
-            summary.rhs_evaluations = ode.evaluations();
-            return finish(MethodStatus::kDiverged,
-                          "a depth W_z theta_z_hat became <= 0 at a covariance reset, t = " +
-                              std::to_string(t) + " s");
+            return stop(MethodStatus::kDiverged,
+                        "a depth W_z theta_z_hat became <= 0 at a covariance reset, t = " +
+                            std::to_string(t) + " s");
           }
         }
       } else {
         ++summary.rejected_steps;
         h = step * (std::isfinite(err) ? std::clamp(0.9 * std::pow(err, -0.2), 0.1, 0.9) : 0.25);
         if (h < 1e-14 * (1.0 + t)) {
-          summary.final_time_s = t;
-          summary.theta_hat = y.col(0);
-          summary.rhs_evaluations = ode.evaluations();
-          return finish(MethodStatus::kDiverged,
-                        "step size underflow at t = " + std::to_string(t) +
-                            " s: a depth W_z theta_z_hat is driven to <= 0 or the state blows up");
+          return stop(MethodStatus::kDiverged,
+                      "step size underflow at t = " + std::to_string(t) +
+                          " s: a depth W_z theta_z_hat is driven to <= 0 or the state blows up");
         }
       }
     }
