@@ -73,14 +73,100 @@ struct SquareToPaint {
 
 namespace {
 
+// Maps a tag's coordinates (its black square is [0, 1]^2) to pixels: through the homography of
+// its detected corners, or with a distorted `camera` through the homography on the tangent plane
+// about the tag's centre ray, projected by the lens (the ray e1 x + e2 y + c w keeps its direction
+// for board points past the plane's horizon).
+class TagToPixel {
+ public:
+  explicit TagToPixel(const CameraIntrinsics* camera) : camera_(camera) {}
+  // Prepares the map of `tag`; false when its corners leave the lens's valid region.
+  bool SetTag(const TagDetection* tag) {
+    if (tag == tag_) return to_image_.has_value();
+    tag_ = tag;
+    to_image_.reset();
+    std::vector<cv::Point2f> seen;
+    if (!camera_) {
+      for (const Eigen::Vector2d& c : tag->corners)
+        seen.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()));
+    } else {
+      std::array<Eigen::Vector2d, 4> on_plane;
+      if (TangentPlane::AboutPixels(*camera_, tag->corners, &plane_, &on_plane)) {
+        for (const Eigen::Vector2d& q : on_plane)
+          seen.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()));
+      }
+    }
+    if (seen.size() != 4) return false;
+    static const std::vector<cv::Point2f> kUnit = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    Eigen::Matrix3d h;
+    cv::cv2eigen(cv::getPerspectiveTransform(kUnit, seen), h);
+    // h_22 = 1: w = 1 at the tag's corner 0, so w > 0 over the tag (it does not cross the
+    // plane's horizon).
+    to_image_ = h;
+    return true;
+  }
+  // False off the lens's valid region.
+  bool operator()(const cv::Point2f& in_tag, cv::Point2f* pixel) const {
+    const Eigen::Vector3d mapped = *to_image_ * Eigen::Vector3d(in_tag.x, in_tag.y, 1);
+    Eigen::Vector2d q;
+    if (!camera_) {
+      q = mapped.hnormalized();
+    } else if (!ProjectPoint(*camera_, plane_.ToRayHomogeneous(mapped), &q)) {
+      return false;
+    }
+    *pixel = cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y()));
+    return true;
+  }
+
+ private:
+  const CameraIntrinsics* camera_;
+  const TagDetection* tag_ = nullptr;
+  std::optional<Eigen::Matrix3d> to_image_;  // Unset: the tag's corners have no map.
+  TangentPlane plane_;
+};
+
+// Fills the square's outline (grown by margin_px about its centre) with the brightest pixel of
+// its neighbourhood in `original`. `outline`: per_side points a side, from corner 0. Nothing for a
+// degenerate square or one off to infinity.
+void PaintSquare(const std::vector<cv::Point2f>& outline, int per_side, double margin_px,
+                 const cv::Mat& original, cv::Mat* painted) {
+  auto corner = [&](int e) { return outline[(e % 4) * per_side]; };
+  cv::Point2f centre(0, 0);
+  for (int e = 0; e < 4; ++e) centre += 0.25f * corner(e);
+  double inradius = std::numeric_limits<double>::infinity();
+  for (int e = 0; e < 4; ++e) {
+    const cv::Point2f d = corner(e + 1) - corner(e);
+    const cv::Point2f r = centre - corner(e);
+    const double len = std::hypot(d.x, d.y);
+    if (len > 0) inradius = std::min(inradius, std::abs(d.x * r.y - d.y * r.x) / len);
+  }
+  if (!(inradius > 0.25) || !std::isfinite(inradius)) return;
+  const float grow = static_cast<float>(1.0 + margin_px / inradius);
+  constexpr int kShift = 4, kOne = 1 << kShift;  // fillConvexPoly's fractional bits.
+  std::vector<cv::Point> polygon;
+  for (const cv::Point2f& p : outline) {
+    const cv::Point2f g = centre + grow * (p - centre);
+    polygon.emplace_back(cvRound(g.x * kOne), cvRound(g.y * kOne));
+  }
+  const cv::Rect box = cv::boundingRect(polygon);
+  const cv::Rect around =
+      cv::Rect(box.x / kOne - 3, box.y / kOne - 3, box.width / kOne + 8, box.height / kOne + 8) &
+      cv::Rect(0, 0, original.cols, original.rows);
+  if (around.area() == 0) return;
+  double white = 0;
+  cv::minMaxLoc(original(around), nullptr, &white);
+  // With a lens the sampled sides may bow inward by a fraction of a pixel: the convex fill
+  // covers that sliver too, inside the margin.
+  cv::fillConvexPoly(*painted, polygon, cv::Scalar(white), cv::LINE_8, kShift);
+}
+
 // A copy of `image` with every square of `squares` painted white, grown by kPaintMarginPx about
 // its centre: with the squares gone, the tags that touch them stand alone, as on a grid without
 // squares, and AprilTag 3 traces their outlines. Each square's white is the brightest pixel of its
 // neighbourhood. Corners of painted tags lose a margin-sized tip, which changes nothing: the
 // refinement runs on the original image. With a distorted `camera` each square is mapped
-// through the lens (the homography on the tangent plane about the tag's centre ray, its sides
-// sampled and projected), so that squares a pitch away land where the lens puts them, past 90
-// deg from the axis too.
+// through the lens (TagToPixel, its sides sampled and projected), so that squares a pitch away
+// land where the lens puts them, past 90 deg from the axis too.
 std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
                                         const std::vector<SquareToPaint>& squares,
                                         const CameraIntrinsics* camera) {
@@ -93,54 +179,11 @@ std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
   cv::Mat painted(image.height, image.width, CV_8UC1, copy.data());
   const cv::Mat original(image.height, image.width, CV_8UC1, const_cast<uint8_t*>(image.data),
                          static_cast<size_t>(image.stride));
-  const cv::Rect frame(0, 0, image.width, image.height);
-  const std::vector<cv::Point2f> unit = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  const TagDetection* homography_of = nullptr;
-  // Tag [0, 1]^2 -> pixels, or -> the tangent plane about the tag's centre ray (camera; homogeneous
-  // points (x, y, w), w > 0 on the tag); unset when the tag's corners leave the lens's valid
-  // region.
-  std::optional<Eigen::Matrix3d> to_image;
-  TangentPlane plane;
-  // Tag coordinates -> pixel (through the lens with a camera: the ray e1 x + e2 y + c w, which
-  // keeps its direction for board points past the plane's horizon); false off the lens's valid
-  // region.
-  auto to_pixel = [&](const cv::Point2f& in_tag, cv::Point2f* pixel) {
-    const Eigen::Vector3d mapped = *to_image * Eigen::Vector3d(in_tag.x, in_tag.y, 1);
-    Eigen::Vector2d q;
-    if (!camera) {
-      q = mapped.hnormalized();
-    } else if (!ProjectPoint(*camera, plane.ToRayHomogeneous(mapped), &q)) {
-      return false;
-    }
-    *pixel = cv::Point2f(static_cast<float>(q.x()), static_cast<float>(q.y()));
-    return true;
-  };
+  TagToPixel to_pixel(camera);
   // The square's outline: its corners, and with a lens 4 points a side (its sides bend).
   const int per_side = camera ? 4 : 1;
   for (const SquareToPaint& square : squares) {
-    if (square.tag != homography_of) {
-      homography_of = square.tag;
-      to_image.reset();
-      std::vector<cv::Point2f> seen;
-      if (!camera) {
-        for (const Eigen::Vector2d& c : square.tag->corners)
-          seen.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()));
-      } else {
-        std::array<Eigen::Vector2d, 4> on_plane;
-        if (TangentPlane::AboutPixels(*camera, square.tag->corners, &plane, &on_plane)) {
-          for (const Eigen::Vector2d& q : on_plane)
-            seen.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()));
-        }
-      }
-      if (seen.size() == 4) {
-        Eigen::Matrix3d h;
-        cv::cv2eigen(cv::getPerspectiveTransform(unit, seen), h);
-        // h_22 = 1: w = 1 at the tag's corner 0, so w > 0 over the tag (it does not cross the
-        // plane's horizon).
-        to_image = h;
-      }
-    }
-    if (!to_image) continue;
+    if (!to_pixel.SetTag(square.tag)) continue;
     std::vector<cv::Point2f> outline;
     bool mapped = true;
     for (int e = 0; e < 4 && mapped; ++e) {
@@ -152,35 +195,7 @@ std::vector<uint8_t> PaintCornerSquares(const GrayImageView& image,
         outline.push_back(pixel);
       }
     }
-    if (!mapped) continue;
-    auto corner = [&](int e) { return outline[(e % 4) * per_side]; };
-    cv::Point2f centre(0, 0);
-    for (int e = 0; e < 4; ++e) centre += 0.25f * corner(e);
-    double inradius = std::numeric_limits<double>::infinity();
-    for (int e = 0; e < 4; ++e) {
-      const cv::Point2f d = corner(e + 1) - corner(e);
-      const cv::Point2f r = centre - corner(e);
-      const double len = std::hypot(d.x, d.y);
-      if (len > 0) inradius = std::min(inradius, std::abs(d.x * r.y - d.y * r.x) / len);
-    }
-    if (!(inradius > 0.25) || !std::isfinite(inradius)) continue;  // Degenerate or off to infinity.
-    const float grow = static_cast<float>(1.0 + kPaintMarginPx / inradius);
-    constexpr int kShift = 4, kOne = 1 << kShift;  // fillConvexPoly's fractional bits.
-    std::vector<cv::Point> polygon;
-    for (const cv::Point2f& p : outline) {
-      const cv::Point2f g = centre + grow * (p - centre);
-      polygon.emplace_back(cvRound(g.x * kOne), cvRound(g.y * kOne));
-    }
-    const cv::Rect box = cv::boundingRect(polygon);
-    const cv::Rect around =
-        cv::Rect(box.x / kOne - 3, box.y / kOne - 3, box.width / kOne + 8, box.height / kOne + 8) &
-        frame;
-    if (around.area() == 0) continue;
-    double white = 0;
-    cv::minMaxLoc(original(around), nullptr, &white);
-    // With a lens the sampled sides may bow inward by a fraction of a pixel: the convex fill
-    // covers that sliver too, inside the margin.
-    cv::fillConvexPoly(painted, polygon, cv::Scalar(white), cv::LINE_8, kShift);
+    if (mapped) PaintSquare(outline, per_side, kPaintMarginPx, original, &painted);
   }
   return copy;
 }
