@@ -101,8 +101,94 @@ bool TrackingConfig::Check(std::string* why) const {
   return metrics.Check(why);
 }
 
+namespace {
+
+// ScenarioConfig::Check's parts: each returns false with the field and the reason.
+
+// Frames per trial of each time grid, against kMaxFramesPerTrial.
+bool CheckFramesPerTrial(const ScenarioConfig& s, std::string* field, std::string* reason) {
+  const auto& m = s.measurements;
+  const bool continuous_noise = m.noise.Active() && m.sample_rate_hz == 0;
+  const std::pair<const char*, double> grids[] = {
+      {"measurements.sample_rate_hz", s.duration_s * m.sample_rate_hz},
+      {"measurements.eval_rate_hz", s.duration_s * m.eval_rate_hz},
+      {"noise.hold_s", continuous_noise ? s.duration_s / m.noise.hold_s : 0.0}};
+  for (const auto& [grid, frames] : grids) {
+    if (frames <= kMaxFramesPerTrial) continue;
+    std::ostringstream msg;
+    msg << "gives " << frames << " frames (or noise draws) in duration_s = " << s.duration_s
+        << " s, more than " << kMaxFramesPerTrial << " per trial";
+    *field = grid;
+    *reason = msg.str();
+    return false;
+  }
+  return true;
+}
+
+// What detections: rendered needs: AprilGrids, a frame rate, no pixel noise of the oracle's, valid
+// rendering options, a corner_error_grid among the grids.
+bool CheckRendered(const ScenarioConfig& s, std::string* field, std::string* reason) {
+  if (s.detections != Detections::kRendered) return true;
+  auto fail = [&](const std::string& f, const std::string& r) {
+    *field = f;
+    *reason = r;
+    return false;
+  };
+  const size_t grids = s.points.aprilgrids.size();
+  if (grids == 0) {
+    return fail("points",
+                "detections: rendered needs AprilTag targets: points: {aprilgrids: [...]}");
+  }
+  if (!(s.measurements.sample_rate_hz > 0)) {
+    return fail("measurements.sample_rate_hz", "detections: rendered needs a frame rate > 0");
+  }
+  if (s.diagnostics.corner_error_grid >= static_cast<int>(grids)) {
+    return fail("diagnostics.corner_error_grid", std::to_string(s.diagnostics.corner_error_grid) +
+                                                     " names no grid (the scenario has " +
+                                                     std::to_string(grids) +
+                                                     " aprilgrids, indexed from 0)");
+  }
+  if (s.measurements.noise.Active()) {
+    return fail("noise",
+                "rendered detections take their noise from the image "
+                "(rendering.noise_sigma_gray, blur_sigma_px); remove noise.*");
+  }
+  *field = "rendering";
+  return s.RenderingOptions().Check(reason);
+}
+
+// The reference and every method instance: known types, valid options, prerequisites that exist.
+bool CheckMethods(const ScenarioConfig& s, std::string* field, std::string* reason) {
+  auto fail = [&](const std::string& f, const std::string& r) {
+    *field = f;
+    *reason = r;
+    return false;
+  };
+  if (!s.reference.method.empty() && s.FindMethod(s.reference.method) == nullptr) {
+    return fail("reference.method", "no method instance named '" + s.reference.method + "'");
+  }
+  for (const MethodInstance& m : s.methods) {
+    const std::string name = "methods." + m.name;
+    if (m.method == nullptr) return fail(name, "unknown method type '" + m.type + "'");
+    if (!m.method->Check(reason)) return fail(name, *reason);
+    if (!(m.convergence_tol > 0)) return fail(name + ".convergence_tol", "must be > 0");
+    for (const std::string& used : m.method->Prerequisites()) {
+      if (s.FindMethod(used) == nullptr && FindMethodType(used) == nullptr) {
+        return fail(name, "'" + used +
+                              "' is neither a method instance of this scenario nor a method "
+                              "type (" +
+                              MethodTypeNames() + ")");
+      }
+      if (used == m.name) return fail(name, "a method cannot start from itself");
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 bool ScenarioConfig::Check(std::string* why) const {
-  std::string reason;
+  std::string field, reason;
   auto fail = [&](const std::string& field, const std::string& r) {
     if (why) *why = field + ": " + r;
     return false;
@@ -136,39 +222,8 @@ bool ScenarioConfig::Check(std::string* why) const {
                 "the corner error diagnostics (corner_error_*) need detections: "
                 "rendered");
   }
-  // Frames per trial of each time grid, against kMaxFramesPerTrial.
-  const bool continuous_noise = measurements.noise.Active() && measurements.sample_rate_hz == 0;
-  const std::pair<const char*, double> grids[] = {
-      {"measurements.sample_rate_hz", duration_s * measurements.sample_rate_hz},
-      {"measurements.eval_rate_hz", duration_s * measurements.eval_rate_hz},
-      {"noise.hold_s", continuous_noise ? duration_s / measurements.noise.hold_s : 0.0}};
-  for (const auto& [field, frames] : grids) {
-    if (frames <= kMaxFramesPerTrial) continue;
-    std::ostringstream msg;
-    msg << "gives " << frames << " frames (or noise draws) in duration_s = " << duration_s
-        << " s, more than " << kMaxFramesPerTrial << " per trial";
-    return fail(field, msg.str());
-  }
-  if (detections == Detections::kRendered) {
-    if (points.aprilgrids.empty()) {
-      return fail("points",
-                  "detections: rendered needs AprilTag targets: points: {aprilgrids: [...]}");
-    }
-    if (!(measurements.sample_rate_hz > 0)) {
-      return fail("measurements.sample_rate_hz", "detections: rendered needs a frame rate > 0");
-    }
-    if (diagnostics.corner_error_grid >= static_cast<int>(points.aprilgrids.size())) {
-      return fail("diagnostics.corner_error_grid", std::to_string(diagnostics.corner_error_grid) +
-                                                       " names no grid (the scenario has " +
-                                                       std::to_string(points.aprilgrids.size()) +
-                                                       " aprilgrids, indexed from 0)");
-    }
-    if (measurements.noise.Active()) {
-      return fail("noise",
-                  "rendered detections take their noise from the image "
-                  "(rendering.noise_sigma_gray, blur_sigma_px); remove noise.*");
-    }
-    if (!RenderingOptions().Check(&reason)) return fail("rendering", reason);
+  if (!CheckFramesPerTrial(*this, &field, &reason) || !CheckRendered(*this, &field, &reason)) {
+    return fail(field, reason);
   }
   if (image_width < 1 || image_height < 1 || image_width > kMaxImageSide ||
       image_height > kMaxImageSide ||
@@ -178,24 +233,7 @@ bool ScenarioConfig::Check(std::string* why) const {
         << " px per side and " << kMaxImagePixels / 1e6 << " Mpx in all";
     return fail("image_size", msg.str());
   }
-  if (!reference.method.empty() && FindMethod(reference.method) == nullptr) {
-    return fail("reference.method", "no method instance named '" + reference.method + "'");
-  }
-  for (const MethodInstance& m : methods) {
-    const std::string field = "methods." + m.name;
-    if (m.method == nullptr) return fail(field, "unknown method type '" + m.type + "'");
-    if (!m.method->Check(&reason)) return fail(field, reason);
-    if (!(m.convergence_tol > 0)) return fail(field + ".convergence_tol", "must be > 0");
-    for (const std::string& used : m.method->Prerequisites()) {
-      if (FindMethod(used) == nullptr && FindMethodType(used) == nullptr) {
-        return fail(field, "'" + used +
-                               "' is neither a method instance of this scenario nor a method "
-                               "type (" +
-                               MethodTypeNames() + ")");
-      }
-      if (used == m.name) return fail(field, "a method cannot start from itself");
-    }
-  }
+  if (!CheckMethods(*this, &field, &reason)) return fail(field, reason);
   return true;
 }
 
