@@ -65,6 +65,94 @@ struct ZhangSolve {
   std::shared_ptr<const PerViewSolution> per_view;  // The used views, for a ceres twin.
 };
 
+// The (frame, board) views of every stride-th frame (stride grown to keep at most max_views), each
+// board's points in its own frame; a board with fewer than kMinViewPoints points gives none.
+// view_time_board: per view, its frame's time and its board.
+void CollectViews(const MethodInput& input, const ZhangSettings& settings, std::vector<View>* views,
+                  std::vector<std::pair<double, int>>* view_time_board) {
+  constexpr size_t kMinViewPoints = 8;
+  const std::vector<BoardLayout>& layouts = input.boards;
+  const FrameSet& frames = input.Frames();
+  int stride = settings.view_stride;
+  const int num_frames = static_cast<int>(frames.views.size());
+  const int boards = static_cast<int>(layouts.size());
+  if (settings.max_views > 0) {
+    stride = std::max(stride, (num_frames * boards + settings.max_views - 1) / settings.max_views);
+  }
+  for (int k = 0; k < num_frames; k += stride) {
+    std::vector<View> by_board(boards);
+    for (size_t i = 0; i < frames.point_ids[k].size(); ++i) {
+      const int id = frames.point_ids[k][i];
+      for (int b = boards - 1; b >= 0; --b) {
+        if (id < layouts[b].first_point) continue;
+        by_board[b].points.push_back(layouts[b].corners_in_board[id - layouts[b].first_point]);
+        by_board[b].pixels.push_back(frames.views[k].pixels[i]);
+        break;
+      }
+    }
+    for (int b = 0; b < boards; ++b) {
+      if (by_board[b].points.size() < kMinViewPoints) continue;
+      views->push_back(std::move(by_board[b]));
+      view_time_board->emplace_back(frames.times_s[k], b);
+    }
+  }
+}
+
+// calibrateCamera (or cv::fisheye) on the views; for the omnidirectional families the wide start
+// (batch/wide_init.h), which OpenCV has not (no standard deviations).
+ZhangResult Calibrate(const std::vector<View>& views, const MethodInput& input, LensModel model) {
+  if (WideInitServes(FamilyOf(model)) && FamilyOf(model) != LensFamily::kEquidistant) {
+    WideInitOptions wide;
+    wide.model = model;
+    wide.image_width = input.image_width;
+    wide.image_height = input.image_height;
+    const WideInitResult start = InitializeWideCamera(views, wide);
+    ZhangResult result;
+    static_cast<MethodSummary&>(result) = start;
+    result.intrinsics = start.intrinsics;
+    result.intrinsics_std.fill(std::nan(""));
+    result.cam_from_board = start.cam_from_board;
+    result.used_views = start.used_views;
+    result.rms_reproj_px = start.rms_reproj_px;
+    return result;
+  }
+  ZhangOptions options;
+  options.model = model;
+  options.image_width = input.image_width;
+  options.image_height = input.image_height;
+  return CalibrateZhang(views, options);
+}
+
+// Places each used view in the parent frame through the known board motion: the camera's pose
+// per view, board 0's poses for hand-eye, and the per-view solution a ceres twin starts from.
+void PlaceViews(const MethodInput& input, const std::vector<View>& views,
+                const std::vector<std::pair<double, int>>& view_time_board, ZhangSolve* solve) {
+  const std::vector<BoardLayout>& layouts = input.boards;
+  const ZhangResult& z = solve->result;
+  auto per_view = std::make_shared<PerViewSolution>();
+  std::set<double> frame_times;
+  for (size_t i = 0; i < z.used_views.size(); ++i) {
+    const auto [time, b] = view_time_board[z.used_views[i]];
+    const Rigid3 parent_from_points = input.parent_from_points(time);
+    const Rigid3 parent_from_board = parent_from_points * layouts[b].points_from_board;
+    solve->parent_from_cam_views.push_back(parent_from_board * z.cam_from_board[i].Inverse());
+    frame_times.insert(time);
+    solve->observations_used += static_cast<long>(views[z.used_views[i]].pixels.size());
+    per_view->views.push_back(views[z.used_views[i]]);
+    per_view->cam_from_board.push_back(z.cam_from_board[i]);
+    per_view->parent_from_board.push_back(parent_from_board);
+    if (b == 0) {
+      // Hand-eye sees board 0 as the target, moving with the points frame.
+      solve->parent_from_points0.push_back(parent_from_points);
+      solve->cam_from_board0.push_back(z.cam_from_board[i] *
+                                       Rigid3{layouts[0].points_from_board.Inverse()});
+    }
+  }
+  solve->frames_used = static_cast<long>(frame_times.size());
+  solve->per_view = std::move(per_view);
+  solve->message = z.message + "; " + std::to_string(views.size()) + " views";
+}
+
 ZhangSolve Solve(const MethodInput& input, const ZhangSettings& settings) {
   ZhangSolve solve;
   MethodResult refused;
@@ -83,81 +171,15 @@ ZhangSolve Solve(const MethodInput& input, const ZhangSettings& settings) {
     solve.result.status = MethodStatus::kFailed;
     return solve;
   }
-  constexpr size_t kMinViewPoints = 8;
-  const FrameSet& frames = input.Frames();
-  int stride = settings.view_stride;
-  const int num_frames = static_cast<int>(frames.views.size());
-  const int boards = static_cast<int>(layouts.size());
-  if (settings.max_views > 0) {
-    stride = std::max(stride, (num_frames * boards + settings.max_views - 1) / settings.max_views);
-  }
   std::vector<View> views;
   std::vector<std::pair<double, int>> view_time_board;
-  for (int k = 0; k < num_frames; k += stride) {
-    std::vector<View> by_board(boards);
-    for (size_t i = 0; i < frames.point_ids[k].size(); ++i) {
-      const int id = frames.point_ids[k][i];
-      for (int b = boards - 1; b >= 0; --b) {
-        if (id < layouts[b].first_point) continue;
-        by_board[b].points.push_back(layouts[b].corners_in_board[id - layouts[b].first_point]);
-        by_board[b].pixels.push_back(frames.views[k].pixels[i]);
-        break;
-      }
-    }
-    for (int b = 0; b < boards; ++b) {
-      if (by_board[b].points.size() < kMinViewPoints) continue;
-      views.push_back(std::move(by_board[b]));
-      view_time_board.emplace_back(frames.times_s[k], b);
-    }
-  }
-  if (WideInitServes(FamilyOf(settings.model)) &&
-      FamilyOf(settings.model) != LensFamily::kEquidistant) {
-    // The omnidirectional families: the wide start (batch/wide_init.h), which OpenCV has not.
-    WideInitOptions wide;
-    wide.model = settings.model;
-    wide.image_width = input.image_width;
-    wide.image_height = input.image_height;
-    const WideInitResult start = InitializeWideCamera(views, wide);
-    static_cast<MethodSummary&>(solve.result) = start;
-    solve.result.intrinsics = start.intrinsics;
-    solve.result.intrinsics_std.fill(std::nan(""));
-    solve.result.cam_from_board = start.cam_from_board;
-    solve.result.used_views = start.used_views;
-    solve.result.rms_reproj_px = start.rms_reproj_px;
-  } else {
-    ZhangOptions options;
-    options.model = settings.model;
-    options.image_width = input.image_width;
-    options.image_height = input.image_height;
-    solve.result = CalibrateZhang(views, options);
-  }
+  CollectViews(input, settings, &views, &view_time_board);
+  solve.result = Calibrate(views, input, settings.model);
   if (!solve.result.IsUsable()) {
     solve.message = solve.result.message;
     return solve;
   }
-  const ZhangResult& z = solve.result;
-  auto per_view = std::make_shared<PerViewSolution>();
-  std::set<double> frame_times;
-  for (size_t i = 0; i < z.used_views.size(); ++i) {
-    const auto [time, b] = view_time_board[z.used_views[i]];
-    const Rigid3 parent_from_points = input.parent_from_points(time);
-    const Rigid3 parent_from_board = parent_from_points * layouts[b].points_from_board;
-    solve.parent_from_cam_views.push_back(parent_from_board * z.cam_from_board[i].Inverse());
-    frame_times.insert(time);
-    solve.observations_used += static_cast<long>(views[z.used_views[i]].pixels.size());
-    per_view->views.push_back(views[z.used_views[i]]);
-    per_view->cam_from_board.push_back(z.cam_from_board[i]);
-    per_view->parent_from_board.push_back(parent_from_board);
-    if (b == 0) {
-      // Hand-eye sees board 0 as the target, moving with the points frame.
-      solve.parent_from_points0.push_back(parent_from_points);
-      solve.cam_from_board0.push_back(z.cam_from_board[i] *
-                                      Rigid3{layouts[0].points_from_board.Inverse()});
-    }
-  }
-  solve.frames_used = static_cast<long>(frame_times.size());
-  solve.per_view = std::move(per_view);
-  solve.message = z.message + "; " + std::to_string(views.size()) + " views";
+  PlaceViews(input, views, view_time_board, &solve);
   return solve;
 }
 
