@@ -17,9 +17,12 @@ Rigid3 AveragePoses(const std::vector<Rigid3>& poses) {
   return {ProjectToSO3(sum), position / static_cast<double>(poses.size())};
 }
 
-bool HandEyeTsai(const std::vector<Rigid3>& parent_from_points,
-                 const std::vector<Rigid3>& cam_from_target, Rigid3* parent_from_cam,
-                 std::string* why) {
+namespace {
+
+// HandEyeTsai's input checks: one body pose per board pose, at least 3, finite, and relative
+// rotations about at least two non-parallel axes (Tsai's equations need them).
+bool CheckHandEyeInput(const std::vector<Rigid3>& parent_from_points,
+                       const std::vector<Rigid3>& cam_from_target, std::string* why) {
   const size_t n = cam_from_target.size();
   if (parent_from_points.size() != n) {
     if (why) {
@@ -42,7 +45,6 @@ bool HandEyeTsai(const std::vector<Rigid3>& parent_from_points,
       return false;
     }
   }
-  // Tsai's equations need relative rotations about at least two non-parallel axes.
   Eigen::Matrix3d axes = Eigen::Matrix3d::Zero();
   for (size_t i = 1; i < n; ++i) {
     const Eigen::AngleAxisd rel(parent_from_points[i].rotation *
@@ -58,6 +60,38 @@ bool HandEyeTsai(const std::vector<Rigid3>& parent_from_points,
     }
     return false;
   }
+  return true;
+}
+
+// Tsai's rotation step on the pairs A X = X B: q_A q_X - q_X q_B = 0, 4 rows a pair, in
+// q = (w, x, y, z), solved by SVD. False when the null space has more than one dimension (to a
+// numerical rank of 1e-9): the rotation is then free.
+bool HandEyeRotation(const std::vector<Rigid3>& a, const std::vector<Rigid3>& b,
+                     Eigen::Matrix3d* r_x) {
+  Eigen::MatrixXd m(4 * a.size(), 4);
+  for (size_t k = 0; k < a.size(); ++k) {
+    Eigen::Quaterniond qa(a[k].rotation), qb(b[k].rotation);
+    if (qa.w() < 0) qa.coeffs() = -qa.coeffs();
+    if (qb.w() < 0) qb.coeffs() = -qb.coeffs();
+    const Eigen::Vector3d d = qa.vec() - qb.vec();
+    m.block<4, 4>(4 * k, 0) << qa.w() - qb.w(), -d.transpose(), d,
+        (qa.w() - qb.w()) * Eigen::Matrix3d::Identity() + Hat(qa.vec() + qb.vec());
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(m, Eigen::ComputeFullV);
+  const Eigen::Vector4d sv = svd.singularValues();
+  if (!(sv[2] > 1e-9 * sv[0])) return false;
+  const Eigen::Vector4d q = svd.matrixV().col(3);
+  *r_x = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+  return true;
+}
+
+}  // namespace
+
+bool HandEyeTsai(const std::vector<Rigid3>& parent_from_points,
+                 const std::vector<Rigid3>& cam_from_target, Rigid3* parent_from_cam,
+                 std::string* why) {
+  if (!CheckHandEyeInput(parent_from_points, cam_from_target, why)) return false;
+  const size_t n = cam_from_target.size();
   // The pairs (i < j): A = P_j P_i^-1, B = C_j C_i^-1, A X = X B.
   std::vector<Rigid3> a, b;
   const double min_half_cos = std::cos(0.5 * kHandEyeMaxPairTurnDeg * M_PI / 180.0);
@@ -72,33 +106,14 @@ bool HandEyeTsai(const std::vector<Rigid3>& parent_from_points,
       b.push_back(b_ij);
     }
   }
-  const std::string unfixed = "hand-eye is degenerate: the relative rotations (of at most " +
-                              std::to_string(kHandEyeMaxPairTurnDeg) +
-                              " deg) do not fix the camera's rotation";
-  if (a.empty()) {
-    if (why) *why = unfixed;
+  Eigen::Matrix3d r_x;
+  if (a.empty() || !HandEyeRotation(a, b, &r_x)) {
+    if (why) {
+      *why = "hand-eye is degenerate: the relative rotations (of at most " +
+             std::to_string(kHandEyeMaxPairTurnDeg) + " deg) do not fix the camera's rotation";
+    }
     return false;
   }
-  // Rotation: q_A q_X - q_X q_B = 0, 4 rows a pair, in q = (w, x, y, z).
-  Eigen::MatrixXd m(4 * a.size(), 4);
-  for (size_t k = 0; k < a.size(); ++k) {
-    Eigen::Quaterniond qa(a[k].rotation), qb(b[k].rotation);
-    if (qa.w() < 0) qa.coeffs() = -qa.coeffs();
-    if (qb.w() < 0) qb.coeffs() = -qb.coeffs();
-    const Eigen::Vector3d d = qa.vec() - qb.vec();
-    m.block<4, 4>(4 * k, 0) << qa.w() - qb.w(), -d.transpose(), d,
-        (qa.w() - qb.w()) * Eigen::Matrix3d::Identity() + Hat(qa.vec() + qb.vec());
-  }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(m, Eigen::ComputeFullV);
-  const Eigen::Vector4d sv = svd.singularValues();
-  // A null space of more than one dimension (to a numerical rank of 1e-9): the rotation is free.
-  if (!(sv[2] > 1e-9 * sv[0])) {
-    if (why) *why = unfixed;
-    return false;
-  }
-  const Eigen::Vector4d q = svd.matrixV().col(3);
-  const Eigen::Matrix3d r_x =
-      Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
   // Translation (Tsai's step): (R_A - I) t_X = R_X t_B - t_A.
   Eigen::MatrixXd lhs(3 * a.size(), 3);
   Eigen::VectorXd rhs(3 * a.size());
