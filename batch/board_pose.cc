@@ -37,28 +37,21 @@ bool BoardPoseFromIntrinsics(const View& view, const CameraIntrinsics& intrinsic
   return BoardPoseFromRays(view, rays, cam_from_board, why, options);
 }
 
-bool BoardPoseFromRays(const View& view, const std::vector<Eigen::Vector3d>& rays,
-                       Rigid3* cam_from_board, std::string* why, const BoardPoseOptions& options) {
-  const size_t n = view.points.size();
-  bool planar = true;
-  for (const Eigen::Vector3d& p : view.points) planar &= std::abs(p.z()) < 1e-9;
-  if (n < (planar ? 4u : 6u) || rays.size() != n) {
-    if (why) *why = "a pose needs at least " + std::string(planar ? "4" : "6") + " points";
-    return false;
-  }
-  // The points must not be collinear, nor all but one of them (see the header comment).
+namespace {
+
+// The points must not be collinear, nor all but one of them (see the header comment); all finite.
+bool PointsFixAPose(const std::vector<Eigen::Vector3d>& points, std::string* why) {
+  const size_t n = points.size();
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < n; ++i) {
-    if (!view.points[i].allFinite()) {
+    if (!points[i].allFinite()) {
       if (why) *why = "point " + std::to_string(i) + " is not finite";
       return false;
     }
-    centroid += view.points[i] / static_cast<double>(n);
+    centroid += points[i] / static_cast<double>(n);
   }
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : view.points) {
-    scatter += (p - centroid) * (p - centroid).transpose();
-  }
+  for (const Eigen::Vector3d& p : points) scatter += (p - centroid) * (p - centroid).transpose();
   // Collinear when sqrt(l1 / l2) <= kMinPointSpreadRatio for scatter - w d d^T (w d d^T: the
   // downdate that takes a point d - centroid out of the set).
   const auto collinear = [&scatter](const Eigen::Vector3d& d, double w) {
@@ -73,7 +66,7 @@ bool BoardPoseFromRays(const View& view, const std::vector<Eigen::Vector3d>& ray
   }
   const double w = static_cast<double>(n) / static_cast<double>(n - 1);
   for (size_t k = 0; k < n; ++k) {
-    if (collinear(view.points[k] - centroid, w)) {
+    if (collinear(points[k] - centroid, w)) {
       if (why) {
         *why = "all the points but point " + std::to_string(k) +
                " are collinear: the pose is not determined";
@@ -81,6 +74,51 @@ bool BoardPoseFromRays(const View& view, const std::vector<Eigen::Vector3d>& ray
       return false;
     }
   }
+  return true;
+}
+
+// cv::solvePnP (IPPE for a planar board, else iterative; then LM when `refine`) on normalised
+// coordinates (K = I, no distortion). False (and *why) when OpenCV finds no finite pose.
+bool SolvePnpNormalised(const std::vector<cv::Point3d>& object,
+                        const std::vector<cv::Point2d>& normalised, bool planar, bool refine,
+                        Rigid3* cam_from_board, std::string* why) {
+  const cv::Mat k = cv::Mat::eye(3, 3, CV_64F), no_distortion;
+  cv::Mat rvec, tvec;
+  try {
+    if (!cv::solvePnP(object, normalised, k, no_distortion, rvec, tvec, false,
+                      planar ? cv::SOLVEPNP_IPPE : cv::SOLVEPNP_ITERATIVE)) {
+      if (why) *why = "cv::solvePnP found no pose";
+      return false;
+    }
+    if (refine) cv::solvePnPRefineLM(object, normalised, k, no_distortion, rvec, tvec);
+  } catch (const cv::Exception& e) {
+    if (why) *why = std::string("cv::solvePnP: ") + e.what();
+    return false;
+  }
+  if (!(cv::checkRange(rvec) && cv::checkRange(tvec))) {
+    if (why) *why = "cv::solvePnP returned a non-finite pose";
+    return false;
+  }
+  cv::Mat r;
+  cv::Rodrigues(rvec, r);
+  cv::cv2eigen(r, cam_from_board->rotation);
+  cam_from_board->translation =
+      Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+  return true;
+}
+
+}  // namespace
+
+bool BoardPoseFromRays(const View& view, const std::vector<Eigen::Vector3d>& rays,
+                       Rigid3* cam_from_board, std::string* why, const BoardPoseOptions& options) {
+  const size_t n = view.points.size();
+  bool planar = true;
+  for (const Eigen::Vector3d& p : view.points) planar &= std::abs(p.z()) < 1e-9;
+  if (n < (planar ? 4u : 6u) || rays.size() != n) {
+    if (why) *why = "a pose needs at least " + std::string(planar ? "4" : "6") + " points";
+    return false;
+  }
+  if (!PointsFixAPose(view.points, why)) return false;
   // Q: the mean ray to the axis.
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& r : rays) mean += r.normalized();
@@ -103,30 +141,12 @@ bool BoardPoseFromRays(const View& view, const std::vector<Eigen::Vector3d>& ray
     object.emplace_back(view.points[i].x(), view.points[i].y(), view.points[i].z());
     normalised.emplace_back(turned.x() / turned.z(), turned.y() / turned.z());
   }
-  const cv::Mat k = cv::Mat::eye(3, 3, CV_64F), no_distortion;
-  cv::Mat rvec, tvec;
-  try {
-    if (!cv::solvePnP(object, normalised, k, no_distortion, rvec, tvec, false,
-                      planar ? cv::SOLVEPNP_IPPE : cv::SOLVEPNP_ITERATIVE)) {
-      if (why) *why = "cv::solvePnP found no pose";
-      return false;
-    }
-    if (options.refine) cv::solvePnPRefineLM(object, normalised, k, no_distortion, rvec, tvec);
-  } catch (const cv::Exception& e) {
-    if (why) *why = std::string("cv::solvePnP: ") + e.what();
+  Rigid3 turned_from_board;
+  if (!SolvePnpNormalised(object, normalised, planar, options.refine, &turned_from_board, why)) {
     return false;
   }
-  if (!(cv::checkRange(rvec) && cv::checkRange(tvec))) {
-    if (why) *why = "cv::solvePnP returned a non-finite pose";
-    return false;
-  }
-  cv::Mat r;
-  cv::Rodrigues(rvec, r);
-  Eigen::Matrix3d turned_from_board;
-  cv::cv2eigen(r, turned_from_board);
-  cam_from_board->rotation = q.transpose() * turned_from_board;
-  cam_from_board->translation =
-      q.transpose() * Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+  cam_from_board->rotation = q.transpose() * turned_from_board.rotation;
+  cam_from_board->translation = q.transpose() * turned_from_board.translation;
   return true;
 }
 
