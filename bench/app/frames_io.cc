@@ -103,6 +103,73 @@ bool WriteRenderedFrames(const ScenarioConfig& s, const FramesOptions& o, const 
   return true;
 }
 
+namespace {
+
+// corners.csv as `calibench render` writes it: per frame, each point's exact pixel and the tags in
+// view. False (and *why, with the line) for a missing file or a malformed row.
+bool ReadCornerTruth(const std::string& truth_path, std::map<int, Truth>* truth, std::string* why) {
+  std::ifstream in(truth_path);
+  if (!in) {
+    if (why) *why = truth_path + ": cannot open (written by `calibench render`)";
+    return false;
+  }
+  std::string line;
+  std::getline(in, line);  // Header.
+  for (int row = 2; std::getline(in, line); ++row) {
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    int frame = 0, point = 0, tag = 0, corner = 0, in_view = 0;
+    double t = 0, u = 0, v = 0;
+    if (!(fields >> frame >> t >> point >> tag >> corner >> u >> v >> in_view)) {
+      if (why) *why = truth_path + ":" + std::to_string(row) + ": expected 8 numeric fields";
+      return false;
+    }
+    (*truth)[frame].pixels[point] = {u, v};
+    (*truth)[frame].tags_in_view += (in_view && corner == 0);
+  }
+  return true;
+}
+
+// The unit vector from the projected centre of point_id's tag (where its projected diagonals,
+// corners 0-2 and 1-3, cross) to the corner's exact pixel; false when a corner of the tag has no
+// truth.
+bool OutwardOfCorner(const Truth& expected, int point_id, Eigen::Vector2d* outward) {
+  const int first = point_id - point_id % 4;
+  Eigen::Vector2d c[4];
+  for (int k = 0; k < 4; ++k) {
+    const auto corner = expected.pixels.find(first + k);
+    if (corner == expected.pixels.end()) return false;
+    c[k] = corner->second;
+  }
+  const Eigen::Vector3d d02 =
+      Eigen::Vector3d(c[0].x(), c[0].y(), 1).cross(Eigen::Vector3d(c[2].x(), c[2].y(), 1));
+  const Eigen::Vector3d d13 =
+      Eigen::Vector3d(c[1].x(), c[1].y(), 1).cross(Eigen::Vector3d(c[3].x(), c[3].y(), 1));
+  const Eigen::Vector3d centre = d02.cross(d13);
+  *outward = (expected.pixels.at(point_id) - centre.hnormalized()).normalized();
+  return true;
+}
+
+// Reads frame `path` and checks its size against the scenario's.
+bool ReadFrame(const std::string& path, const ScenarioConfig& s, cv::Mat* gray, std::string* why) {
+  *gray = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  if (gray->empty()) {
+    if (why) *why = path + ": unreadable (listed in corners.csv)";
+    return false;
+  }
+  if (gray->cols != s.image_width || gray->rows != s.image_height) {
+    if (why) {
+      *why = path + ": image is " + std::to_string(gray->cols) + " x " +
+             std::to_string(gray->rows) + " px, but scenario '" + s.name + "' has image_size [" +
+             std::to_string(s.image_width) + ", " + std::to_string(s.image_height) + "]";
+    }
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::string& frames_dir,
                   DetectionStats* stats, std::string* why) {
   if (!CheckRendered(s, why)) return false;
@@ -118,72 +185,27 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
     *stats = source->stats();
     return true;
   }
-  const std::string truth_path = frames_dir + "/corners.csv";
-  std::ifstream in(truth_path);
-  if (!in) {
-    if (why) *why = truth_path + ": cannot open (written by `calibench render`)";
-    return false;
-  }
   std::map<int, Truth> truth;
-  std::string line;
-  std::getline(in, line);  // Header.
-  for (int row = 2; std::getline(in, line); ++row) {
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream fields(line);
-    int frame = 0, point = 0, tag = 0, corner = 0, in_view = 0;
-    double t = 0, u = 0, v = 0;
-    if (!(fields >> frame >> t >> point >> tag >> corner >> u >> v >> in_view)) {
-      if (why) *why = truth_path + ":" + std::to_string(row) + ": expected 8 numeric fields";
-      return false;
-    }
-    truth[frame].pixels[point] = {u, v};
-    truth[frame].tags_in_view += (in_view && corner == 0);
-  }
-  std::string error;
+  if (!ReadCornerTruth(frames_dir + "/corners.csv", &truth, why)) return false;
   const auto detector = FrameDetector::Create(s.points.AprilGrids(), s.rendering.detection, why);
   if (!detector) return false;
   DetectionStatsAccumulator acc;
   std::string errors_csv =
       CsvLine({"frame", "point", "u_px", "v_px", "du_px", "dv_px", "radial_px", "tangent_px"});
   for (const auto& [frame, expected] : truth) {
-    const std::string path = frames_dir + "/" + FrameName(frame);
-    const cv::Mat gray = cv::imread(path, cv::IMREAD_GRAYSCALE);
-    if (gray.empty()) {
-      if (why) *why = path + ": unreadable (listed in corners.csv)";
-      return false;
-    }
-    if (gray.cols != s.image_width || gray.rows != s.image_height) {
-      if (why) {
-        *why = path + ": image is " + std::to_string(gray.cols) + " x " +
-               std::to_string(gray.rows) + " px, but scenario '" + s.name + "' has image_size [" +
-               std::to_string(s.image_width) + ", " + std::to_string(s.image_height) + "]";
-      }
-      return false;
-    }
+    cv::Mat gray;
+    if (!ReadFrame(frames_dir + "/" + FrameName(frame), s, &gray, why)) return false;
     DetectionCounts counts;
     const std::vector<Observation> obs =
         detector->Detect(gray.data, gray.cols, gray.rows, static_cast<int>(gray.step), &counts);
     acc.AddFrame(expected.tags_in_view, counts, obs.empty());
     for (const Observation& ob : obs) {
       const auto it = expected.pixels.find(ob.point_id);
-      if (it == expected.pixels.end()) continue;
-      // The tag's projected centre: where its projected diagonals cross (corners 0-2 and 1-3).
-      const int first = ob.point_id - ob.point_id % 4;
-      Eigen::Vector2d c[4];
-      bool all = true;
-      for (int k = 0; k < 4; ++k) {
-        const auto corner = expected.pixels.find(first + k);
-        all = all && corner != expected.pixels.end();
-        if (all) c[k] = corner->second;
+      Eigen::Vector2d outward;
+      if (it == expected.pixels.end() || !OutwardOfCorner(expected, ob.point_id, &outward)) {
+        continue;
       }
-      if (!all) continue;
-      const Eigen::Vector3d d02 =
-          Eigen::Vector3d(c[0].x(), c[0].y(), 1).cross(Eigen::Vector3d(c[2].x(), c[2].y(), 1));
-      const Eigen::Vector3d d13 =
-          Eigen::Vector3d(c[1].x(), c[1].y(), 1).cross(Eigen::Vector3d(c[3].x(), c[3].y(), 1));
-      const Eigen::Vector3d centre = d02.cross(d13);
       const Eigen::Vector2d e = ob.pixel - it->second;
-      const Eigen::Vector2d outward = (it->second - centre.hnormalized()).normalized();
       acc.AddCornerError(e, outward, ob.crlb_px);
       if (!o.errors_path.empty()) {
         errors_csv +=
