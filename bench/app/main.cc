@@ -376,6 +376,67 @@ CLI::App* AddTargetCommand(CLI::App* app, calibench::TargetArgs* target_args) {
 }  // namespace
 
 // CLI11 throws from setup only on a programming error (a duplicate option name).
+// Output directories and where their combination goes (merge, report).
+struct DirsArgs {
+  std::vector<std::string> dirs;
+  std::string out;
+};
+
+CLI::App* AddMergeCommand(CLI::App* app, DirsArgs* a) {
+  CLI::App* merge = app->add_subcommand("merge", "Combine the shard directories of one sweep");
+  merge->add_option("dirs", a->dirs, "Shard output directories 1/N..N/N")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  merge->add_option("--out", a->out, "Merged output directory")->required();
+  return merge;
+}
+
+CLI::App* AddReportCommand(CLI::App* app, DirsArgs* a) {
+  CLI::App* report = app->add_subcommand(
+      "report", "Plots and paired tests of run directories (report.md + PNGs; Python)");
+  report->add_option("dirs", a->dirs, "Run output directories")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  report->add_option("--out", a->out, "Report directory (default: FIRST_DIR/report)");
+  return report;
+}
+
+CLI::App* AddRenderCommand(CLI::App* app, FramesArgs* a) {
+  CLI::App* render =
+      app->add_subcommand("render", "Write a scenario's rendered frames (PNG) and true corners");
+  AddFramesOptions(render, a);
+  render->add_option("--frames", a->frames_dir, "Output directory")->required();
+  return render;
+}
+
+CLI::App* AddMethodsCommand(CLI::App* app, std::string* type) {
+  CLI::App* methods = app->add_subcommand(
+      "methods",
+      "List the method types (description, enabled by default) and their options: type, default, "
+      "unit, meaning (Markdown)");
+  methods->add_option("--type", *type, "Only this method type");
+  return methods;
+}
+
+int Methods(const std::string& type) {
+  std::string text, why;
+  if (!calibench::MethodsReference(type, &text, &why)) {
+    std::cerr << "calibench: methods: " << why << "\n";
+    return 2;
+  }
+  std::cout << text;
+  return 0;
+}
+
+int CalibrateCommand(const CLI::App& calibrate, calibench::CalibrateArgs* cal) {
+  if (cal->points_path.empty() && cal->images_dir.empty()) {
+    std::cerr << "calibench: calibrate: give --points FILE or --images DIR --target T.yaml\n";
+    return 2;
+  }
+  cal->model_given = calibrate.get_option("--model")->count() > 0;
+  return calibench::Calibrate(*cal);
+}
+
 int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   // A file-size limit (ulimit -f) then fails the write with EFBIG, which is reported and resumable,
   // instead of killing the process.
@@ -389,26 +450,13 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   app.fallthrough();  // --verbose after the subcommand too.
   RunArgs run_args;
   CLI::App* run = AddRunCommand(&app, &run_args);
-  std::vector<std::string> merge_dirs, report_dirs;
-  std::string merge_out, report_out;
-  CLI::App* merge = app.add_subcommand("merge", "Combine the shard directories of one sweep");
-  merge->add_option("dirs", merge_dirs, "Shard output directories 1/N..N/N")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  merge->add_option("--out", merge_out, "Merged output directory")->required();
-  CLI::App* report = app.add_subcommand(
-      "report", "Plots and paired tests of run directories (report.md + PNGs; Python)");
-  report->add_option("dirs", report_dirs, "Run output directories")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  report->add_option("--out", report_out, "Report directory (default: FIRST_DIR/report)");
+  DirsArgs merge_args, report_args;
+  CLI::App* merge = AddMergeCommand(&app, &merge_args);
+  CLI::App* report = AddReportCommand(&app, &report_args);
   calibench::CalibrateArgs cal;
   CLI::App* calibrate = AddCalibrateCommand(&app, &cal);
   FramesArgs render_args, detect_args;
-  CLI::App* render =
-      app.add_subcommand("render", "Write a scenario's rendered frames (PNG) and true corners");
-  AddFramesOptions(render, &render_args);
-  render->add_option("--frames", render_args.frames_dir, "Output directory")->required();
+  CLI::App* render = AddRenderCommand(&app, &render_args);
   DetectImagesArgs detect_images;
   CLI::App* detect = AddDetectCommand(&app, &detect_args, &detect_images);
   calibench::CornerBiasArgs bias_args;
@@ -421,18 +469,15 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
                          "the generated part "
                          "of docs/configuration.md");
   std::string methods_type;
-  CLI::App* methods = app.add_subcommand(
-      "methods",
-      "List the method types (description, enabled by default) and their options: type, default, "
-      "unit, meaning (Markdown)");
-  methods->add_option("--type", methods_type, "Only this method type");
+  CLI::App* methods = AddMethodsCommand(&app, &methods_type);
   CLI11_PARSE(app, argc, argv);
   if (verbose) calibench::ConfigureSolverLogging(argv[0], true);
   try {
     if (run->parsed()) return Run(run_args);
-    if (merge->parsed()) return Merge(merge_dirs, merge_out);
+    if (merge->parsed()) return Merge(merge_args.dirs, merge_args.out);
     if (report->parsed()) {
-      return Report(report_dirs, report_out.empty() ? report_dirs[0] + "/report" : report_out);
+      return Report(report_args.dirs,
+                    report_args.out.empty() ? report_args.dirs[0] + "/report" : report_args.out);
     }
     if (render->parsed()) return RenderOrDetect(render_args, true);
     if (detect->parsed()) {
@@ -444,23 +489,8 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
       std::cout << calibench::ConfigurationReference();
       return 0;
     }
-    if (methods->parsed()) {
-      std::string text, why;
-      if (!calibench::MethodsReference(methods_type, &text, &why)) {
-        std::cerr << "calibench: methods: " << why << "\n";
-        return 2;
-      }
-      std::cout << text;
-      return 0;
-    }
-    if (calibrate->parsed()) {
-      if (cal.points_path.empty() && cal.images_dir.empty()) {
-        std::cerr << "calibench: calibrate: give --points FILE or --images DIR --target T.yaml\n";
-        return 2;
-      }
-      cal.model_given = calibrate->get_option("--model")->count() > 0;
-      return calibench::Calibrate(cal);
-    }
+    if (methods->parsed()) return Methods(methods_type);
+    if (calibrate->parsed()) return CalibrateCommand(*calibrate, &cal);
   } catch (const std::exception& e) {  // A bug, not bad data: say so instead of aborting.
     std::cerr << "calibench: internal error: " << e.what() << "\n";
     return 70;
