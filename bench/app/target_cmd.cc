@@ -52,85 +52,108 @@ bool TargetArgs::Check(std::string* why) const {
   return false;
 }
 
+namespace {
+
+// The pattern's black rectangles in the board frame (metres) and their bounding box.
+struct BoardPattern {
+  std::vector<BlackRect> rects;
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+// An AprilGrid (Kalibr's: corner squares included, each once): every tag's black cells, merged
+// into runs along each bitmap row. False (and *why) for a family without enough codes.
+bool AprilGridPattern(const TargetArgs& a, AprilGrid* g, BoardPattern* out, std::string* why) {
+  g->family = a.family;
+  g->tag_rows = a.rows;
+  g->tag_cols = a.cols;
+  g->tag_size_m = a.size_m;
+  g->tag_spacing = a.spacing;
+  g->first_id = a.first_id;
+  g->black_tag_border = a.border_bits;
+  g->corner_squares = true;
+  const auto family = TagFamily::Create(g->family, g->black_tag_border, why);
+  if (!family) return false;
+  if (g->first_id + g->NumTags() > family->num_codes()) {
+    if (why) {
+      *why = g->family + " has " + std::to_string(family->num_codes()) + " codes: ids up to " +
+             std::to_string(g->first_id + g->NumTags() - 1) + " do not exist";
+    }
+    return false;
+  }
+  const double s = g->tag_size_m, p = g->Pitch(), gap = g->tag_spacing * s;
+  const int wab = family->width_at_border(), start = family->border_start();
+  const double cell = s / wab;
+  std::set<std::tuple<long, long>> squares;  // Corner squares shared by neighbours: once.
+  for (int r = 0; r < g->tag_rows; ++r) {
+    for (int c = 0; c < g->tag_cols; ++c) {
+      const int id = g->first_id + r * g->tag_cols + c;
+      const double tx = c * p, ty = r * p;
+      for (int row = 0; row < wab; ++row) {  // Runs of black cells along each row.
+        for (int col = 0; col < wab;) {
+          if (family->IsWhite(id, col + start, row + start)) {
+            ++col;
+            continue;
+          }
+          int end = col;
+          while (end < wab && !family->IsWhite(id, end + start, row + start)) ++end;
+          out->rects.push_back(
+              {tx + col * cell, ty + s - (row + 1) * cell, (end - col) * cell, cell});
+          col = end;
+        }
+      }
+      for (int corner = 0; corner < 4; ++corner) {
+        const double cx = corner == 1 || corner == 2 ? tx + s : tx - gap;
+        const double cy = corner >= 2 ? ty + s : ty - gap;
+        // Squares sit at (k p - gap, l p - gap), k, l integers: keyed on (k, l).
+        if (squares.insert({std::lround((cx + gap) / p), std::lround((cy + gap) / p)}).second) {
+          out->rects.push_back({cx, cy, gap, gap});
+        }
+      }
+    }
+  }
+  out->x0 = out->y0 = -gap;
+  out->x1 = (g->tag_cols - 1) * p + s + gap;
+  out->y1 = (g->tag_rows - 1) * p + s + gap;
+  return true;
+}
+
+// A checkerboard of rows x cols inner corners: (rows + 1) x (cols + 1) squares, the black ones.
+BoardPattern CheckerboardPattern(const TargetArgs& a) {
+  BoardPattern out;
+  const double s = a.size_m;
+  for (int j = 0; j <= a.rows; ++j) {
+    for (int i = 0; i <= a.cols; ++i) {
+      if ((i + j) % 2 == 0) out.rects.push_back({(i - 1) * s, (j - 1) * s, s, s});
+    }
+  }
+  out.x0 = out.y0 = -s;
+  out.x1 = a.cols * s;
+  out.y1 = a.rows * s;
+  return out;
+}
+
+}  // namespace
+
 bool MakeTargetLayout(const TargetArgs& a, TargetLayout* layout, std::string* why) {
   if (!a.Check(why)) return false;
   *layout = TargetLayout();
-  std::vector<BlackRect> board;           // Board frame, metres.
-  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // The pattern's bounding box, board frame.
+  BoardPattern board;
   CalibrationTarget& t = layout->target;
   if (a.type == "aprilgrid") {
     t.type = CalibrationTarget::Type::kAprilGrid;
-    AprilGrid& g = t.grid;
-    g.family = a.family;
-    g.tag_rows = a.rows;
-    g.tag_cols = a.cols;
-    g.tag_size_m = a.size_m;
-    g.tag_spacing = a.spacing;
-    g.first_id = a.first_id;
-    g.black_tag_border = a.border_bits;
-    g.corner_squares = true;
-    const auto family = TagFamily::Create(g.family, g.black_tag_border, why);
-    if (!family) return false;
-    if (g.first_id + g.NumTags() > family->num_codes()) {
-      if (why) {
-        *why = g.family + " has " + std::to_string(family->num_codes()) + " codes: ids up to " +
-               std::to_string(g.first_id + g.NumTags() - 1) + " do not exist";
-      }
-      return false;
-    }
-    const double s = g.tag_size_m, p = g.Pitch(), gap = g.tag_spacing * s;
-    const int wab = family->width_at_border(), start = family->border_start();
-    const double cell = s / wab;
-    std::set<std::tuple<long, long>> squares;  // Corner squares shared by neighbours: once.
-    for (int r = 0; r < g.tag_rows; ++r) {
-      for (int c = 0; c < g.tag_cols; ++c) {
-        const int id = g.first_id + r * g.tag_cols + c;
-        const double tx = c * p, ty = r * p;
-        for (int row = 0; row < wab; ++row) {  // Runs of black cells along each row.
-          for (int col = 0; col < wab;) {
-            if (family->IsWhite(id, col + start, row + start)) {
-              ++col;
-              continue;
-            }
-            int end = col;
-            while (end < wab && !family->IsWhite(id, end + start, row + start)) ++end;
-            board.push_back({tx + col * cell, ty + s - (row + 1) * cell, (end - col) * cell, cell});
-            col = end;
-          }
-        }
-        for (int corner = 0; corner < 4; ++corner) {
-          const double cx = corner == 1 || corner == 2 ? tx + s : tx - gap;
-          const double cy = corner >= 2 ? ty + s : ty - gap;
-          // Squares sit at (k p - gap, l p - gap), k, l integers: keyed on (k, l).
-          if (squares.insert({std::lround((cx + gap) / p), std::lround((cy + gap) / p)}).second) {
-            board.push_back({cx, cy, gap, gap});
-          }
-        }
-      }
-    }
-    x0 = y0 = -gap;
-    x1 = (g.tag_cols - 1) * p + s + gap;
-    y1 = (g.tag_rows - 1) * p + s + gap;
+    if (!AprilGridPattern(a, &t.grid, &board, why)) return false;
   } else {
     t.type = CalibrationTarget::Type::kCheckerboard;
     t.rows = a.rows;
     t.cols = a.cols;
     t.row_spacing_m = t.col_spacing_m = a.size_m;
-    const double s = a.size_m;
-    for (int j = 0; j <= a.rows; ++j) {
-      for (int i = 0; i <= a.cols; ++i) {
-        if ((i + j) % 2 == 0) board.push_back({(i - 1) * s, (j - 1) * s, s, s});
-      }
-    }
-    x0 = y0 = -s;
-    x1 = a.cols * s;
-    y1 = a.rows * s;
+    board = CheckerboardPattern(a);
   }
-  layout->page_w_m = x1 - x0 + 2 * a.margin_m;
-  layout->page_h_m = y1 - y0 + 2 * a.margin_m;
-  layout->origin_x_m = a.margin_m - x0;
-  layout->origin_y_m = a.margin_m - y0;
-  for (BlackRect r : board) {
+  layout->page_w_m = board.x1 - board.x0 + 2 * a.margin_m;
+  layout->page_h_m = board.y1 - board.y0 + 2 * a.margin_m;
+  layout->origin_x_m = a.margin_m - board.x0;
+  layout->origin_y_m = a.margin_m - board.y0;
+  for (BlackRect r : board.rects) {
     r.x += layout->origin_x_m;
     r.y += layout->origin_y_m;
     layout->rects.push_back(r);
