@@ -110,6 +110,42 @@ bool RenderedSourceOptions::Check(std::string* why) const {
   return render.Check(why) && detection.Check(why);
 }
 
+namespace {
+
+// Frame k at time t: rendered, the tags a detector should find counted, detected, and each
+// detected corner's error against its exact projection (with its tag's outward direction).
+// r->error says why rendering failed.
+void RenderAndDetect(const SceneTruth& scene, const SceneRenderer& renderer, uint64_t trial_seed,
+                     int k, double t, const FrameDetector* detector, GrayImage* image,
+                     std::vector<BoardView>* views, FrameResult* r) {
+  if (!renderer.Render(t, trial_seed, k, image, views, &r->error)) return;
+  const CameraIntrinsics intrinsics = scene.IntrinsicsAt(t);
+  for (const std::vector<bool>& grid :
+       TagsInView(intrinsics, *views, image->width, image->height)) {
+    r->tags_expected += static_cast<int>(std::count(grid.begin(), grid.end(), true));
+  }
+  const Rigid3 parent_from_points = scene.ParentFromPoints(t);
+  const Rigid3 cam_from_points = scene.CamFromParentAt(t) * parent_from_points;
+  r->frame.time_s = t;
+  for (const Observation& o : detector->Detect(*image, &r->counts)) {
+    r->frame.point_ids.push_back(o.point_id);
+    r->frame.points_in_parent.push_back(parent_from_points * scene.points[o.point_id]);
+    r->frame.pixels.push_back(o.pixel);
+    Eigen::Vector2d exact, centre;
+    const int first_corner = o.point_id - o.point_id % 4;  // Tags own 4 consecutive points.
+    const Eigen::Vector3d centre_in_points =
+        (scene.points[first_corner] + scene.points[first_corner + 2]) / 2;
+    if (ProjectPoint(intrinsics, cam_from_points * scene.points[o.point_id], &exact) &&
+        ProjectPoint(intrinsics, cam_from_points * centre_in_points, &centre)) {
+      r->errors.push_back(o.pixel - exact);
+      r->outward.push_back((exact - centre).normalized());
+      r->crlb_px.push_back(o.crlb_px);
+    }
+  }
+}
+
+}  // namespace
+
 std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
                                                        const std::vector<AprilGrid>& grids,
                                                        const RenderedSourceOptions& options,
@@ -149,36 +185,8 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
   ParallelFor(results.size(), options.threads, [&](int worker, size_t k) {
     WorkerState& state = states[worker];
     if (!state.detector) state.detector = FrameDetector::Create(grids, options.detection, nullptr);
-    GrayImage& image = state.image;
-    std::vector<BoardView>& views = state.views;
-    {
-      FrameResult& r = results[k];
-      const double t = source->breakpoints_[k];
-      if (!renderer->Render(t, trial_seed, static_cast<int>(k), &image, &views, &r.error)) return;
-      const CameraIntrinsics intrinsics = scene.IntrinsicsAt(t);
-      for (const std::vector<bool>& grid :
-           TagsInView(intrinsics, views, image.width, image.height)) {
-        r.tags_expected += static_cast<int>(std::count(grid.begin(), grid.end(), true));
-      }
-      const Rigid3 parent_from_points = scene.ParentFromPoints(t);
-      const Rigid3 cam_from_points = scene.CamFromParentAt(t) * parent_from_points;
-      r.frame.time_s = t;
-      for (const Observation& o : state.detector->Detect(image, &r.counts)) {
-        r.frame.point_ids.push_back(o.point_id);
-        r.frame.points_in_parent.push_back(parent_from_points * scene.points[o.point_id]);
-        r.frame.pixels.push_back(o.pixel);
-        Eigen::Vector2d exact, centre;
-        const int first_corner = o.point_id - o.point_id % 4;  // Tags own 4 consecutive points.
-        const Eigen::Vector3d centre_in_points =
-            (scene.points[first_corner] + scene.points[first_corner + 2]) / 2;
-        if (ProjectPoint(intrinsics, cam_from_points * scene.points[o.point_id], &exact) &&
-            ProjectPoint(intrinsics, cam_from_points * centre_in_points, &centre)) {
-          r.errors.push_back(o.pixel - exact);
-          r.outward.push_back((exact - centre).normalized());
-          r.crlb_px.push_back(o.crlb_px);
-        }
-      }
-    }
+    RenderAndDetect(scene, *renderer, trial_seed, static_cast<int>(k), source->breakpoints_[k],
+                    state.detector.get(), &state.image, &state.views, &results[k]);
   });
 
   DetectionStatsAccumulator stats;
