@@ -84,6 +84,55 @@ const std::vector<ColumnInfo>& SummaryColumns() {
 
 namespace {
 
+// Where each field of runs.csv is: the keys, the status, and per summarised metric its value,
+// its Cramer-Rao bound and its reported std (-1: not in the file).
+struct RunsColumns {
+  int scenario = -1, sweep = -1, point = -1, params = -1, method = -1, status = -1;
+  std::vector<int> metric, crlb, std;
+};
+bool FindRunsColumns(const std::vector<std::string>& header, RunsColumns* cols) {
+  auto column = [&](const std::string& name) -> int {
+    for (size_t i = 0; i < header.size(); ++i) {
+      if (header[i] == name) return static_cast<int>(i);
+    }
+    return -1;
+  };
+  for (const MetricSpec* m : Summarised()) {
+    cols->metric.push_back(column(SummaryColumn(*m)));
+    cols->crlb.push_back(m->columns & kCrlbColumn ? column(ColumnName(m->id, kCrlbColumn)) : -1);
+    cols->std.push_back(m->columns & kStdColumn ? column(ColumnName(m->id, kStdColumn)) : -1);
+  }
+  cols->scenario = column("scenario"), cols->sweep = column("sweep"), cols->point = column("point");
+  cols->params = column("params"), cols->method = column("method"), cols->status = column("status");
+  for (int c :
+       {cols->scenario, cols->sweep, cols->point, cols->params, cols->method, cols->status}) {
+    if (c < 0) return false;
+  }
+  return true;
+}
+
+// One row of runs.csv into its (scenario, method) pair: the bounds of every trial, the values
+// and stds of the trials that ended ok (finite ones only).
+void AddRow(const std::vector<std::string>& fields, const RunsColumns& cols, Pair* p) {
+  ++p->n;
+  const bool ok = fields[cols.status] == "ok";
+  if (!ok) ++p->n_failed;
+  for (size_t m = 0; m < cols.metric.size(); ++m) {
+    if (cols.crlb[m] >= 0) {
+      const double b = std::strtod(fields[cols.crlb[m]].c_str(), nullptr);
+      if (std::isfinite(b)) p->crlb[m].push_back(b);
+    }
+    if (!ok) continue;
+    if (cols.std[m] >= 0) {
+      const double s = std::strtod(fields[cols.std[m]].c_str(), nullptr);
+      if (std::isfinite(s)) p->stds[m].push_back(s);
+    }
+    if (cols.metric[m] < 0) continue;
+    const double v = std::strtod(fields[cols.metric[m]].c_str(), nullptr);
+    if (std::isfinite(v)) p->values[m].push_back(v);
+  }
+}
+
 // The rows of runs.csv grouped by (scenario, method), in first-seen order: per summarised metric
 // the values of the ok rows, the CRLB of every row and the reported std of the ok rows. False with
 // *why naming the file (unreadable, not a runs.csv, a record of the wrong width).
@@ -100,27 +149,12 @@ bool ReadPairs(const std::string& runs_csv, std::vector<Pair>* pairs_out, std::s
     if (why) *why = runs_csv + ": " + (reason.empty() ? "empty file (no header)" : reason);
     return false;
   }
-  auto column = [&](const std::string& name) -> int {
-    for (size_t i = 0; i < header.size(); ++i) {
-      if (header[i] == name) return static_cast<int>(i);
-    }
-    return -1;
-  };
-  const std::vector<std::string>& metrics = SummaryMetrics();
-  std::vector<int> metric_col, crlb_col, std_col;
-  for (const MetricSpec* m : Summarised()) {
-    metric_col.push_back(column(SummaryColumn(*m)));
-    crlb_col.push_back(m->columns & kCrlbColumn ? column(ColumnName(m->id, kCrlbColumn)) : -1);
-    std_col.push_back(m->columns & kStdColumn ? column(ColumnName(m->id, kStdColumn)) : -1);
+  RunsColumns cols;
+  if (!FindRunsColumns(header, &cols)) {
+    if (why) *why = runs_csv + ": not a calibench runs.csv (a key column is missing)";
+    return false;
   }
-  const int c_scenario = column("scenario"), c_sweep = column("sweep"), c_point = column("point"),
-            c_params = column("params"), c_method = column("method"), c_status = column("status");
-  for (int c : {c_scenario, c_sweep, c_point, c_params, c_method, c_status}) {
-    if (c < 0) {
-      if (why) *why = runs_csv + ": not a calibench runs.csv (a key column is missing)";
-      return false;
-    }
-  }
+  const size_t num_metrics = SummaryMetrics().size();
   std::vector<Pair>& pairs = *pairs_out;
   pairs.clear();
   std::map<std::pair<std::string, std::string>, size_t> index;
@@ -133,39 +167,22 @@ bool ReadPairs(const std::string& runs_csv, std::vector<Pair>* pairs_out, std::s
       }
       return false;
     }
-    const auto key = std::make_pair(fields[c_scenario], fields[c_method]);
+    const auto key = std::make_pair(fields[cols.scenario], fields[cols.method]);
     auto it = index.find(key);
     if (it == index.end()) {
       it = index.emplace(key, pairs.size()).first;
       Pair p;
-      p.scenario = fields[c_scenario];
-      p.sweep = fields[c_sweep];
-      p.point = fields[c_point];
-      p.params = fields[c_params];
-      p.method = fields[c_method];
-      p.values.resize(metrics.size());
-      p.crlb.resize(metrics.size());
-      p.stds.resize(metrics.size());
+      p.scenario = fields[cols.scenario];
+      p.sweep = fields[cols.sweep];
+      p.point = fields[cols.point];
+      p.params = fields[cols.params];
+      p.method = fields[cols.method];
+      p.values.resize(num_metrics);
+      p.crlb.resize(num_metrics);
+      p.stds.resize(num_metrics);
       pairs.push_back(std::move(p));
     }
-    Pair& p = pairs[it->second];
-    ++p.n;
-    const bool ok = fields[c_status] == "ok";
-    if (!ok) ++p.n_failed;
-    for (size_t m = 0; m < metrics.size(); ++m) {
-      if (crlb_col[m] >= 0) {
-        const double b = std::strtod(fields[crlb_col[m]].c_str(), nullptr);
-        if (std::isfinite(b)) p.crlb[m].push_back(b);
-      }
-      if (!ok) continue;
-      if (std_col[m] >= 0) {
-        const double s = std::strtod(fields[std_col[m]].c_str(), nullptr);
-        if (std::isfinite(s)) p.stds[m].push_back(s);
-      }
-      if (metric_col[m] < 0) continue;
-      const double v = std::strtod(fields[metric_col[m]].c_str(), nullptr);
-      if (std::isfinite(v)) p.values[m].push_back(v);
-    }
+    AddRow(fields, cols, &pairs[it->second]);
   }
   if (!reason.empty()) {
     if (why) *why = runs_csv + ": " + reason;
