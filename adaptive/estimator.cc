@@ -160,6 +160,28 @@ double DormandPrinceStep(double t, double step, int segment, const State& y, dou
   return ErrorNorm(e, y, *y_new, rtol);
 }
 
+// The end of the next step: the first stop time after t (stop_times_s sorted; *next_stop
+// advances past those <= t), or the segment's end if that comes first.
+double NextStop(const std::vector<double>& stop_times_s, double t, double segment_end,
+                size_t* next_stop) {
+  while (*next_stop < stop_times_s.size() && stop_times_s[*next_stop] <= t) ++*next_stop;
+  return *next_stop < stop_times_s.size() && stop_times_s[*next_stop] < segment_end
+             ? stop_times_s[*next_stop]
+             : segment_end;
+}
+
+// The step-size controller (5th-order error, exponent 1/5, safety 0.9). After an accepted step of
+// `step` (error norm err <= 1) the next grows by at most 5 and shrinks by at most 5; a step
+// shortened to hit a segment end (`last`) says nothing about the next one, which keeps h.
+double AcceptedStepSize(double err, double step, double h, bool last) {
+  const double factor = err == 0.0 ? 5.0 : std::clamp(0.9 * std::pow(err, -0.2), 0.2, 5.0);
+  return last ? std::max(h, step * factor) : step * factor;
+}
+// After a rejected step: shrink by 0.1..0.9, or by 4 when a stage failed (err infinite).
+double RejectedStepSize(double err, double step) {
+  return step * (std::isfinite(err) ? std::clamp(0.9 * std::pow(err, -0.2), 0.1, 0.9) : 0.25);
+}
+
 // Covariance resetting: P = Gamma^-1 <- I / gamma_r (reset_gamma, or gamma0 when 0).
 void ResetCovariance(const AdaptiveOptions& options, State* y) {
   const double gamma_r = options.reset_gamma > 0 ? options.reset_gamma : options.gamma0;
@@ -243,10 +265,7 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
           "a depth W_z theta_z_hat became <= 0 or non-finite at t = " + std::to_string(t) + " s");
     }
     while (t < segment_end) {
-      while (next_stop < stop_times_s.size() && stop_times_s[next_stop] <= t) ++next_stop;
-      const double t_end = next_stop < stop_times_s.size() && stop_times_s[next_stop] < segment_end
-                               ? stop_times_s[next_stop]
-                               : segment_end;
+      const double t_end = NextStop(stop_times_s, t, segment_end, &next_stop);
       if (++attempts > options.max_steps) {
         summary.final_time_s = t;
         return finish(MethodStatus::kFailed, "max_steps exceeded at t = " + std::to_string(t));
@@ -261,9 +280,7 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
         k[0] = k[6];
         ++summary.iterations;
         if (observer) observer(t, y.col(0));
-        const double factor = err == 0.0 ? 5.0 : std::clamp(0.9 * std::pow(err, -0.2), 0.2, 5.0);
-        // A step shortened to hit the segment end says nothing about the next one.
-        h = std::min(options.max_step_s, last ? std::max(h, step * factor) : step * factor);
+        h = std::min(options.max_step_s, AcceptedStepSize(err, step, h, last));
         if (options.reset_threshold > 0 && NeedsReset(y, options.reset_threshold)) {
           // Covariance resetting: Gamma <- gamma_r I; the system is stiff again, as at t = 0.
           ResetCovariance(options, &y);
@@ -277,7 +294,7 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
         }
       } else {
         ++summary.rejected_steps;
-        h = step * (std::isfinite(err) ? std::clamp(0.9 * std::pow(err, -0.2), 0.1, 0.9) : 0.25);
+        h = RejectedStepSize(err, step);
         if (h < 1e-14 * (1.0 + t)) {
           return stop(MethodStatus::kDiverged,
                       "step size underflow at t = " + std::to_string(t) +
