@@ -226,4 +226,15 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
   return finish(MethodStatus::kOk, "OpenCV fixes the skew: phi reported as 90 deg");
 }
 
+ZhangResult FromWideStart(const WideInitResult& wide) {
+  ZhangResult result;
+  static_cast<MethodSummary&>(result) = wide;
+  result.intrinsics = wide.intrinsics;
+  result.intrinsics_std.fill(std::nan(""));
+  result.cam_from_board = wide.cam_from_board;
+  result.used_views = wide.used_views;
+  result.rms_reproj_px = wide.rms_reproj_px;
+  return result;
+}
+
 }  // namespace calibench

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "batch/refine.h"
+#include "batch/wide_init.h"
 #include "camera/camera.h"
 #include "camera/pose.h"
 #include "camera/view.h"
@@ -31,6 +32,10 @@ struct ZhangResult : MethodSummary {
 };
 
 ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOptions& options);
+
+// The wide start (batch/wide_init.h: the omnidirectional families, which OpenCV has not) as a
+// ZhangResult: its status, intrinsics, poses, used views and RMS; no standard deviations (NaN).
+ZhangResult FromWideStart(const WideInitResult& wide);
 
 // OpenCV's own thread pool (TBB) splits calibrateCamera's sums differently from run to run;
 // calibench parallelises over trials instead. Call this once, before starting worker threads

@@ -106,15 +106,7 @@ ZhangResult Calibrate(const std::vector<View>& views, const MethodInput& input, 
     wide.model = model;
     wide.image_width = input.image_width;
     wide.image_height = input.image_height;
-    const WideInitResult start = InitializeWideCamera(views, wide);
-    ZhangResult result;
-    static_cast<MethodSummary&>(result) = start;
-    result.intrinsics = start.intrinsics;
-    result.intrinsics_std.fill(std::nan(""));
-    result.cam_from_board = start.cam_from_board;
-    result.used_views = start.used_views;
-    result.rms_reproj_px = start.rms_reproj_px;
-    return result;
+    return FromWideStart(InitializeWideCamera(views, wide));
   }
   ZhangOptions options;
   options.model = model;

@@ -51,18 +51,6 @@ ZhangResult InitialiseFromCamera(const std::vector<View>& views, const CameraInt
                       first_failure.empty() ? "" : "skipped " + first_failure);
 }
 
-// The wide start (batch/wide_init.h) as the initialisation's result.
-ZhangResult FromWideStart(const WideInitResult& wide) {
-  ZhangResult result;
-  static_cast<MethodSummary&>(result) = wide;
-  result.intrinsics = wide.intrinsics;
-  result.intrinsics_std.fill(std::nan(""));
-  result.cam_from_board = wide.cam_from_board;
-  result.used_views = wide.used_views;
-  result.rms_reproj_px = wide.rms_reproj_px;
-  return result;
-}
-
 WideInitResult WideStart(const PointData& data, LensModel model) {
   WideInitOptions wide;
   wide.model = model;
