@@ -96,6 +96,19 @@ Rigid3 FacingBoardPoseAlong(const Eigen::Vector3d& tilt, const Eigen::Vector3d& 
   return cam_from_board;
 }
 
+Rigid3 RandomFacingBoardPose(const Eigen::Vector3d& board_point, double off_axis_deg,
+                             const FacingPoseRange& range, Rng* rng) {
+  constexpr double kDeg = M_PI / 180.0;
+  const double azimuth = rng->Uniform(0, 2 * M_PI),
+               tilt = rng->Uniform(0, range.max_tilt_deg * kDeg);
+  const double axis = rng->Uniform(0, 2 * M_PI);
+  const Eigen::Vector3d turn(tilt * std::cos(axis), tilt * std::sin(axis), rng->Uniform(-0.5, 0.5));
+  const Eigen::Vector3d ray(std::sin(off_axis_deg * kDeg) * std::cos(azimuth),
+                            std::sin(off_axis_deg * kDeg) * std::sin(azimuth),
+                            std::cos(off_axis_deg * kDeg));
+  return FacingBoardPoseAlong(turn, board_point, ray, rng->Uniform(range.near_m, range.far_m));
+}
+
 BoardView SixByFiveTagGrid() {
   BoardView b;
   b.grid.tag_rows = 5;

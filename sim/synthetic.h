@@ -106,6 +106,16 @@ Rigid3 FacingBoardPose(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board
 // camera it looks as a board facing it on the axis, turned with the line of sight.
 Rigid3 FacingBoardPoseAlong(const Eigen::Vector3d& tilt, const Eigen::Vector3d& board_point,
                             const Eigen::Vector3d& ray, double distance_m);
+// A random FacingBoardPoseAlong: the ray off_axis_deg from the optical axis at a uniform azimuth,
+// the board tilted by up to max_tilt_deg about a uniform in-plane axis and turned by up to
+// 0.5 rad about its normal, `board_point` at a distance uniform in [near_m, far_m]. Draws, in
+// order: azimuth, tilt, tilt axis, turn, distance.
+struct FacingPoseRange {
+  double max_tilt_deg = 35;
+  double near_m = 0.3, far_m = 0.45;
+};
+Rigid3 RandomFacingBoardPose(const Eigen::Vector3d& board_point, double off_axis_deg,
+                             const FacingPoseRange& range, Rng* rng);
 
 // A planar board seen through a wide lens (120-200+ degrees) anywhere in its field, the edge of
 // the image circle included: each view's board centre lies in a direction theta_c from the axis,

@@ -138,13 +138,7 @@ int WriteFrames(const WideTruth& truth, const std::string& dir, uint64_t seed) {
   for (int v = 0; v < kViews; ++v) {
     const double angle = (truth.field_deg / 2 - 8) * std::sqrt((v + 0.5) / kViews);
     for (int attempt = 0; attempt < 300; ++attempt) {
-      const double azimuth = rng.Uniform(0, 2 * M_PI), tilt = rng.Uniform(0, 35 * kDeg);
-      const double axis = rng.Uniform(0, 2 * M_PI);
-      const Eigen::Vector3d turn(tilt * std::cos(axis), tilt * std::sin(axis),
-                                 rng.Uniform(-0.5, 0.5));
-      const Eigen::Vector3d ray(std::sin(angle * kDeg) * std::cos(azimuth),
-                                std::sin(angle * kDeg) * std::sin(azimuth), std::cos(angle * kDeg));
-      const Rigid3 pose = FacingBoardPoseAlong(turn, centre, ray, rng.Uniform(0.3, 0.45));
+      const Rigid3 pose = RandomFacingBoardPose(centre, angle, {35, 0.3, 0.45}, &rng);
       int in = 0;
       CornersIn(grid, truth.camera, pose, &in);
       if (in < kMinCornersIn) continue;

@@ -130,14 +130,7 @@ GridViews RenderViews(const WideLens& lens, uint64_t seed) {
   Rng rng(seed);
   for (double angle : angles) {
     for (int attempt = 0; attempt < 200; ++attempt) {
-      const double azimuth = rng.Uniform(0, 2 * M_PI), tilt = rng.Uniform(0, 35 * kDeg);
-      const double axis = rng.Uniform(0, 2 * M_PI);
-      const Eigen::Vector3d turn(tilt * std::cos(axis), tilt * std::sin(axis),
-                                 rng.Uniform(-0.5, 0.5));
-      const Eigen::Vector3d ray(std::sin(angle * kDeg) * std::cos(azimuth),
-                                std::sin(angle * kDeg) * std::sin(azimuth), std::cos(angle * kDeg));
-      const Rigid3 cam_from_board =
-          FacingBoardPoseAlong(turn, centre, ray, rng.Uniform(0.45, 0.75));
+      const Rigid3 cam_from_board = RandomFacingBoardPose(centre, angle, {35, 0.45, 0.75}, &rng);
       int inside = 0;
       for (int t = 0; t < out.grid.NumTags(); ++t)
         inside += TagRegionInImage(out.grid, t, lens.camera, cam_from_board);
