@@ -5,7 +5,7 @@ repository's configs/ and data/, with calibench on the PATH.
 
 The user's own images (my_images/, new_images/) and target (board.yaml) are the bundled
 opencv-left chessboard set and its target file. Section 1 (./scripts/bench, about ten minutes)
-is the README's quick start; section 4 (Slurm) is run by CI's scripts/slurm_ci.sh.
+and section 4 (Slurm: scripts/slurm_ci.sh) are steps of CI's .ci/run.
 
 Usage: tutorial_test.py SOURCE_DIR CALIBENCH
 """
