@@ -241,7 +241,7 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
   const Matrix16d p0 = y.rightCols<16>();
   if (observer) observer(0.0, theta0);
   double t = 0.0;
-  // Stops the integration at t with the estimate reached.
+  // Ends the integration at t with the estimate reached.
   auto stop = [&](MethodStatus status, const std::string& message) {
     summary.final_time_s = t;
     summary.theta_hat = y.col(0);
@@ -303,11 +303,8 @@ AdaptiveSummary RunAdaptiveEstimator(const MeasurementSource& source, const Vect
       }
     }
   }
-  summary.theta_hat = y.col(0);
   summary.information = y.rightCols<16>() - p0;
-  summary.final_time_s = t;
-  summary.rhs_evaluations = ode.evaluations();
-  return finish(MethodStatus::kOk, "");
+  return stop(MethodStatus::kOk, "");
 }
 
 double PersistentExcitationIndex(const Matrix16d& information, const Vector16d& theta_hat) {

@@ -306,6 +306,16 @@ struct StageSums {
   int attempts = 0;
 };
 
+// The study's target: one tag (id 0) of 0.1 m with the case's border and corner squares.
+AprilGrid SingleTagGrid(const CornerBiasCase& c) {
+  AprilGrid grid;
+  grid.tag_rows = grid.tag_cols = 1;
+  grid.tag_size_m = 0.1;
+  grid.black_tag_border = c.black_border_bits;
+  grid.corner_squares = c.corner_squares;
+  return grid;
+}
+
 // The crop around the tag in view0: its outline (white margin included) projected along the sides
 // (a lens bends them), padded by 8 + 4 blur px, clipped to the image. False when less than 16 px
 // of it is in the image.
@@ -444,11 +454,7 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
   const CameraIntrinsics& k = camera.intrinsics;
   const Eigen::Vector2d centre_px =
       c.centre_px.allFinite() ? c.centre_px : camera.default_centre_px;
-  AprilGrid grid;
-  grid.tag_rows = grid.tag_cols = 1;
-  grid.tag_size_m = 0.1;
-  grid.black_tag_border = c.black_border_bits;
-  grid.corner_squares = c.corner_squares;
+  const AprilGrid grid = SingleTagGrid(c);
   auto family = TagFamily::Create(grid.family, grid.black_tag_border, &result.message);
   if (!family) return result;
   double depth = 0;

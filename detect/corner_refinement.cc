@@ -87,6 +87,70 @@ bool CornerRefineOptions::Check(std::string* why) const {
 namespace {
 
 // One pass: the four edge lines measured around the quadrilateral `p`, and their intersections.
+// The edge's position along `normal` (dark inside to bright outside) across the window
+// [-h, h] about `base`, from the area under the normalised profile (sampled every 0.05 px). None
+// when the window leaves the image, has no contrast, or the edge is not inside it.
+std::optional<Eigen::Vector2d> EdgePointAcross(const GrayImageView& image,
+                                               const Eigen::Vector2d& base,
+                                               const Eigen::Vector2d& normal, double h) {
+  constexpr double kStep = 0.05;
+  const int n = static_cast<int>(std::round(2 * h / kStep)) + 1;
+  std::vector<double> profile(n);
+  for (int s = 0; s < n; ++s) {
+    const std::optional<double> v = Sample(image, base.x() + (-h + s * kStep) * normal.x(),
+                                           base.y() + (-h + s * kStep) * normal.y());
+    if (!v) return std::nullopt;
+    profile[s] = *v;
+  }
+  // Plateau levels: the mean of the profile's first and last kPlateau samples.
+  constexpr int kPlateau = 5;
+  double dark = 0, bright = 0;
+  for (int s = 0; s < kPlateau; ++s) {
+    dark += profile[s] / kPlateau;
+    bright += profile[n - 1 - s] / kPlateau;
+  }
+  if (bright - dark < 10.0) return std::nullopt;  // No contrast: not an edge here.
+  // Area estimate: for a step from dark to bright at offset e in [-h, h], the normalised
+  // profile q = (v - dark) / (bright - dark) integrates to h - e. Unlike a mid-level crossing
+  // of the interpolated profile (biased by up to 0.09 px depending on the edge's sub-pixel
+  // phase), the area is exact for area-sampled pixels and any symmetric blur.
+  double area = 0;
+  for (int s = 1; s < n; ++s) {
+    area += 0.5 * kStep * (profile[s - 1] + profile[s] - 2 * dark) / (bright - dark);
+  }
+  const double offset = (n - 1) * kStep / 2 - area;  // e, with the window's centre at 0.
+  if (std::abs(offset) >= h) return std::nullopt;
+  return base + offset * normal;
+}
+
+// Corner k joins edge (k-1 -> k) and edge (k -> k+1): the lines' intersection, then with curved
+// edges Newton on (g1, g2) = 0 from it. False for parallel edges or curves that do not meet
+// near the lines' corner.
+bool IntersectEdges(const std::array<Line, 4>& lines, bool curved_edges,
+                    std::array<Eigen::Vector2d, 4>* out) {
+  for (int k = 0; k < 4; ++k) {
+    const Line& l1 = lines[(k + 3) % 4];
+    const Line& l2 = lines[k];
+    Eigen::Matrix2d m;
+    m << l1.normal.transpose(), l2.normal.transpose();
+    if (std::abs(m.determinant()) < 1e-6) return false;
+    Eigen::Vector2d x = m.inverse() * Eigen::Vector2d(l1.c, l2.c);
+    // Curves: the lines' intersection is a few hundredths of a pixel away; 2-3 steps.
+    bool converged = !curved_edges;
+    for (int it = 0; curved_edges && it < 10 && !converged; ++it) {
+      Eigen::Matrix2d j;
+      j << l1.Gradient(x).transpose(), l2.Gradient(x).transpose();
+      if (std::abs(j.determinant()) < 1e-6) return false;
+      const Eigen::Vector2d step = j.inverse() * Eigen::Vector2d(l1.Residual(x), l2.Residual(x));
+      x -= step;
+      converged = step.norm() < 1e-9;
+    }
+    if (!converged) return false;
+    (*out)[k] = x;
+  }
+  return true;
+}
+
 bool RefinePass(const GrayImageView& image, const CornerRefineOptions& o,
                 const std::array<Eigen::Vector2d, 4>& p, std::array<Eigen::Vector2d, 4>* out) {
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
@@ -107,37 +171,9 @@ bool RefinePass(const GrayImageView& image, const CornerRefineOptions& o,
     std::vector<Eigen::Vector2d> edge_points;
     for (int k = 0; k < o.samples_per_edge; ++k) {
       const double t = o.corner_margin + (1 - 2 * o.corner_margin) * (k + 0.5) / o.samples_per_edge;
-      const Eigen::Vector2d base = a + t * (b - a);
-      constexpr double kStep = 0.05;
-      const int n = static_cast<int>(std::round(2 * h / kStep)) + 1;
-      std::vector<double> profile(n);
-      bool inside = true;
-      for (int s = 0; s < n && inside; ++s) {
-        const std::optional<double> v = Sample(image, base.x() + (-h + s * kStep) * normal.x(),
-                                               base.y() + (-h + s * kStep) * normal.y());
-        inside = v.has_value();
-        if (inside) profile[s] = *v;
-      }
-      if (!inside) continue;
-      // Plateau levels: the mean of the profile's first and last kPlateau samples.
-      constexpr int kPlateau = 5;
-      double dark = 0, bright = 0;
-      for (int s = 0; s < kPlateau; ++s) {
-        dark += profile[s] / kPlateau;
-        bright += profile[n - 1 - s] / kPlateau;
-      }
-      if (bright - dark < 10.0) continue;  // No contrast: not an edge here.
-      // Area estimate: for a step from dark to bright at offset e in [-h, h], the normalised
-      // profile q = (v - dark) / (bright - dark) integrates to h - e. Unlike a mid-level crossing
-      // of the interpolated profile (biased by up to 0.09 px depending on the edge's sub-pixel
-      // phase), the area is exact for area-sampled pixels and any symmetric blur.
-      double area = 0;
-      for (int s = 1; s < n; ++s) {
-        area += 0.5 * kStep * (profile[s - 1] + profile[s] - 2 * dark) / (bright - dark);
-      }
-      const double offset = (n - 1) * kStep / 2 - area;  // e, with the window's centre at 0.
-      if (std::abs(offset) >= h) continue;
-      edge_points.push_back(base + offset * normal);
+      const std::optional<Eigen::Vector2d> point =
+          EdgePointAcross(image, a + t * (b - a), normal, h);
+      if (point) edge_points.push_back(*point);
     }
     if (static_cast<int>(edge_points.size()) < o.samples_per_edge / 2) return false;
     std::optional<Line> line = FitLine(edge_points);
@@ -145,29 +181,7 @@ bool RefinePass(const GrayImageView& image, const CornerRefineOptions& o,
     if (!line) return false;
     lines[e] = *line;
   }
-  for (int k = 0; k < 4; ++k) {
-    // Corner k joins edge (k-1 -> k) and edge (k -> k+1).
-    const Line& l1 = lines[(k + 3) % 4];
-    const Line& l2 = lines[k];
-    Eigen::Matrix2d m;
-    m << l1.normal.transpose(), l2.normal.transpose();
-    if (std::abs(m.determinant()) < 1e-6) return false;
-    Eigen::Vector2d x = m.inverse() * Eigen::Vector2d(l1.c, l2.c);
-    // Curves: Newton on (g1, g2) = 0 from the lines' intersection (a few hundredths of a pixel
-    // away; converges in 2-3 steps).
-    bool converged = !o.curved_edges;
-    for (int it = 0; o.curved_edges && it < 10 && !converged; ++it) {
-      Eigen::Matrix2d j;
-      j << l1.Gradient(x).transpose(), l2.Gradient(x).transpose();
-      if (std::abs(j.determinant()) < 1e-6) return false;
-      const Eigen::Vector2d step = j.inverse() * Eigen::Vector2d(l1.Residual(x), l2.Residual(x));
-      x -= step;
-      converged = step.norm() < 1e-9;
-    }
-    if (!converged) return false;  // The curves do not meet near the lines' corner.
-    (*out)[k] = x;
-  }
-  return true;
+  return IntersectEdges(lines, o.curved_edges, out);
 }
 
 }  // namespace
