@@ -157,7 +157,8 @@ bool RefinePass(const GrayImageView& image, const CornerRefineOptions& o,
   for (const Eigen::Vector2d& c : p) centre += c / 4.0;
   std::array<Line, 4> lines;
   for (int e = 0; e < 4; ++e) {
-    const Eigen::Vector2d a = p[e], b = p[(e + 1) % 4];
+    const Eigen::Vector2d& a = p[e];
+    const Eigen::Vector2d& b = p[(e + 1) % 4];
     const Eigen::Vector2d along = (b - a).normalized();
     Eigen::Vector2d normal(-along.y(), along.x());
     if (normal.dot((a + b) / 2 - centre) < 0) normal = -normal;  // Outward.

@@ -121,6 +121,7 @@ int Report(const std::vector<std::string>& dirs, const std::string& out_dir) {
   std::vector<std::string> argv = {"/usr/bin/python3", "-m", "calibench_report", "--out", out_dir};
   argv.insert(argv.end(), dirs.begin(), dirs.end());
   std::vector<char*> c_argv;
+  c_argv.reserve(argv.size() + 1);
   for (std::string& a : argv) c_argv.push_back(a.data());
   c_argv.push_back(nullptr);
   std::cout.flush();
