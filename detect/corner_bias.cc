@@ -5,6 +5,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <memory>
+#include <optional>
 
 #include "camera/pose.h"
 #include "detect/apriltag_detector.h"
@@ -317,11 +318,14 @@ AprilGrid SingleTagGrid(const CornerBiasCase& c) {
 }
 
 // The crop around the tag in view0: its outline (white margin included) projected along the sides
-// (a lens bends them), padded by 8 + 4 blur px, clipped to the image. False when less than 16 px
+// (a lens bends them), padded by 8 + 4 blur px, clipped to the image. None when less than 16 px
 // of it is in the image.
-bool TagCrop(const CornerBiasCase& c, const CornerBiasCamera& camera, const AprilGrid& grid,
-             const TagView& view0, int* x0, int* y0, int* x1, int* y1) {
-  *x0 = camera.width, *y0 = camera.height, *x1 = 0, *y1 = 0;
+struct CropBox {
+  int x0, y0, x1, y1;  // Inclusive pixel bounds in the frame.
+};
+std::optional<CropBox> TagCrop(const CornerBiasCase& c, const CornerBiasCamera& camera,
+                               const AprilGrid& grid, const TagView& view0) {
+  CropBox box{camera.width, camera.height, 0, 0};
   const double m = (grid.tag_spacing + 0.5) * grid.tag_size_m, s = grid.tag_size_m;
   const std::array<Eigen::Vector3d, 4> outline = {
       Eigen::Vector3d(-m, -m, 0), Eigen::Vector3d(s + m, -m, 0), Eigen::Vector3d(s + m, s + m, 0),
@@ -332,15 +336,16 @@ bool TagCrop(const CornerBiasCase& c, const CornerBiasCamera& camera, const Apri
       const Eigen::Vector3d in_board = outline[i] + t * (outline[(i + 1) % 4] - outline[i]);
       Eigen::Vector2d q;
       if (!ProjectPoint(camera.intrinsics, view0.board.cam_from_board * in_board, &q)) continue;
-      *x0 = std::min(*x0, static_cast<int>(std::floor(q.x() - pad)));
-      *y0 = std::min(*y0, static_cast<int>(std::floor(q.y() - pad)));
-      *x1 = std::max(*x1, static_cast<int>(std::ceil(q.x() + pad)));
-      *y1 = std::max(*y1, static_cast<int>(std::ceil(q.y() + pad)));
+      box.x0 = std::min(box.x0, static_cast<int>(std::floor(q.x() - pad)));
+      box.y0 = std::min(box.y0, static_cast<int>(std::floor(q.y() - pad)));
+      box.x1 = std::max(box.x1, static_cast<int>(std::ceil(q.x() + pad)));
+      box.y1 = std::max(box.y1, static_cast<int>(std::ceil(q.y() + pad)));
     }
   }
-  *x0 = std::max(0, *x0), *y0 = std::max(0, *y0);
-  *x1 = std::min(camera.width - 1, *x1), *y1 = std::min(camera.height - 1, *y1);
-  return *x1 - *x0 >= 16 && *y1 - *y0 >= 16;
+  box.x0 = std::max(0, box.x0), box.y0 = std::max(0, box.y0);
+  box.x1 = std::min(camera.width - 1, box.x1), box.y1 = std::min(camera.height - 1, box.y1);
+  if (box.x1 - box.x0 < 16 || box.y1 - box.y0 < 16) return std::nullopt;
+  return box;
 }
 
 // The frame detectors of the refining stages, as the study configures them (nullptr: the stage
@@ -469,11 +474,12 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
 
   // Every stage sees the crop around the tag (its white margin, squares and blur, plus 8 px): the
   // detector's cost is per pixel, and the rest of the frame is a flat white board.
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  if (!TagCrop(c, camera, grid, view0, &x0, &y0, &x1, &y1)) {
+  const std::optional<CropBox> crop = TagCrop(c, camera, grid, view0);
+  if (!crop) {
     result.message = "the tag is outside the image";
     return result;
   }
+  const auto [x0, y0, x1, y1] = *crop;
   const Eigen::Vector2d crop_origin(x0, y0);
   CameraIntrinsics crop_camera = k;  // The same lens, its principal point in crop pixels.
   crop_camera.u0_px -= x0;

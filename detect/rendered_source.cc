@@ -112,13 +112,29 @@ bool RenderedSourceOptions::Check(std::string* why) const {
 
 namespace {
 
+// A worker's detector (FrameDetector is not thread-safe) and scratch buffers.
+struct WorkerState {
+  std::unique_ptr<FrameDetector> detector;
+  GrayImage image;
+  std::vector<BoardView> views;
+};
+
+// Which frame: the trial's seed, the frame's index k and its time t (s).
+struct FrameId {
+  uint64_t trial_seed;
+  int k;
+  double t;
+};
+
 // Frame k at time t: rendered, the tags a detector should find counted, detected, and each
 // detected corner's error against its exact projection (with its tag's outward direction).
 // r->error says why rendering failed.
-void RenderAndDetect(const SceneTruth& scene, const SceneRenderer& renderer, uint64_t trial_seed,
-                     int k, double t, const FrameDetector* detector, GrayImage* image,
-                     std::vector<BoardView>* views, FrameResult* r) {
-  if (!renderer.Render(t, trial_seed, k, image, views, &r->error)) return;
+void RenderAndDetect(const SceneTruth& scene, const SceneRenderer& renderer, const FrameId& id,
+                     WorkerState* state, FrameResult* r) {
+  const double t = id.t;
+  GrayImage* image = &state->image;
+  std::vector<BoardView>* views = &state->views;
+  if (!renderer.Render(t, id.trial_seed, id.k, image, views, &r->error)) return;
   const CameraIntrinsics intrinsics = scene.IntrinsicsAt(t);
   for (const std::vector<bool>& grid :
        TagsInView(intrinsics, *views, image->width, image->height)) {
@@ -127,7 +143,7 @@ void RenderAndDetect(const SceneTruth& scene, const SceneRenderer& renderer, uin
   const Rigid3 parent_from_points = scene.ParentFromPoints(t);
   const Rigid3 cam_from_points = scene.CamFromParentAt(t) * parent_from_points;
   r->frame.time_s = t;
-  for (const Observation& o : detector->Detect(*image, &r->counts)) {
+  for (const Observation& o : state->detector->Detect(*image, &r->counts)) {
     r->frame.point_ids.push_back(o.point_id);
     r->frame.points_in_parent.push_back(parent_from_points * scene.points[o.point_id]);
     r->frame.pixels.push_back(o.pixel);
@@ -175,18 +191,13 @@ std::unique_ptr<RenderedSource> RenderedSource::Create(const SceneTruth& scene,
   source->breakpoints_.push_back(scene.duration_s);
 
   // Per worker: a detector (worker 0 uses the one made above) and scratch buffers.
-  struct WorkerState {
-    std::unique_ptr<FrameDetector> detector;
-    GrayImage image;
-    std::vector<BoardView> views;
-  };
   std::vector<WorkerState> states(ParallelWorkers(options.threads, results.size()));
   states[0].detector = std::move(first_detector);
   ParallelFor(results.size(), options.threads, [&](int worker, size_t k) {
     WorkerState& state = states[worker];
     if (!state.detector) state.detector = FrameDetector::Create(grids, options.detection, nullptr);
-    RenderAndDetect(scene, *renderer, trial_seed, static_cast<int>(k), source->breakpoints_[k],
-                    state.detector.get(), &state.image, &state.views, &results[k]);
+    RenderAndDetect(scene, *renderer, {trial_seed, static_cast<int>(k), source->breakpoints_[k]},
+                    &state, &results[k]);
   });
 
   DetectionStatsAccumulator stats;

@@ -70,10 +70,12 @@ struct FitPixel {
 // x0, x1, y0, y1 among the pixel's lines (its lines within reach), or kSlotZero / kSlotOne.
 using RectSlots = std::array<uint8_t, 4>;
 
-// TagFit::Evaluate's pieces. Per line under homography g: l = G^T m, its unit (l / |l_xy|) and
-// 1 / |l_xy|; false when a line has no normal.
-struct EvalLines {
-  std::vector<Eigen::Vector3d> unit, raw;
+// The pattern's lines under homography g, per line: raw l = G^T m (on the model plane), unit
+// l / |l_xy|, scaled S l / |l_xy| (the signed distance in px without a camera: f = scaled . p^~),
+// 1 / |l_xy|, and (l_x^2, 2 l_x l_y, l_y^2) for |M^T l_xy|^2 = (M M^T)_00 l_x^2 +
+// 2 (M M^T)_01 l_x l_y + (M M^T)_11 l_y^2 with a camera.
+struct PatternLines {
+  std::vector<Eigen::Vector3d> raw, unit, scaled, squares;
   std::vector<double> inv_norm;
 };
 // Per pixel, per line of its rectangles (slots 0..num_lines-1; kSlotZero/kSlotOne are the
@@ -157,17 +159,12 @@ class TagFit {
   // Selects the pixels for parameters x (classification radius from sigma). False with the
   // failure set when the region is unusable.
   bool Classify(const ParamVector& x, PhotometricFitResult* result);
-  // Classify's pieces. The pattern's lines under homography g: raw (l = G^T m, on the model
-  // plane), scaled (unit normal, in px without a camera) and the squares of raw's l_x, l_y that
-  // |M^T l_xy|^2 needs with a camera. False (degenerate homography) for a line without a normal.
-  struct ImageLines {
-    std::vector<Eigen::Vector3d> scaled, raw, squares;
-  };
-  bool LinesInImage(const Eigen::Matrix3d& g, ImageLines* lines,
-                    PhotometricFitResult* result) const;
+  // The pattern's lines under g (PatternLines); false when a line's |l_xy| <= min_norm (a
+  // degenerate homography).
+  bool LinesUnder(const Eigen::Matrix3d& g, double min_norm, PatternLines* lines) const;
   // Narrows [*lo, *hi] to row j's part of the region: the outline's span (with a camera) or the
   // span inside the four limit lines, each linear in i along the row (without).
-  void RowSpan(int j, const RegionBox& region, bool outline_spans, const ImageLines& lines,
+  void RowSpan(int j, const RegionBox& region, bool outline_spans, const PatternLines& lines,
                double reach, double* lo, double* hi) const;
   // A pixel of the region: (i, j), its model point p^~ and d p^ / d pixel.
   struct PixelAt {
@@ -182,23 +179,21 @@ class TagFit {
   };
   // Keeps the pixel (with its line slots and rectangles) when some rectangle's border is near.
   // *line_values: each line's signed distance (px) at the pixel; with a camera computed here.
-  void AddPixel(const PixelAt& at, const ImageLines& lines, const ClassifyMargins& margins,
+  void AddPixel(const PixelAt& at, const PatternLines& lines, const ClassifyMargins& margins,
                 std::vector<double>* line_values);
   // False with the failure set when too much of the region is outside the image or too few
   // pixels were kept.
   bool EnoughPixels(long inside, long outside, PhotometricFitResult* result) const;
   // Cost, J^T J and J^T r at x; false when x is invalid (a pixel behind the homography's horizon).
   bool Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, ParamVector* jtr) const;
-  // Evaluate's pieces.
-  bool EvaluationLines(const Eigen::Matrix3d& g, EvalLines* lines) const;
   // Fills the distance, normal and profile (tables: vertical, horizontal lines) of each line of
   // pixel `index` at its model point p^~ (and the lens terms with a camera).
-  void ProfileLines(size_t index, const Eigen::Vector3d& p, const EvalLines& lines,
+  void ProfileLines(size_t index, const Eigen::Vector3d& p, const PatternLines& lines,
                     const std::array<EdgeProfileTable, 2>& tables, PixelLines* out) const;
   // d b / d G_ij = sum over lines of weight m_i (d f / d l_j), m = (1, 0, m_2) for vertical lines
   // and (0, 1, m_2) for horizontal ones (the model's gradient is this times shade * contrast).
-  Eigen::Matrix3d HomographyGradient(size_t index, const Eigen::Vector3d& p, const EvalLines& lines,
-                                     const PixelLines& pl) const;
+  Eigen::Matrix3d HomographyGradient(size_t index, const Eigen::Vector3d& p,
+                                     const PatternLines& lines, const PixelLines& pl) const;
   bool InitialHomography(const std::array<Eigen::Vector2d, 4>& corners, ParamVector* x) const;
   // The model plane: pixels themselves, or with a camera the tangent plane about the tag's centre
   // ray (tangent_plane.h), where the tag's edges are straight. p^ = (model point - centre_) /

@@ -191,22 +191,18 @@ bool TagFit::RegionInImage(const Eigen::Matrix3d& g, RegionBox* box,
   return true;
 }
 
-bool TagFit::LinesInImage(const Eigen::Matrix3d& g, ImageLines* lines,
-                          PhotometricFitResult* result) const {
+bool TagFit::LinesUnder(const Eigen::Matrix3d& g, double min_norm, PatternLines* lines) const {
   const size_t n_lines = layout_.lines.size();
-  lines->scaled.resize(n_lines), lines->raw.resize(n_lines), lines->squares.resize(n_lines);
+  lines->raw.resize(n_lines), lines->unit.resize(n_lines), lines->scaled.resize(n_lines);
+  lines->inv_norm.resize(n_lines), lines->squares.resize(n_lines);
   for (size_t i = 0; i < n_lines; ++i) {
     const Eigen::Vector3d l = g.transpose() * layout_.lines[i].m;
     const double n = l.head<2>().norm();
-    if (!(n > 0)) {
-      result->failure = FitFailure::kDiverged;
-      result->message = "degenerate homography";
-      return false;
-    }
+    if (!(n > min_norm)) return false;
     lines->raw[i] = l;
-    lines->scaled[i] = scale_ * l / n;  // Without a camera: f(p) = scaled[i] . p^~ in px.
-    // |M^T l_xy|^2 = l_xy^T M M^T l_xy = (M M^T)_00 l_x^2 + 2 (M M^T)_01 l_x l_y + (M M^T)_11
-    // l_y^2.
+    lines->unit[i] = l / n;
+    lines->scaled[i] = scale_ * l / n;
+    lines->inv_norm[i] = 1 / n;
     lines->squares[i] = Eigen::Vector3d(l.x() * l.x(), 2 * l.x() * l.y(), l.y() * l.y());
   }
   return true;
@@ -217,7 +213,7 @@ namespace {
 constexpr std::array<double, 4> kLimitSign = {1, -1, 1, -1};
 }  // namespace
 
-void TagFit::RowSpan(int j, const RegionBox& region, bool outline_spans, const ImageLines& lines,
+void TagFit::RowSpan(int j, const RegionBox& region, bool outline_spans, const PatternLines& lines,
                      double reach, double* lo, double* hi) const {
   if (outline_spans) {
     double span_lo = 0, span_hi = 0;
@@ -242,7 +238,7 @@ void TagFit::RowSpan(int j, const RegionBox& region, bool outline_spans, const I
   }
 }
 
-void TagFit::AddPixel(const PixelAt& at, const ImageLines& lines, const ClassifyMargins& margins,
+void TagFit::AddPixel(const PixelAt& at, const PatternLines& lines, const ClassifyMargins& margins,
                       std::vector<double>* line_values) {
   std::vector<double>& values = *line_values;
   FitPixel px{at.p.head<2>(),
@@ -325,8 +321,12 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   // Margin: corners may move kReclassifyPx before the pixels are classified again. Flat pixels are
   // included up to the same margin.
   const ClassifyMargins margins{reach + kReclassifyPx, reach + kReclassifyPx};
-  ImageLines lines;
-  if (!LinesInImage(g, &lines, result)) return false;
+  PatternLines lines;
+  if (!LinesUnder(g, 0, &lines)) {
+    result->failure = FitFailure::kDiverged;
+    result->message = "degenerate homography";
+    return false;
+  }
   RegionBox region;
   if (!RegionInImage(g, &region, result)) return false;
   // With a camera each row is cut to the outline (OutlineRowSpan); not when a point of the
@@ -478,21 +478,7 @@ void AccumulateNormalEquations(const ParamVector& jac, double r, int first, Para
 
 }  // namespace
 
-bool TagFit::EvaluationLines(const Eigen::Matrix3d& g, EvalLines* lines) const {
-  const size_t num_lines = layout_.lines.size();
-  lines->unit.resize(num_lines), lines->raw.resize(num_lines), lines->inv_norm.resize(num_lines);
-  for (size_t i = 0; i < num_lines; ++i) {
-    const Eigen::Vector3d l = g.transpose() * layout_.lines[i].m;
-    const double n = l.head<2>().norm();
-    if (!(n > 1e-12)) return false;
-    lines->raw[i] = l;
-    lines->unit[i] = l / n;
-    lines->inv_norm[i] = 1 / n;
-  }
-  return true;
-}
-
-void TagFit::ProfileLines(size_t index, const Eigen::Vector3d& p, const EvalLines& lines,
+void TagFit::ProfileLines(size_t index, const Eigen::Vector3d& p, const PatternLines& lines,
                           const std::array<EdgeProfileTable, 2>& tables, PixelLines* out) const {
   const FitPixel& px = pixels_[index];
   const int* lines_of_pixel = pixel_lines_.data() + px.first_line;
@@ -516,7 +502,7 @@ void TagFit::ProfileLines(size_t index, const Eigen::Vector3d& p, const EvalLine
 }
 
 Eigen::Matrix3d TagFit::HomographyGradient(size_t index, const Eigen::Vector3d& p,
-                                           const EvalLines& lines, const PixelLines& pl) const {
+                                           const PatternLines& lines, const PixelLines& pl) const {
   const FitPixel& px = pixels_[index];
   const int* lines_of_pixel = pixel_lines_.data() + px.first_line;
   Eigen::Matrix3d dg = Eigen::Matrix3d::Zero();
@@ -546,8 +532,8 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
   const double sigma = std::max(x[kSigma], kMinSigmaPx);
   const double black = x[kBlack], white = x[kWhite], contrast = black - white;
   const Eigen::Vector2d shading(x[kShadeX], x[kShadeY]);
-  EvalLines lines;
-  if (!EvaluationLines(g, &lines)) return false;
+  PatternLines lines;
+  if (!LinesUnder(g, 1e-12, &lines)) return false;
   // The edges' normals in the image (with a camera: at the tag's centre) for the pixel box.
   auto image_normal = [&](int line) -> Eigen::Vector2d {
     return (centre_jacobian_.transpose() * lines.raw[line].head<2>()).normalized();

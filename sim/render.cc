@@ -738,6 +738,9 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
   for (int b = 0; b < n; ++b) {
     for (int a = 0; a < n; ++a) offsets[b * n + a] = SampleOffset(a, b, n);
   }
+  const auto sample_ray = [&](double u, double v, Eigen::Vector3d* ray) {
+    return SampleRay(a_inv, u, v, ray);
+  };
   std::vector<float>& values = *values_out;
   values.resize(static_cast<size_t>(w) * h);
   for (int j = 0; j < h; ++j) {
@@ -766,9 +769,6 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
                                           gray_of[2 * board + 2]};
         sum = SumOnOneBoard(boards[board], lut, hits, k00, offsets, n);
       } else {
-        const auto sample_ray = [&](double u, double v, Eigen::Vector3d* ray) {
-          return SampleRay(a_inv, u, v, ray);
-        };
         sum = SumTracedSamples({i, j, corner_rays, boards, gray_of, offsets, space}, n, sample_ray);
       }
       row[i] = sum / static_cast<float>(n * n);
