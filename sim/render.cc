@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "sim/image_filters.h"
+
 namespace calibench {
 namespace {
 
@@ -277,119 +279,6 @@ int TraceBoards(const std::vector<BoardShader>& boards, const Eigen::Vector3d& r
     hit = 2 * static_cast<int>(i) + boards[i].Shade(bx, by);
   }
   return hit;
-}
-
-// Adds N(0, sigma^2) noise to every pixel. Normals come from a table of kNoiseTable standard
-// normals drawn once (Box-Muller from a fixed seed): each row of a frame reads its own block of
-// kNoiseBlock consecutive entries, blocks (a + r b) mod the block count for row-block r with a
-// and b (odd) drawn from `rng` per frame, so a frame's noise is iid Gaussian (its blocks are
-// distinct) at the cost of a copy. Frames reuse the table's blocks (occasionally one at the same
-// row: 0.1 rows per pair of 480-row frames). Images needing more row blocks than the table holds
-// (4096: 4096 rows of <= 1024 px) draw every normal from `rng` (Box-Muller: 6x slower).
-void AddImageNoise(double sigma, int width, int height, Rng* rng, std::vector<float>* values) {
-  constexpr int kNoiseBits = 22, kBlockBits = 10;
-  constexpr size_t kNoiseTable = size_t{1} << kNoiseBits, kNoiseBlock = size_t{1} << kBlockBits;
-  constexpr size_t kBlocks = kNoiseTable / kNoiseBlock;
-  static const std::vector<float> table = [] {
-    std::vector<float> t(kNoiseTable);
-    Rng table_rng(0x6e6f697365ULL);  // "noise"
-    for (float& v : t) v = static_cast<float>(table_rng.Normal());
-    return t;
-  }();
-  const size_t blocks_per_row = (static_cast<size_t>(width) + kNoiseBlock - 1) / kNoiseBlock;
-  if (blocks_per_row * height > kBlocks) {
-    for (float& v : *values) v += static_cast<float>(sigma * rng->Normal());
-    return;
-  }
-  const size_t a = rng->NextU64() % kBlocks, b = (rng->NextU64() % kBlocks) | 1;
-  const float s = static_cast<float>(sigma);
-  size_t r = 0;
-  for (int y = 0; y < height; ++y) {
-    float* row = values->data() + static_cast<size_t>(y) * width;
-    for (size_t c = 0; c < blocks_per_row; ++c, ++r) {
-      const float* normals = table.data() + ((a + r * b) % kBlocks) * kNoiseBlock;
-      const size_t from = c * kNoiseBlock;
-      const size_t to = std::min(static_cast<size_t>(width), from + kNoiseBlock);
-      for (size_t x = from; x < to; ++x) row[x] += s * normals[x - from];
-    }
-  }
-}
-
-// Blurs the pixels of [x0, x1) x [y0, y1) (clamped to the image) with a Gaussian of `sigma`,
-// edges clamped. Exact for the whole image when everything outside the box is farther than the
-// kernel's radius from anything but one constant gray (the background): such pixels keep their
-// value under the blur.
-void GaussianBlur(double sigma, int width, int height, int x0, int x1, int y0, int y1,
-                  std::vector<float>* image) {
-  const int radius = static_cast<int>(std::ceil(3 * sigma));
-  std::vector<float> kernel(2 * radius + 1);
-  float sum = 0;
-  for (int k = -radius; k <= radius; ++k)
-    sum += kernel[k + radius] = static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)));
-  for (float& k : kernel) k /= sum;
-  x0 = std::max(0, x0), y0 = std::max(0, y0);
-  x1 = std::min(width, x1), y1 = std::min(height, y1);
-  if (x0 >= x1 || y0 >= y1) return;
-  // Horizontal pass over the rows the vertical pass reads; columns outside [x0, x1) are read
-  // from the image itself (their horizontal blur is their value, see above).
-  const int ty0 = std::max(0, y0 - radius), ty1 = std::min(height, y1 + radius);
-  thread_local std::vector<float> tmp;
-  tmp.resize(static_cast<size_t>(ty1 - ty0) * (x1 - x0));
-  auto clamp_index = [](int i, int n) { return std::clamp(i, 0, n - 1); };
-  for (int y = ty0; y < ty1; ++y) {
-    const float* row = image->data() + static_cast<size_t>(y) * width;
-    float* out = tmp.data() + static_cast<size_t>(y - ty0) * (x1 - x0);
-    for (int x = x0; x < x1; ++x) {
-      float acc = 0;
-      if (x >= radius && x + radius < width) {
-        for (int k = -radius; k <= radius; ++k) acc += kernel[k + radius] * row[x + k];
-      } else {
-        for (int k = -radius; k <= radius; ++k)
-          acc += kernel[k + radius] * row[clamp_index(x + k, width)];
-      }
-      out[x - x0] = acc;
-    }
-  }
-  auto tmp_at = [&](int x, int y) {
-    return tmp[static_cast<size_t>(y - ty0) * (x1 - x0) + (x - x0)];
-  };
-  for (int y = y0; y < y1; ++y) {
-    float* row = image->data() + static_cast<size_t>(y) * width;
-    for (int x = x0; x < x1; ++x) {
-      float acc = 0;
-      for (int k = -radius; k <= radius; ++k)
-        acc += kernel[k + radius] * tmp_at(x, std::clamp(y + k, ty0, ty1 - 1));
-      row[x] = acc;
-    }
-  }
-}
-
-// Blurs the pixels within the kernel's reach of the boards' box (x0, x1, y0, y1): the background
-// elsewhere is one gray, which the blur keeps.
-void BlurNearBoards(double sigma, int width, int height, const std::array<int, 4>& box,
-                    std::vector<float>* image) {
-  if (box[0] > box[1] || box[2] > box[3]) return;  // No board in view.
-  const int margin = 2 * static_cast<int>(std::ceil(3 * sigma)) + 2;
-  GaussianBlur(sigma, width, height, box[0] - margin, box[1] + margin, box[2] - margin,
-               box[3] + margin, image);
-}
-
-// The mean of each m x m block of a (width m) x (height m) image: the pixels of a finer grid.
-void SumBlocks(const std::vector<float>& fine, int width, int height, int m,
-               std::vector<float>* pixels) {
-  pixels->assign(static_cast<size_t>(width) * height, 0.0f);
-  const size_t fine_width = static_cast<size_t>(width) * m;
-  const float inv = 1.0f / static_cast<float>(m * m);
-  for (int j = 0; j < height; ++j) {
-    float* row = pixels->data() + static_cast<size_t>(j) * width;
-    for (int b = 0; b < m; ++b) {
-      const float* fine_row = fine.data() + (static_cast<size_t>(j) * m + b) * fine_width;
-      for (int i = 0; i < width; ++i) {
-        for (int a = 0; a < m; ++a) row[i] += fine_row[i * m + a];
-      }
-    }
-    for (int i = 0; i < width; ++i) row[i] *= inv;
-  }
 }
 
 }  // namespace

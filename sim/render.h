@@ -20,7 +20,7 @@
 // assumed larger than a pixel: tag cells of a few pixels). Then optional Gaussian blur (PSF sigma
 // in px; computed only near the boards: the uniform background is unchanged by it), Gaussian
 // noise in gray levels (iid within a frame, read from a fixed table of normals in blocks the
-// frame's rng chooses: render.cc AddImageNoise), and rounding to 8 bits.
+// frame's rng chooses: image_filters.h AddImageNoise), and rounding to 8 bits.
 // The blur is the physical one: the scene convolved with the PSF, then integrated over each pixel
 // (box * Gaussian, the model the photometric fit assumes). A Gaussian applied to the pixels'
 // values instead samples the kernel at whole pixels and moves edges with their sub-pixel phase
