@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <map>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -255,6 +258,10 @@ bool FrameDetectorOptions::Check(std::string* why) const {
     if (why) *why = "min_border_distance_px must be >= 0";
     return false;
   }
+  if (!(max_predicted_residual_ratio >= 1)) {
+    if (why) *why = "max_predicted_residual_ratio must be >= 1";
+    return false;
+  }
   if (camera && !camera->Check(why)) return false;
   return detector.Check(why) && refine.Check(why) && photometric.Check(why);
 }
@@ -472,14 +479,7 @@ FoundTags FrameDetector::FindTags(const GrayImageView& view) const {
       ++found.counts.duplicate_tags;
       continue;
     }
-    bool near_border = false;
-    for (const Eigen::Vector2d& c : tag.corners) {
-      // Pixel centres at integers: the image spans [-0.5, width - 0.5] x [-0.5, height - 0.5].
-      const double margin =
-          std::min({c.x() + 0.5, c.y() + 0.5, view.width - 0.5 - c.x(), view.height - 0.5 - c.y()});
-      near_border |= margin < options_.min_border_distance_px;
-    }
-    if (near_border) {
+    if (NearBorder(tag.corners, view)) {
       ++found.counts.border_tags;
       continue;
     }
@@ -489,18 +489,29 @@ FoundTags FrameDetector::FindTags(const GrayImageView& view) const {
   return found;
 }
 
+bool FrameDetector::NearBorder(const std::array<Eigen::Vector2d, 4>& corners,
+                               const GrayImageView& view) const {
+  for (const Eigen::Vector2d& c : corners) {
+    // Pixel centres at integers: the image spans [-0.5, width - 0.5] x [-0.5, height - 0.5].
+    const double margin =
+        std::min({c.x() + 0.5, c.y() + 0.5, view.width - 0.5 - c.x(), view.height - 0.5 - c.y()});
+    if (!(margin >= options_.min_border_distance_px)) return true;
+  }
+  return false;
+}
+
 std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
                                                    const FoundTags& found,
                                                    const CameraIntrinsics* camera,
                                                    DetectionCounts* counts) const {
   DetectionCounts local = found.counts;
-  std::vector<Observation> observations;
+  std::vector<FittedTag> fitted;
   const bool photometric = options_.refinement == CornerRefinement::kPhotometric;
   const bool edge_fit = options_.refinement == CornerRefinement::kEdgeFit;
   for (size_t t = 0; t < found.tags.size(); ++t) {
     TagDetection tag = found.tags[t];
-    std::array<double, 4> crlb_px;
-    crlb_px.fill(std::numeric_limits<double>::quiet_NaN());
+    FittedTag out{tag.id, {}, {}, std::numeric_limits<double>::quiet_NaN()};
+    out.crlb_px.fill(std::numeric_limits<double>::quiet_NaN());
     if (photometric) {
       const PhotometricFitResult fit = FitTagPhotometric(view, patterns_[PointId(tag.id, 0) / 4],
                                                          tag.corners, options_.photometric, camera);
@@ -509,7 +520,8 @@ std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
         continue;
       }
       tag.corners = fit.corners;
-      crlb_px = fit.crlb_px;
+      out.crlb_px = fit.crlb_px;
+      out.residual_rms_gray = fit.residual_rms_gray;
     }
     if (edge_fit && !RefineTagCorners(view, options_.refine, &tag)) {
       // Raw corners of a modified copy are biased: no refinement, no tag.
@@ -523,13 +535,159 @@ std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
     if (edge_fit && corner_squares_) {
       RefineXJunctions(view, std::min(1.0, GridOf(tag.id)->tag_spacing), &tag);
     }
+    out.corners = tag.corners;
+    fitted.push_back(out);
+  }
+  if (photometric && options_.predict_missing_tags) {
+    std::set<int> tried;
+    for (const TagDetection& tag : found.tags) tried.insert(tag.id);
+    PredictMissingTags(view, camera, std::move(tried), &fitted, &local);
+  }
+  std::vector<Observation> observations;
+  for (const FittedTag& tag : fitted) {
     for (int k = 0; k < 4; ++k)
-      observations.push_back({PointId(tag.id, k), tag.corners[k], crlb_px[k]});
+      observations.push_back({PointId(tag.id, k), tag.corners[k], tag.crlb_px[k]});
   }
   std::sort(observations.begin(), observations.end(),
             [](const Observation& a, const Observation& b) { return a.point_id < b.point_id; });
   if (counts) *counts = local;
   return observations;
+}
+
+void FrameDetector::PredictMissingTags(const GrayImageView& view, const CameraIntrinsics* camera,
+                                       std::set<int> tried, std::vector<FittedTag>* fitted,
+                                       DetectionCounts* counts) const {
+  std::vector<double> residuals;
+  for (const FittedTag& tag : *fitted) residuals.push_back(tag.residual_rms_gray);
+  if (residuals.empty()) return;
+  std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
+  const double max_residual_gray =
+      options_.max_predicted_residual_ratio * residuals[residuals.size() / 2];
+  const bool lens = camera && camera->IsDistorted();
+  // Through a wide lens the tags AprilTag 3 misses are the squeezed ones at the image circle's
+  // edge, where fitted corners were measured to carry a bias that moves a calibration's lens
+  // parameters by 3-7 std (tests/bench/calibrate_wide_rendered_test.cc, 190 deg eucm and double
+  // sphere): no tag is predicted farther off the axis than a fitted decoded tag's corner.
+  auto off_axis = [&](const Eigen::Vector2d& pixel) {
+    Eigen::Vector3d ray;
+    return UnprojectToRay(*camera, pixel, &ray) ? std::acos(ray.normalized().z()) : M_PI;
+  };
+  double max_off_axis = 0;
+  if (lens) {
+    for (const FittedTag& tag : *fitted)
+      for (const Eigen::Vector2d& c : tag.corners)
+        max_off_axis = std::max(max_off_axis, off_axis(c));
+  }
+  // Chebyshev distance in tags: a homography in pixels through a fisheye's bent edges holds over
+  // one tag only.
+  const int reach = !lens && options_.refine.curved_edges ? 1 : 2;
+  constexpr int kMaxPasses = 3;
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    int added = 0;
+    for (const GridIds& g : grids_) {
+      for (int index = 0; index < g.num_tags; ++index) {
+        const int id = g.first_id + index;
+        if (tried.count(id) > 0) continue;
+        const int r = index / g.tag_cols, c = index % g.tag_cols;
+        std::vector<const FittedTag*> near;
+        for (const FittedTag& tag : *fitted) {
+          const int other = tag.id - g.first_id;
+          if (other < 0 || other >= g.num_tags) continue;
+          if (std::max(std::abs(other / g.tag_cols - r), std::abs(other % g.tag_cols - c)) <= reach)
+            near.push_back(&tag);
+        }
+        std::array<Eigen::Vector2d, 4> corners;
+        if (near.empty() || !PredictCorners(g, index, near, camera, &corners) ||
+            NearBorder(corners, view)) {
+          continue;
+        }
+        if (lens) {  // Not past the field the decoded tags reach.
+          bool beyond = false;
+          for (const Eigen::Vector2d& corner : corners) beyond |= off_axis(corner) > max_off_axis;
+          if (beyond) continue;
+        }
+        tried.insert(id);
+        const PhotometricFitResult fit = FitTagPhotometric(view, patterns_[PointId(id, 0) / 4],
+                                                           corners, options_.photometric, camera);
+        if (!fit.ok() || !(fit.residual_rms_gray <= max_residual_gray)) {
+          ++counts->refused_predictions;
+          continue;
+        }
+        fitted->push_back({id, fit.corners, fit.crlb_px, fit.residual_rms_gray});
+        ++counts->tags;
+        ++counts->predicted_tags;
+        ++added;
+      }
+    }
+    if (added == 0) break;
+  }
+}
+
+bool FrameDetector::PredictCorners(const GridIds& g, int index,
+                                   const std::vector<const FittedTag*>& near,
+                                   const CameraIntrinsics* camera,
+                                   std::array<Eigen::Vector2d, 4>* corners) const {
+  // A fit of the neighbours' corners worse than this: the image is not a homography of the board
+  // over this patch (an unknown lens), and the prediction would not be one either.
+  constexpr double kMaxNeighbourResidualPx = 0.5;
+  // Corner k of tag i on the board, in tag edges (sim/target.h: the black square of tag (r, c)
+  // spans [c p, c p + 1] x [r p, r p + 1], corners bottom-left, bottom-right, top-right,
+  // top-left).
+  const double pitch = 1 + g.tag_spacing;
+  auto on_board = [&](int i, int k) {
+    static constexpr int kDx[4] = {0, 1, 1, 0}, kDy[4] = {0, 0, 1, 1};
+    return cv::Point2d((i % g.tag_cols) * pitch + kDx[k], (i / g.tag_cols) * pitch + kDy[k]);
+  };
+  const bool lens = camera && camera->IsDistorted();
+  TangentPlane plane;
+  if (lens) {
+    Eigen::Vector3d mean_ray = Eigen::Vector3d::Zero();
+    for (const FittedTag* tag : near) {
+      for (const Eigen::Vector2d& pixel : tag->corners) {
+        Eigen::Vector3d ray;
+        if (!UnprojectToRay(*camera, pixel, &ray)) return false;
+        mean_ray += ray.normalized();
+      }
+    }
+    if (!TangentPlane::About(mean_ray, &plane)) return false;
+  }
+  std::vector<cv::Point2d> board, seen;
+  for (const FittedTag* tag : near) {
+    for (int k = 0; k < 4; ++k) {
+      Eigen::Vector2d q = tag->corners[k];
+      if (lens && !plane.FromPixel(*camera, tag->corners[k], &q)) return false;
+      board.push_back(on_board(tag->id - g.first_id, k));
+      seen.emplace_back(q.x(), q.y());
+    }
+  }
+  const cv::Mat h_cv = cv::findHomography(board, seen, 0);
+  if (h_cv.empty()) return false;
+  Eigen::Matrix3d seen_from_board;
+  cv::cv2eigen(h_cv, seen_from_board);
+  // The board's points in front share the sign of w with the neighbours' (a tangent plane point
+  // past its horizon has w < 0, and its ray still has its direction).
+  const double w_sign =
+      (seen_from_board * Eigen::Vector3d(board[0].x, board[0].y, 1)).z() > 0 ? 1 : -1;
+  auto to_pixel = [&](const cv::Point2d& b, Eigen::Vector2d* pixel) {
+    const Eigen::Vector3d h = w_sign * (seen_from_board * Eigen::Vector3d(b.x, b.y, 1));
+    if (lens) return ProjectPoint(*camera, plane.ToRayHomogeneous(h), pixel);
+    if (!(h.z() > 0)) return false;
+    *pixel = h.hnormalized();
+    return true;
+  };
+  size_t n = 0;
+  for (const FittedTag* tag : near) {
+    for (int k = 0; k < 4; ++k, ++n) {
+      Eigen::Vector2d pixel;
+      if (!to_pixel(board[n], &pixel) ||
+          !((pixel - tag->corners[k]).norm() <= kMaxNeighbourResidualPx))
+        return false;
+    }
+  }
+  for (int k = 0; k < 4; ++k) {
+    if (!to_pixel(on_board(index, k), &(*corners)[k])) return false;
+  }
+  return true;
 }
 
 }  // namespace calibench

@@ -55,6 +55,8 @@ bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
       image.border_tags = counts.border_tags;
       image.duplicate_tags = counts.duplicate_tags;
       image.unrefined_copy_tags = counts.unrefined_copy_tags;
+      image.predicted_tags = counts.predicted_tags;
+      image.refused_predictions = counts.refused_predictions;
     }
     images->push_back(std::move(image));
   }
@@ -98,6 +100,14 @@ std::string FormatImageCorners(const std::vector<ImageCorners>& images,
     if (image.unrefined_copy_tags > 0) {
       extra += ", " + std::to_string(image.unrefined_copy_tags) +
                " behind corner squares not refined (dropped)";
+    }
+    if (image.predicted_tags > 0) {
+      extra += ", " + std::to_string(image.predicted_tags) +
+               " of them not decoded but fitted where their neighbours put them";
+    }
+    if (image.refused_predictions > 0) {
+      extra += ", " + std::to_string(image.refused_predictions) +
+               " predicted tags the pixels did not show (dropped)";
     }
     if (image.duplicate_tags > 0)
       extra += ", " + std::to_string(image.duplicate_tags) + " duplicate ids (dropped)";

@@ -34,6 +34,8 @@ struct ImageCorners {
   int tags = 0, unknown_tags = 0, border_tags = 0, duplicate_tags = 0;
   int refused_tags = 0;         // Photometric fit refused (dropped).
   int unrefined_copy_tags = 0;  // DetectionCounts::unrefined_copy_tags (dropped).
+  int predicted_tags = 0;       // Of tags: fitted where their neighbours put them (not decoded).
+  int refused_predictions = 0;  // DetectionCounts::refused_predictions.
   std::string refused_reasons;  // "diverged 1, image_border 2" (FitFailureName), or empty.
   struct Corner {
     int tag_id = -1, corner = -1;  // tag_id -1: a checkerboard's corner.

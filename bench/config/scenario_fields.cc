@@ -422,6 +422,15 @@ void Visit(FieldVisitor& v, RenderedSourceOptions& o) {
   v.Field(
       {"min_border_distance_px", "px", "Tags closer to the image border are dropped (counted)."},
       &o.detection.min_border_distance_px);
+  v.Field({"predict_missing_tags", "",
+           "Grid tags AprilTag 3 did not decode are fitted where their fitted neighbours put them "
+           "(photometric refinement)."},
+          &o.detection.predict_missing_tags);
+  v.Field({"max_predicted_residual_ratio", "",
+           "A predicted tag is kept when its fit's residual RMS is at most this times the median "
+           "of the decoded tags'.",
+           "≥ 1"},
+          &o.detection.max_predicted_residual_ratio);
   VisitSection(v, {"detector", "", "AprilTag 3 options."}, &o.detection.detector, /*flow=*/true);
   v.Check(nullptr, [&o](std::string* why) { return o.render.Check(why); });
   v.Check(nullptr, [&o](std::string* why) { return o.detection.Check(why); });

@@ -7,7 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
+#include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "sim/render.h"
 #include "util/random.h"
@@ -64,16 +67,20 @@ TEST(FrameDetector, CountsEveryRuleAndMatchesPointIds) {
   EXPECT_EQ(detector->PointId(7, 0), -1);
   DetectionCounts counts;
   const std::vector<Observation> observations = detector->Detect(image, &counts);
-  EXPECT_EQ(counts.tags, 5);            // Ids 1..5; id 0 is seen twice.
-  EXPECT_EQ(counts.duplicate_tags, 2);  // Both detections of id 0 dropped.
+  // Ids 1..5 decoded; id 0 is seen twice (both detections dropped) and then fitted where its
+  // neighbours put it on the grid: the grid's own tag 0, not the twin.
+  EXPECT_EQ(counts.tags, 6);
+  EXPECT_EQ(counts.predicted_tags, 1);
+  EXPECT_EQ(counts.refused_predictions, 0);
+  EXPECT_EQ(counts.duplicate_tags, 2);
   EXPECT_EQ(counts.unknown_tags, 6);
   EXPECT_EQ(counts.border_tags, 1);
   EXPECT_EQ(counts.RefusedTags(), 0);
-  ASSERT_EQ(observations.size(), 5u * 4);
+  ASSERT_EQ(observations.size(), 6u * 4);
   const std::vector<Eigen::Vector3d> corners = grid.CornersInBoard();
   for (size_t i = 0; i < observations.size(); ++i) {
     const Observation& o = observations[i];
-    EXPECT_EQ(o.point_id, static_cast<int>(4 + i));  // Sorted by point id, tags 1..5.
+    EXPECT_EQ(o.point_id, static_cast<int>(i));  // Sorted by point id, tags 0..5.
     Eigen::Vector2d exact;
     ASSERT_TRUE(
         ProjectPoint(layout.camera, layout.boards[0].cam_from_board * corners[o.point_id], &exact));
@@ -83,7 +90,7 @@ TEST(FrameDetector, CountsEveryRuleAndMatchesPointIds) {
   // Two steps, as calibrate --images runs them: the same observations and counts.
   const GrayImageView view(image);
   const FoundTags found = detector->FindTags(view);
-  EXPECT_EQ(found.tags.size(), 5u);
+  EXPECT_EQ(found.tags.size(), 5u);  // The prediction belongs to the refinement.
   DetectionCounts two_step;
   const std::vector<Observation> again = detector->RefineTags(view, found, nullptr, &two_step);
   ASSERT_EQ(again.size(), observations.size());
@@ -95,6 +102,88 @@ TEST(FrameDetector, CountsEveryRuleAndMatchesPointIds) {
   EXPECT_EQ(two_step.duplicate_tags, counts.duplicate_tags);
   EXPECT_EQ(two_step.unknown_tags, counts.unknown_tags);
   EXPECT_EQ(two_step.border_tags, counts.border_tags);
+  EXPECT_EQ(two_step.predicted_tags, counts.predicted_tags);
+}
+
+// Tags the detector missed are fitted where their neighbours put them, and only where the pixels
+// show the tag: a 3 x 4 grid at 30 degrees of yaw, noise 2 gray levels; six of its decoded tags
+// are taken out of FindTags' result as if AprilTag 3 had missed them, then one of those is half
+// covered (a gray rectangle) and another has its data cells painted white.
+TEST(FrameDetector, PredictsMissedTagsAndRefusesTagsThePixelsDoNotShow) {
+  const auto family = TagFamily::Create("tag36h11", 1, nullptr);
+  ASSERT_NE(family, nullptr);
+  AprilGrid grid;
+  grid.tag_rows = 3, grid.tag_cols = 4, grid.tag_size_m = 0.05;
+  const CameraIntrinsics camera{500, 500, 90, 319.5, 239.5};
+  const Eigen::Matrix3d yawed =
+      Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+      Eigen::Vector3d(1, -1, -1).asDiagonal();
+  const BoardView board{grid, family, {yawed, {-0.12, 0.1, 0.8}}};
+  RenderOptions render;
+  render.width = 640, render.height = 480;
+  render.noise_sigma_gray = 2;
+  std::string why;
+  const auto renderer = FrameRenderer::Create(camera, render, &why);
+  ASSERT_NE(renderer, nullptr) << why;
+  GrayImage image;
+  Rng rng(7);
+  ASSERT_TRUE(renderer->Render({board}, &rng, &image, &why)) << why;
+  const std::vector<Eigen::Vector3d> corners = grid.CornersInBoard();
+  auto exact = [&](int point) {
+    Eigen::Vector2d pixel;
+    EXPECT_TRUE(ProjectPoint(camera, board.cam_from_board * corners[point], &pixel));
+    return pixel;
+  };
+  // Tag 5: its left half under a mid-gray rectangle. Tag 10: the inside of its border ring
+  // (tag coordinates [1/8, 7/8]^2 of the 8-cell square) white.
+  auto tag_point = [&](int tag, double x, double y) {
+    const Eigen::Vector2d p0 = exact(4 * tag), p1 = exact(4 * tag + 1), p3 = exact(4 * tag + 3);
+    return cv::Point(static_cast<int>(std::lround(p0.x() + x * (p1 - p0).x() + y * (p3 - p0).x())),
+                     static_cast<int>(std::lround(p0.y() + x * (p1 - p0).y() + y * (p3 - p0).y())));
+  };
+  cv::Mat mat(image.height, image.width, CV_8UC1, image.pixels.data());
+  const std::vector<cv::Point> covered = {tag_point(5, -0.15, -0.15), tag_point(5, 0.5, -0.15),
+                                          tag_point(5, 0.5, 1.15), tag_point(5, -0.15, 1.15)};
+  cv::fillConvexPoly(mat, covered, cv::Scalar(128));
+  const std::vector<cv::Point> inside = {tag_point(10, 0.125, 0.125), tag_point(10, 0.875, 0.125),
+                                         tag_point(10, 0.875, 0.875), tag_point(10, 0.125, 0.875)};
+  cv::fillConvexPoly(mat, inside, cv::Scalar(render.white_gray));
+
+  FrameDetectorOptions options;
+  const auto detector = FrameDetector::Create({grid}, options, &why);
+  ASSERT_NE(detector, nullptr) << why;
+  const GrayImageView view(image);
+  FoundTags found = detector->FindTags(view);
+  // The painted tags do not decode; every other tag does.
+  ASSERT_EQ(found.tags.size(), 10u);
+  const std::set<int> missed = {0, 3, 6, 7, 5, 10};
+  FoundTags kept;
+  for (size_t t = 0; t < found.tags.size(); ++t) {
+    if (missed.count(found.tags[t].id) > 0) continue;
+    kept.tags.push_back(found.tags[t]);
+    kept.from_copy.push_back(false);
+  }
+  ASSERT_EQ(kept.tags.size(), 6u);
+  DetectionCounts counts;
+  const std::vector<Observation> observations = detector->RefineTags(view, kept, nullptr, &counts);
+  EXPECT_EQ(counts.tags, 10);
+  EXPECT_EQ(counts.predicted_tags, 4);       // Tags 0, 3, 6 and 7.
+  EXPECT_EQ(counts.refused_predictions, 2);  // Tags 5 and 10.
+  ASSERT_EQ(observations.size(), 10u * 4);
+  std::set<int> tags_seen;
+  for (const Observation& o : observations) {
+    tags_seen.insert(o.point_id / 4);
+    EXPECT_LT((o.pixel - exact(o.point_id)).norm(), kCornerTolPx) << "point " << o.point_id;
+  }
+  EXPECT_EQ(tags_seen.count(5), 0u);
+  EXPECT_EQ(tags_seen.count(10), 0u);
+
+  // Off: the tags found are all there is.
+  options.predict_missing_tags = false;
+  const auto plain = FrameDetector::Create({grid}, options, &why);
+  ASSERT_NE(plain, nullptr) << why;
+  EXPECT_EQ(plain->RefineTags(view, kept, nullptr, &counts).size(), 6u * 4);
+  EXPECT_EQ(counts.predicted_tags, 0);
 }
 
 }  // namespace
