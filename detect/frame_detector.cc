@@ -636,7 +636,8 @@ bool FrameDetector::PredictCorners(const GridIds& g, int index,
   const double pitch = 1 + g.tag_spacing;
   auto on_board = [&](int i, int k) {
     static constexpr int kDx[4] = {0, 1, 1, 0}, kDy[4] = {0, 0, 1, 1};
-    return cv::Point2d((i % g.tag_cols) * pitch + kDx[k], (i / g.tag_cols) * pitch + kDy[k]);
+    const int row = i / g.tag_cols, col = i % g.tag_cols;
+    return cv::Point2d(col * pitch + kDx[k], row * pitch + kDy[k]);
   };
   const bool lens = camera && camera->IsDistorted();
   TangentPlane plane;
