@@ -66,6 +66,7 @@ int CalibrateImages(const CalibrateArgs& args, bool auto_model, CalibrateOptions
   }
   // With --init, the given camera's lens draws the corner fit from the first pass.
   ImagePointOptions image_options;
+  image_options.predict_missing_tags = !args.no_tag_prediction;
   // --model auto: the candidates include wide lenses, whose bent tag edges need the curved fit.
   image_options.lens = auto_model ? LensFamily::kUnified : FamilyOf(options.model);
   if (options.init) image_options.camera = options.init->intrinsics;

@@ -12,9 +12,10 @@ struct CalibrateArgs {
   std::string points_path, images_dir, target_path, init_path, format;
   std::string out_path = "camera.yaml", model = "pinhole-k2";
   bool skew = false, model_given = false, evaluate = false;
-  int corner_iterations = 4;      // Re-fits of the corners through the estimate (aprilgrid, lens).
-  int threads = 0;                // Images read and detected in parallel (0: every core).
-  std::string corner_refinement;  // Empty: the default (photometric; see ImagePointOptions).
+  bool no_tag_prediction = false;  // Keep only the tags AprilTag 3 decodes.
+  int corner_iterations = 4;       // Re-fits of the corners through the estimate (aprilgrid, lens).
+  int threads = 0;                 // Images read and detected in parallel (0: every core).
+  std::string corner_refinement;   // Empty: the default (photometric; see ImagePointOptions).
 };
 
 // 0 on success; 2 with a message for bad arguments or input; 3 when the camera file cannot be

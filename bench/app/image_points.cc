@@ -60,6 +60,7 @@ FrameDetectorOptions ImageDetectorOptions(const ImagePointOptions& image) {
     options.refinement = CornerRefinement::kEdgeFit;
   }
   if (image.refinement) options.refinement = *image.refinement;
+  options.predict_missing_tags = image.predict_missing_tags;
   return options;
 }
 

@@ -42,6 +42,9 @@ struct ImagePointOptions {
   std::optional<CameraIntrinsics> camera;
   // nullopt: the photometric fit (the edge fit with curved edges for a fisheye without camera).
   std::optional<CornerRefinement> refinement;
+  // Grid tags AprilTag 3 did not decode are fitted where their neighbours put them
+  // (FrameDetectorOptions::predict_missing_tags; photometric refinement only).
+  bool predict_missing_tags = true;
   // In / out, aprilgrid only: filled by the first call that gets it, reused by later ones (as
   // long as the folder is unchanged).
   ImageTagCache* tag_cache = nullptr;

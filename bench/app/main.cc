@@ -290,6 +290,10 @@ CLI::App* AddCalibrateCommand(CLI::App* app, calibench::CalibrateArgs* cal) {
           {calibench::CornerRefinementName(calibench::CornerRefinement::kNone),
            calibench::CornerRefinementName(calibench::CornerRefinement::kEdgeFit),
            calibench::CornerRefinementName(calibench::CornerRefinement::kPhotometric)}));
+  calibrate->add_flag("--no-tag-prediction", cal->no_tag_prediction,
+                      "With --images (aprilgrid, photometric): keep only the tags AprilTag 3 "
+                      "decodes; by default a grid's missed tags are fitted where their fitted "
+                      "neighbours put them");
   calibrate->add_flag("--evaluate", cal->evaluate,
                       "With --init: keep that camera fixed, fit only each image's pose, report "
                       "the reprojection RMS per image and flag outliers");
