@@ -129,8 +129,8 @@ TEST(Render, BackgroundNoiseAndBlurBehave) {
   EXPECT_NE(why.find("587"), std::string::npos) << why;
 }
 
-// The noise table (image_filters.h AddImageNoise): a frame's noise is uncorrelated between neighbours
-// in a row, between rows and between the two halves of a row block boundary (|rho| below
+// The noise table (image_filters.h AddImageNoise): a frame's noise is uncorrelated between
+// neighbours in a row, between rows and between the two halves of a row block boundary (|rho| below
 // kRhoBound = 5 / sqrt(n), 5 sigma of a zero correlation over n pairs); a seed gives one frame;
 // two seeds give frames whose noise is uncorrelated.
 TEST(Render, NoiseIsUncorrelatedWithinAndAcrossFrames) {
