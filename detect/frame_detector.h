@@ -40,13 +40,13 @@
 // missing tag of a grid with a fitted tag within two tags of it (one for a fisheye without a
 // camera) is predicted: the homography from the board plane to the image (to the tangent plane
 // about the neighbours' mean ray through a distorted camera) fitted to the corners of every such
-// neighbour, kept only if it fits them to 0.5 px (one neighbour's four corners fix it exactly:
-// fitted corners at ~0.01 px extrapolate to a tag two pitches away within ~0.1 px), maps the
-// tag's square to its four corners. The
-// tag's pattern is fitted from there. The position names the tag (its neighbours are a pitch
-// away, the fit moves a corner at most max_correction_px); the fit must explain the pixels:
-// residual RMS at most max_predicted_residual_ratio x the decoded tags' median (an occluded or
-// shadowed tag is refused and counted). Predicted tags join the neighbours of the next ones.
+// neighbour (detect/plane_to_image.h), kept only if it fits them to 0.5 px (one neighbour's four
+// corners fix it exactly: fitted corners at ~0.01 px extrapolate to a tag two pitches away within
+// ~0.1 px), maps the tag's square to its four corners. The tag's pattern is fitted from there. The
+// position names the tag (its neighbours are a pitch away, the fit moves a corner at most
+// max_correction_px); the fit must explain the pixels: residual RMS at most
+// max_predicted_residual_ratio x the decoded tags' median (an occluded or shadowed tag is refused
+// and counted). Predicted tags join the neighbours of the next ones.
 #pragma once
 
 #include <Eigen/Core>
@@ -66,7 +66,7 @@
 
 namespace calibench {
 
-struct SquareToPaint;  // frame_detector.cc.
+struct SquareToPaint;  // corner_squares.cc.
 
 // How a decoded tag's corners are refined.
 enum class CornerRefinement {
@@ -177,6 +177,8 @@ class FrameDetector {
     int first_id, num_tags, first_point;
     int tag_rows, tag_cols;
     double tag_spacing;  // The corner squares' edge / the tag's.
+    // AprilGrid::CornersInBoard's (x, y) (m), in point order: corner k of tag i at 4 i + k.
+    std::vector<Eigen::Vector2d> corners_on_board;
   };
   const GridIds* GridOf(int id) const;  // The grid holding tag `id`, or nullptr.
   // The lens the corner squares are painted through: options_.camera when it distorts, else
@@ -185,7 +187,7 @@ class FrameDetector {
   // Adds the tags that corner squares hide (header comment): *from_copy grows with *tags.
   void FindTagsAmongSquares(const GrayImageView& view, std::vector<TagDetection>* tags,
                             std::vector<bool>* from_copy) const;
-  // The corner squares to paint out next to the tags found (frame_detector.cc).
+  // The corner squares to paint out next to the tags found (corner_squares.cc).
   std::vector<SquareToPaint> SquaresNear(const std::vector<TagDetection>& tags) const;
   // A tag whose corners were fitted: decoded, or predicted.
   struct FittedTag {

@@ -4,9 +4,9 @@
 // wrapper and through the C API.
 // The rendered pipeline of the default sweeps per frame (BM_RigPipeline: render + detect + refine
 // + match, configs/sweeps/rig.yaml's options, frames cycling through the trial's 240 poses; /0
-// without the prediction of missed tags, frame_detector.h) against
-// the raw C API call on the same frames at quad_decimate 1 (BM_RigDetectCApi/1) and 2 (/2): the
-// issue-#14 target is BM_RigPipeline <= 1.5 x BM_RigDetectCApi/1.
+// without the prediction of missed tags, frame_detector.h) against the raw C API call on the same
+// frames at quad_decimate 1 (BM_RigDetectCApi/1) and 2 (/2): the target is BM_RigPipeline <= 1.5 x
+// BM_RigDetectCApi/1 (docs/results/detection.md, "Cost of the rendered pipeline").
 #include <apriltag/apriltag.h>
 #include <apriltag/tag36h11.h>
 #include <benchmark/benchmark.h>
