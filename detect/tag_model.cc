@@ -63,7 +63,6 @@ QuadrantRule QuadrantRuleFor(double rho) {
   QuadrantRule rule;
   rule.rho = rho;
   rule.clamped = std::clamp(rho, -0.99, 0.99);
-  rule.inv_root = 1 / std::sqrt(1 - rule.clamped * rule.clamped);
   rule.half = 0.5 * std::asin(rule.clamped);
   const double abs_rho = std::abs(rule.clamped);
   const double *nodes = kNodes8, *weights = kWeights8;
@@ -90,14 +89,20 @@ QuadrantRule QuadrantRuleFor(double rho) {
 }
 
 QuadrantCorrection QuadrantCorrectionAt(double a, double b, const QuadrantRule& rule) {
+  // C = (half / 2 pi) sum_k w_k e_k, e_k = exp(-(a^2 + b^2 - 2 a b s_k) c_k), and the
+  // quadrature's own gradient dC/da = (half / 2 pi) sum_k w_k e_k (-2 c_k) (a - b s_k) (and
+  // symmetrically in b): exponentials only.
   const double q = a * a + b * b, ab2 = 2 * a * b;
-  double sum = 0;
+  double sum = 0, sum_da = 0, sum_db = 0;
   for (int k = 0; k < rule.num_nodes; ++k) {
-    sum += rule.weight[k] * std::exp(-(q - ab2 * rule.sin_t[k]) * rule.inv_2cos2[k]);
+    const double s = rule.sin_t[k], c = rule.inv_2cos2[k];
+    const double we = rule.weight[k] * std::exp(-(q - ab2 * s) * c);
+    sum += we;
+    sum_da -= we * c * (a - b * s);
+    sum_db -= we * c * (b - a * s);
   }
-  const double r = rule.clamped;
-  return {sum * rule.half / (2 * M_PI), PhiDensity(a) * (Phi((b - r * a) * rule.inv_root) - Phi(b)),
-          PhiDensity(b) * (Phi((a - r * b) * rule.inv_root) - Phi(a))};
+  const double scale = rule.half / (2 * M_PI);
+  return {sum * scale, 2 * sum_da * scale, 2 * sum_db * scale};
 }
 
 bool TagPattern::FromFamily(const TagFamily& family, int id, double white_margin_cells,

@@ -62,8 +62,11 @@ EdgeProfileValue EdgeProfile(double d, double sigma, double nx, double ny);
 // Phi2(d1 / s, d2 / s; rho), rho = n1 . n2, s = sqrt(sigma^2 + 1/12) (the pixel box taken as a
 // Gaussian of its variance). The product of the two edges' profiles is its rho = 0 value; the
 // correction C = Phi2(a, b; rho) - Phi(a) Phi(b) = (1 / 2 pi) int_0^asin(rho) exp(-(a^2 + b^2 -
-// 2 a b sin t) / (2 cos^2 t)) dt (Plackett's identity) completes it, and
-//   dC/da = phi(a) [Phi((b - rho a) / sqrt(1 - rho^2)) - Phi(b)]   (and symmetrically in b).
+// 2 a b sin t) / (2 cos^2 t)) dt (Plackett's identity) completes it. Its derivatives are those of
+// the quadrature below (the integrand's a-derivative, -(a - b sin t) / cos^2 t times it, at the
+// same nodes): the exact gradient of the C that the fit evaluates, equal to the closed form
+//   dC/da = phi(a) [Phi((b - rho a) / sqrt(1 - rho^2)) - Phi(b)]   (and symmetrically in b)
+// within the rule's error, at the cost of no erfc and no exponential beyond the nodes'.
 // A rectangle is then the signed sum of the quadrants at its four vertices.
 struct QuadrantCorrection {
   double c, dc_da, dc_db;
@@ -77,7 +80,7 @@ struct QuadrantRule {
   int num_nodes = 0;
   double half = 0;  // asin(rho) / 2.
   std::array<double, 16> weight{}, sin_t{}, inv_2cos2{};
-  double clamped = 0, inv_root = 1;  // rho clamped, 1 / sqrt(1 - rho^2).
+  double clamped = 0;  // rho clamped.
 };
 QuadrantRule QuadrantRuleFor(double rho);
 QuadrantCorrection QuadrantCorrectionAt(double a, double b, const QuadrantRule& rule);

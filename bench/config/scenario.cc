@@ -189,8 +189,8 @@ bool CheckMethods(const ScenarioConfig& s, std::string* field, std::string* reas
 
 bool ScenarioConfig::Check(std::string* why) const {
   std::string field, reason;
-  auto fail = [&](const std::string& field, const std::string& r) {
-    if (why) *why = field + ": " + r;
+  auto fail = [&](const std::string& key, const std::string& r) {
+    if (why) *why = key + ": " + r;
     return false;
   };
   if (trials < 1) return fail("trials", "must be >= 1, got " + std::to_string(trials));
