@@ -129,6 +129,21 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
   return report;
 }
 
+void AddJackknife(const PointData& data, const CalibrateOptions& options, CalibrateReport* report) {
+  report->jackknife.reset();
+  const int views = static_cast<int>(report->zhang.used_views.size());
+  const bool wanted =
+      options.jackknife == CalibrateOptions::Jackknife::kOn ||
+      (options.jackknife == CalibrateOptions::Jackknife::kAuto && views <= kJackknifeAutoMaxViews);
+  if (!wanted || !report->IsUsable() || report->evaluated) return;
+  std::vector<View> used;
+  for (int v : report->zhang.used_views) used.push_back(data.views[v]);
+  JackknifeOptions jackknife;
+  jackknife.refine.model = options.model;
+  jackknife.refine.estimate_skew = options.estimate_skew;
+  report->jackknife = JackknifeIntrinsics(used, report->ceres, jackknife);
+}
+
 std::string FormatCalibrateReport(const CalibrateReport& report, const PointData& data) {
   std::ostringstream out;
   char line[200];
@@ -148,14 +163,15 @@ std::string FormatCalibrateReport(const CalibrateReport& report, const PointData
   }
   const CameraIntrinsics &k = report.ceres.intrinsics, &z = report.zhang.intrinsics;
   const double* s = report.ceres.intrinsics_std.data();
+  const bool jack = report.jackknife && report.jackknife->IsUsable();
   const double deg = 180.0 / M_PI;
   out << (report.evaluated ? "parameter        given camera (fixed)          "
                            : "parameter        ceres (+- 1 std)              ")
-      << report.initial_name << "\n";
+      << (jack ? "jackknife std  " : "") << report.initial_name << "\n";
   const std::array<const char*, 10>& names = ParamNames(k.family);
   struct Row {
     const char* name;
-    double ours, std, opencv;
+    double ours, std, jack_std, opencv;
   };
   const std::array<double, 10> ours = k.Params();
   const CameraIntrinsics z_same = z.family == k.family ? z : CameraIntrinsics();
@@ -163,18 +179,49 @@ std::string FormatCalibrateReport(const CalibrateReport& report, const PointData
   std::vector<Row> rows;
   for (int i = 0; i < 10; ++i) {
     if (std::string(names[i]) == "-") continue;
-    rows.push_back({names[i], i == 2 ? k.phi_deg : ours[i], s[i] * (i == 2 ? deg : 1.0),
+    const double unit = i == 2 ? deg : 1.0;
+    rows.push_back({names[i], i == 2 ? k.phi_deg : ours[i], s[i] * unit,
+                    jack ? report.jackknife->intrinsics_std[i] * unit : std::nan(""),
                     i == 2 ? z_same.phi_deg : theirs[i]});
   }
+  std::string understated;  // Parameters whose jackknife std exceeds the formal one.
+  double worst_ratio = 0;
   for (const Row& r : rows) {
+    char jack_column[32] = "";
+    if (jack && std::isfinite(r.jack_std)) {
+      std::snprintf(jack_column, sizeof(jack_column), "%-14.6f ", r.jack_std);
+    } else if (jack) {
+      std::snprintf(jack_column, sizeof(jack_column), "%-14s ", "");
+    }
     if (std::isfinite(r.std)) {
-      std::snprintf(line, sizeof(line), "%-10s %14.6f +- %-12.6f %14.6f\n", r.name, r.ours, r.std,
-                    r.opencv);
+      std::snprintf(line, sizeof(line), "%-10s %14.6f +- %-12.6f %s%14.6f\n", r.name, r.ours, r.std,
+                    jack_column, r.opencv);
+      if (std::isfinite(r.jack_std) && r.jack_std > kJackknifeFlagRatio * r.std) {
+        understated += (understated.empty() ? "" : ", ") + std::string(r.name);
+        worst_ratio = std::max(worst_ratio, r.jack_std / r.std);
+      }
     } else {
-      std::snprintf(line, sizeof(line), "%-10s %14.6f (fixed)         %14.6f\n", r.name, r.ours,
-                    r.opencv);
+      std::snprintf(line, sizeof(line), "%-10s %14.6f (fixed)         %s%14.6f\n", r.name, r.ours,
+                    jack_column, r.opencv);
     }
     out << line;
+  }
+  if (report.jackknife && !report.jackknife->IsUsable()) {
+    out << "jackknife: not computed: " << report.jackknife->message << "\n";
+  } else if (jack) {
+    std::snprintf(line, sizeof(line),
+                  "jackknife std: the spread of %d calibrations each leaving one view out "
+                  "(%.1f ms)\n",
+                  report.jackknife->num_views, report.jackknife->wall_ms);
+    out << line;
+    if (!understated.empty()) {
+      std::snprintf(line, sizeof(line), "%.1f", worst_ratio);
+      out << "warning: the jackknife std exceeds the formal std by up to " << line << "x ("
+          << understated
+          << "): the views disagree more than independent pixel noise explains (errors shared "
+             "by a view's corners, a lens model that does not fit, or too few views); quote the "
+             "jackknife std\n";
+    }
   }
   std::snprintf(line, sizeof(line), "rms_reproj_px (per point): ceres %.5f, %s %.5f\n",
                 report.ceres.rms_reproj_px, report.initial_name.c_str(),

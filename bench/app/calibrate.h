@@ -16,6 +16,7 @@
 #include <ostream>
 #include <string>
 
+#include "batch/jackknife.h"
 #include "batch/refine.h"
 #include "batch/zhang.h"
 #include "bench/app/image_points.h"
@@ -30,7 +31,14 @@ struct CalibrateOptions {
   std::optional<CameraFile> init;  // A given camera: the initial guess instead of zhang.
   std::string init_path;           // Its file, for the report.
   bool evaluate_only = false;      // With init: fix the intrinsics, estimate only the poses.
+  // The leave-one-view-out std (batch/jackknife.h) beside the formal one: kAuto computes it for
+  // at most kJackknifeAutoMaxViews views (each view costs one more refinement).
+  enum class Jackknife { kAuto, kOn, kOff };
+  Jackknife jackknife = Jackknife::kAuto;
 };
+constexpr int kJackknifeAutoMaxViews = 30;
+// The formal std is flagged when the jackknife's is this many times larger for a parameter.
+constexpr double kJackknifeFlagRatio = 2.0;
 
 struct CalibrateReport {
   // The initialisation: zhang's (or cv::fisheye's, or the wide start's: initial_name says which)
@@ -40,11 +48,17 @@ struct CalibrateReport {
   std::string initial_name = "zhang (OpenCV)";
   bool evaluated = false;  // The given camera was kept fixed (evaluate_only).
   RefineResult ceres;
+  // The leave-one-view-out std of ceres' intrinsics (AddJackknife), when computed.
+  std::optional<JackknifeResult> jackknife;
   CameraFile camera;  // What camera.yaml holds (the ceres result).
   bool IsUsable() const { return ceres.IsUsable(); }
 };
 
 CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOptions& options);
+
+// The jackknife std of a usable, refined (not evaluate_only) report of `data`, as
+// options.jackknife asks; a jackknife that fails is kept with its reason (the report says it).
+void AddJackknife(const PointData& data, const CalibrateOptions& options, CalibrateReport* report);
 
 // A given camera (`init`, read from `init_path`) fits images of `data`'s size: false with *why
 // naming the file, its image_width / image_height and the images' size (from `images_dir`)
@@ -81,7 +95,8 @@ void IterateCornersThroughTheLens(const std::string& dir, const CalibrationTarge
                                   const ImagePointOptions& images, const CalibrateOptions& options,
                                   int max_iterations, ImageCalibration* state, std::ostream& log);
 
-// Human-readable report: intrinsics +- std for ceres beside zhang, RMS, per-view RMS.
+// Human-readable report: intrinsics +- std for ceres (and the jackknife std when computed) beside
+// zhang, RMS, per-view RMS.
 std::string FormatCalibrateReport(const CalibrateReport& report, const PointData& data);
 
 // Per image: used or why not, points, per-view RMS and an outlier flag (view RMS above

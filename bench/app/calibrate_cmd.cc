@@ -101,6 +101,7 @@ int CalibrateImages(const CalibrateArgs& args, bool auto_model, CalibrateOptions
     IterateCornersThroughTheLens(args.images_dir, target, image_options, options,
                                  args.corner_iterations, &state, std::cerr);
   }
+  AddJackknife(state.data, options, &state.report);
   const CalibrateReport& report = state.report;
   std::cout << FormatCalibrateReport(report, state.data);
   std::cout << FormatImageReport(state.images, state.used_index, report);
@@ -124,6 +125,8 @@ int Calibrate(const CalibrateArgs& args) {
     return 2;
   }
   options.estimate_skew = args.skew;
+  if (args.jackknife == "on") options.jackknife = CalibrateOptions::Jackknife::kOn;
+  if (args.jackknife == "off") options.jackknife = CalibrateOptions::Jackknife::kOff;
   CameraFormat format = CameraFormatFromPath(args.out_path);
   if (!args.format.empty() && !ParseCameraFormat(args.format, &format, &why)) {
     std::cerr << "calibench: --format: " << why << "\n";
@@ -153,6 +156,7 @@ int Calibrate(const CalibrateArgs& args) {
   }
   CalibrateReport report;
   if (!FitCamera(data, auto_model, &options, &report)) return 4;
+  AddJackknife(data, options, &report);
   std::cout << FormatCalibrateReport(report, data);
   return FinishCalibration(report, args.out_path, format);
 }

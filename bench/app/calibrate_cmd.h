@@ -16,6 +16,7 @@ struct CalibrateArgs {
   int corner_iterations = 4;       // Re-fits of the corners through the estimate (aprilgrid, lens).
   int threads = 0;                 // Images read and detected in parallel (0: every core).
   std::string corner_refinement;   // Empty: the default (photometric; see ImagePointOptions).
+  std::string jackknife = "auto";  // auto | on | off (CalibrateOptions::Jackknife).
 };
 
 // 0 on success; 2 with a message for bad arguments or input; 3 when the camera file cannot be

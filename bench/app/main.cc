@@ -294,6 +294,12 @@ CLI::App* AddCalibrateCommand(CLI::App* app, calibench::CalibrateArgs* cal) {
                       "With --images (aprilgrid, photometric): keep only the tags AprilTag 3 "
                       "decodes; by default a grid's missed tags are fitted where their fitted "
                       "neighbours put them");
+  calibrate
+      ->add_option("--jackknife", cal->jackknife,
+                   "Leave-one-view-out std beside the formal one: auto (at most 30 views), on or "
+                   "off")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   calibrate->add_flag("--evaluate", cal->evaluate,
                       "With --init: keep that camera fixed, fit only each image's pose, report "
                       "the reprojection RMS per image and flag outliers");

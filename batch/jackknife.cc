@@ -1,0 +1,78 @@
+#include "batch/jackknife.h"
+
+#include <cmath>
+
+namespace calibench {
+
+bool JackknifeOptions::Check(std::string* why) const {
+  std::string msg;
+  if (refine.shared_pose) msg = "the jackknife leaves out views: it needs per-view poses";
+  if (min_views < 3) msg = "min_views must be >= 3, got " + std::to_string(min_views);
+  if (msg.empty()) return refine.Check(why);
+  if (why) *why = msg;
+  return false;
+}
+
+JackknifeResult JackknifeIntrinsics(const std::vector<View>& views, const RefineResult& full,
+                                    const JackknifeOptions& options) {
+  const SummaryClock clock;
+  JackknifeResult result;
+  result.num_views = static_cast<int>(views.size());
+  result.intrinsics_std.fill(std::nan(""));
+  std::string why;
+  if (!options.Check(&why)) return clock.Finish(&result, MethodStatus::kFailed, why);
+  if (!full.IsUsable() || full.cam_from_object.size() != views.size()) {
+    return clock.Finish(&result, MethodStatus::kFailed,
+                        "needs the usable full fit of the same views (one pose per view)");
+  }
+  const int n = result.num_views;
+  if (n < options.min_views) {
+    return clock.Finish(&result, MethodStatus::kFailed,
+                        std::to_string(n) + " views: the jackknife needs at least " +
+                            std::to_string(options.min_views));
+  }
+  RefineOptions refine = options.refine;
+  refine.compute_covariance = false;
+  refine.compute_pose_covariance = false;
+  std::vector<View> kept;
+  std::vector<Rigid3> kept_poses;
+  kept.reserve(views.size() - 1);
+  kept_poses.reserve(views.size() - 1);
+  for (int left_out = 0; left_out < n; ++left_out) {
+    kept.clear();
+    kept_poses.clear();
+    for (int v = 0; v < n; ++v) {
+      if (v == left_out) continue;
+      kept.push_back(views[v]);
+      kept_poses.push_back(full.cam_from_object[v]);
+    }
+    const RefineResult refit = RefineCalibration(kept, full.intrinsics, kept_poses, refine);
+    result.iterations += refit.iterations;
+    if (!refit.IsUsable()) {
+      return clock.Finish(&result, MethodStatus::kFailed,
+                          "without view " + std::to_string(left_out) + ": " + refit.message);
+    }
+    result.leave_one_out.push_back(refit.intrinsics);
+  }
+  const IntrinsicsArray full_params = full.intrinsics.Params();
+  for (size_t p = 0; p < full_params.size(); ++p) {
+    double mean = 0;
+    bool moved = false;  // A fixed parameter stays bit-identical to the full fit's in every refit.
+    for (const CameraIntrinsics& c : result.leave_one_out) {
+      const double value = c.Params()[p];
+      mean += value;
+      moved = moved || value != full_params[p];
+    }
+    if (!moved) continue;
+    mean /= n;
+    double sum_sq = 0;
+    for (const CameraIntrinsics& c : result.leave_one_out) {
+      const double d = c.Params()[p] - mean;
+      sum_sq += d * d;
+    }
+    result.intrinsics_std[p] = std::sqrt((n - 1.0) / n * sum_sq);
+  }
+  return clock.Finish(&result, MethodStatus::kOk, "");
+}
+
+}  // namespace calibench
