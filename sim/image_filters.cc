@@ -101,6 +101,90 @@ void BlurNearBoards(double sigma, int width, int height, const std::array<int, 4
                {box[0] - margin, box[1] + margin, box[2] - margin, box[3] + margin}, image);
 }
 
+void BlurNearBoardsAndSumBlocks(double sigma, int width, int height, int m,
+                                const std::array<int, 4>& box, const std::vector<float>& fine,
+                                std::vector<float>* pixels) {
+  pixels->resize(static_cast<size_t>(width) * height);
+  const size_t fine_width = static_cast<size_t>(width) * m;
+  const float inv_m2 = 1.0f / static_cast<float>(m * m);
+  auto block_mean = [&](int i, int j) {
+    float sum = 0;
+    for (int b = 0; b < m; ++b) {
+      const float* fine_row = fine.data() + (static_cast<size_t>(j) * m + b) * fine_width + i * m;
+      for (int a = 0; a < m; ++a) sum += fine_row[a];
+    }
+    return sum * inv_m2;
+  };
+  // The pixels whose blocks meet BlurNearBoards' region; empty without a board in view.
+  const int radius = static_cast<int>(std::ceil(3 * sigma)), margin = 2 * radius + 2;
+  const int fw = width * m, fh = height * m;
+  int px0 = width, px1 = 0, py0 = height, py1 = 0;
+  if (box[0] <= box[1] && box[2] <= box[3]) {
+    px0 = std::max(0, box[0] - margin) / m;
+    px1 = std::min(width, (std::min(fw, box[1] + margin) + m - 1) / m);
+    py0 = std::max(0, box[2] - margin) / m;
+    py1 = std::min(height, (std::min(fh, box[3] + margin) + m - 1) / m);
+  }
+  for (int j = 0; j < height; ++j) {  // Outside them: the plain block means.
+    float* row = pixels->data() + static_cast<size_t>(j) * width;
+    const bool inside_rows = j >= py0 && j < py1;
+    for (int i = 0; i < width; ++i) {
+      if (inside_rows && i >= px0 && i < px1) {
+        i = px1 - 1;
+        continue;
+      }
+      row[i] = block_mean(i, j);
+    }
+  }
+  if (px0 >= px1 || py0 >= py1) return;
+  // The Gaussian as GaussianBlur samples it, convolved with the m-box and divided by m:
+  // pixel i = sum_a kernel[a] fine[m i + a - radius] along each axis.
+  std::vector<float> g(2 * radius + 1);
+  float g_sum = 0;
+  for (int k = -radius; k <= radius; ++k) {
+    g_sum += g[k + radius] = static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)));
+  }
+  const int taps = 2 * radius + m;
+  std::vector<float> kernel(taps, 0.0f);
+  for (int a = 0; a < taps; ++a) {
+    for (int s = 0; s < m; ++s) {
+      if (a - s >= 0 && a - s <= 2 * radius) kernel[a] += g[a - s] / g_sum;
+    }
+    kernel[a] /= static_cast<float>(m);
+  }
+  // Horizontal pass at the pixels' columns, over the sub-pixel rows the vertical pass reads
+  // (edges clamped, as GaussianBlur).
+  const int nx = px1 - px0;
+  const int fy0 = std::max(0, m * py0 - radius), fy1 = std::min(fh, m * py1 + radius);
+  thread_local std::vector<float> tmp;
+  tmp.resize(static_cast<size_t>(fy1 - fy0) * nx);
+  for (int fy = fy0; fy < fy1; ++fy) {
+    const float* row = fine.data() + static_cast<size_t>(fy) * fine_width;
+    float* out = tmp.data() + static_cast<size_t>(fy - fy0) * nx;
+    for (int i = px0; i < px1; ++i) {
+      const int first = m * i - radius;
+      float acc = 0;
+      if (first >= 0 && first + taps <= fw) {
+        for (int a = 0; a < taps; ++a) acc += kernel[a] * row[first + a];
+      } else {
+        for (int a = 0; a < taps; ++a) acc += kernel[a] * row[std::clamp(first + a, 0, fw - 1)];
+      }
+      out[i - px0] = acc;
+    }
+  }
+  // Vertical pass at the pixels' rows.
+  for (int j = py0; j < py1; ++j) {
+    float* out = pixels->data() + static_cast<size_t>(j) * width + px0;
+    std::fill(out, out + nx, 0.0f);
+    for (int a = 0; a < taps; ++a) {
+      const int fy = std::clamp(m * j + a - radius, 0, fh - 1);
+      const float* row = tmp.data() + static_cast<size_t>(fy - fy0) * nx;
+      const float k = kernel[a];
+      for (int i = 0; i < nx; ++i) out[i] += k * row[i];
+    }
+  }
+}
+
 // The mean of each m x m block of a (width m) x (height m) image: the pixels of a finer grid.
 void SumBlocks(const std::vector<float>& fine, int width, int height, int m,
                std::vector<float>* pixels) {

@@ -1,7 +1,8 @@
 // The image-space steps of rendering a frame (sim/render.h), on a float image stored row-major,
 // width x height, gray levels:
 //   the optics' PSF:      BlurNearBoards / GaussianBlur (a separable Gaussian, edges clamped);
-//   pixel integration:    SumBlocks (the mean of each m x m block of a finer grid);
+//   pixel integration:    SumBlocks (the mean of each m x m block of a finer grid), or with the
+//                         blur in one pass, BlurNearBoardsAndSumBlocks;
 //   the sensor's noise:   AddImageNoise (iid N(0, sigma^2) per pixel, from a shared table).
 // Rounding to 8 bits is render.cc's last step.
 #pragma once
@@ -32,6 +33,15 @@ void GaussianBlur(double sigma, int width, int height, const PixelBox& box,
 // by the kernel's reach: the background elsewhere is one gray.
 void BlurNearBoards(double sigma, int width, int height, const std::array<int, 4>& box,
                     std::vector<float>* image);
+
+// SumBlocks of `fine` after BlurNearBoards(sigma, width m, height m, box) (sigma and box in
+// sub-pixels), without storing the blurred sub-pixels: each axis is one pass of the kernel both
+// apply, (Gaussian * m-box) / m, evaluated at the pixels only: 2 r + m products per pixel and axis
+// (r = ceil(3 sigma)) instead of (2 r + 1) per sub-pixel and axis. Equal to the two steps to float
+// rounding (tests/sim/image_filters_test.cc).
+void BlurNearBoardsAndSumBlocks(double sigma, int width, int height, int m,
+                                const std::array<int, 4>& box, const std::vector<float>& fine,
+                                std::vector<float>* pixels);
 
 // *pixels = the mean of each m x m block of `fine`, a (width m) x (height m) image.
 void SumBlocks(const std::vector<float>& fine, int width, int height, int m,

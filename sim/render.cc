@@ -427,8 +427,7 @@ bool FrameRenderer::Render(const std::vector<BoardView>& views, Rng* noise_rng, 
     if (!fine_->ShadePixels(views, ray_map, FinerCamera(camera, m), &fine_values, &box, why)) {
       return false;
     }
-    BlurNearBoards(o.blur_sigma_px * m, w * m, h * m, box, &fine_values);
-    SumBlocks(fine_values, w, h, m, &values);
+    BlurNearBoardsAndSumBlocks(o.blur_sigma_px * m, w, h, m, box, fine_values, &values);
   } else {
     if (!ShadePixels(views, ray_map, camera, &values, &box, why)) return false;
     if (o.blur_sigma_px > 0) BlurNearBoards(o.blur_sigma_px, w, h, box, &values);
