@@ -21,6 +21,9 @@ JackknifeResult JackknifeIntrinsics(const std::vector<View>& views, const Refine
   result.intrinsics_std.fill(std::nan(""));
   std::string why;
   if (!options.Check(&why)) return clock.Finish(&result, MethodStatus::kFailed, why);
+  if (!options.view_ids.empty() && options.view_ids.size() != views.size()) {
+    return clock.Finish(&result, MethodStatus::kFailed, "view_ids must name every view");
+  }
   if (!full.IsUsable() || full.cam_from_object.size() != views.size()) {
     return clock.Finish(&result, MethodStatus::kFailed,
                         "needs the usable full fit of the same views (one pose per view)");
@@ -49,8 +52,9 @@ JackknifeResult JackknifeIntrinsics(const std::vector<View>& views, const Refine
     const RefineResult refit = RefineCalibration(kept, full.intrinsics, kept_poses, refine);
     result.iterations += refit.iterations;
     if (!refit.IsUsable()) {
+      const int id = options.view_ids.empty() ? left_out : options.view_ids[left_out];
       return clock.Finish(&result, MethodStatus::kFailed,
-                          "without view " + std::to_string(left_out) + ": " + refit.message);
+                          "without view " + std::to_string(id) + ": " + refit.message);
     }
     result.leave_one_out.push_back(refit.intrinsics);
   }

@@ -31,6 +31,8 @@ struct JackknifeOptions {
   // Fewer views than this: no jackknife (N - 1 views must still determine the camera, and below
   // ~5 the spread of N values says little).
   int min_views = 5;
+  // The views' numbers in messages (e.g. their index in the caller's input); empty: 0..N-1.
+  std::vector<int> view_ids;
   bool Check(std::string* why) const;
 };
 

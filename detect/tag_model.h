@@ -66,7 +66,8 @@ EdgeProfileValue EdgeProfile(double d, double sigma, double nx, double ny);
 // the quadrature below (the integrand's a-derivative, -(a - b sin t) / cos^2 t times it, at the
 // same nodes): the exact gradient of the C that the fit evaluates, equal to the closed form
 //   dC/da = phi(a) [Phi((b - rho a) / sqrt(1 - rho^2)) - Phi(b)]   (and symmetrically in b)
-// within the rule's error, at the cost of no erfc and no exponential beyond the nodes'.
+// to 1e-7 (the value's own error is 5e-8), at the cost of no erfc and no exponential beyond the
+// nodes'.
 // A rectangle is then the signed sum of the quadrants at its four vertices.
 struct QuadrantCorrection {
   double c, dc_da, dc_db;

@@ -36,9 +36,10 @@ void BlurNearBoards(double sigma, int width, int height, const std::array<int, 4
 
 // SumBlocks of `fine` after BlurNearBoards(sigma, width m, height m, box) (sigma and box in
 // sub-pixels), without storing the blurred sub-pixels: each axis is one pass of the kernel both
-// apply, (Gaussian * m-box) / m, evaluated at the pixels only: 2 r + m products per pixel and axis
-// (r = ceil(3 sigma)) instead of (2 r + 1) per sub-pixel and axis. Equal to the two steps to float
-// rounding (tests/sim/image_filters_test.cc).
+// apply, (Gaussian * m-box) / m, evaluated at the pixels' columns (on every sub-pixel row: m (2 r +
+// m) products a pixel, r = ceil(3 sigma)), then at their rows (2 r + m), instead of m^2 (2 r + 1)
+// a pixel for each axis of the blur. Equal to the two steps to float rounding
+// (tests/sim/image_filters_test.cc).
 void BlurNearBoardsAndSumBlocks(double sigma, int width, int height, int m,
                                 const std::array<int, 4>& box, const std::vector<float>& fine,
                                 std::vector<float>* pixels);

@@ -135,10 +135,19 @@ void AddJackknife(const PointData& data, const CalibrateOptions& options, Calibr
   const bool wanted =
       options.jackknife == CalibrateOptions::Jackknife::kOn ||
       (options.jackknife == CalibrateOptions::Jackknife::kAuto && views <= kJackknifeAutoMaxViews);
-  if (!wanted || !report->IsUsable() || report->evaluated) return;
+  if (!wanted || !report->IsUsable()) return;
+  if (report->evaluated) {
+    if (options.jackknife == CalibrateOptions::Jackknife::kOn) {
+      report->jackknife = JackknifeResult();
+      report->jackknife->message =
+          "the given camera is kept fixed (--evaluate): no intrinsic moves";
+    }
+    return;
+  }
   std::vector<View> used;
   for (int v : report->zhang.used_views) used.push_back(data.views[v]);
   JackknifeOptions jackknife;
+  jackknife.view_ids = report->zhang.used_views;  // Failures name the input's view.
   jackknife.refine.model = options.model;
   jackknife.refine.estimate_skew = options.estimate_skew;
   report->jackknife = JackknifeIntrinsics(used, report->ceres, jackknife);
@@ -189,9 +198,9 @@ std::string FormatCalibrateReport(const CalibrateReport& report, const PointData
   for (const Row& r : rows) {
     char jack_column[32] = "";
     if (jack && std::isfinite(r.jack_std)) {
-      std::snprintf(jack_column, sizeof(jack_column), "%-14.6f ", r.jack_std);
+      std::snprintf(jack_column, sizeof(jack_column), "%14.6f ", r.jack_std);
     } else if (jack) {
-      std::snprintf(jack_column, sizeof(jack_column), "%-14s ", "");
+      std::snprintf(jack_column, sizeof(jack_column), "%14s ", "");
     }
     if (std::isfinite(r.std)) {
       std::snprintf(line, sizeof(line), "%-10s %14.6f +- %-12.6f %s%14.6f\n", r.name, r.ours, r.std,

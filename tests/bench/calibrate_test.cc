@@ -80,7 +80,7 @@ TEST(CalibrateFromPoints, OpenCvCalib1MatchesItsReference) {
 // The jackknife std of calibrate (AddJackknife: each view left out in turn, refined from the full
 // fit) against the same formula over five calibrations each run from scratch (zhang + ceres) on
 // the other four views: the same optima, so the same std to the solvers' convergence
-// (kSameOptimumPx: 1e-3 px on a std of ~5 px; the refits stop at ~1e-6 relative).
+// (kSameOptimumPx: 1e-3 px on a std of ~5 px; the solver's tolerances are 1e-10, refine.cc).
 TEST(CalibrateFromPoints, JackknifeIsTheSpreadOfCalibrationsLeavingOneViewOut) {
   PointData data;
   std::string why;
