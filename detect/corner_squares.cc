@@ -288,7 +288,7 @@ std::vector<SquareToPaint> FrameDetector::SquaresNear(const std::vector<TagDetec
       if (tag.id >= g.first_id && tag.id < g.first_id + g.num_tags)
         found[tag.id - g.first_id] = &tag;
     }
-    if (found.empty()) continue;
+    if (found.empty() || g.tag_cols < 1) continue;  // (tag_cols >= 1 when a tag was found.)
     auto distance = [](int i, int c) { return i < c ? c - i : std::max(0, i - c - 1); };
     for (int j = 0; j <= g.tag_rows; ++j) {
       for (int i = 0; i <= g.tag_cols; ++i) {

@@ -210,8 +210,11 @@ std::string FormatCalibrateReport(const CalibrateReport& report, const PointData
         worst_ratio = std::max(worst_ratio, r.jack_std / r.std);
       }
     } else {
-      std::snprintf(line, sizeof(line), "%-10s %14.6f (fixed)         %s%14.6f\n", r.name, r.ours,
-                    jack_column, r.opencv);
+      // No formal std: the parameter is fixed, or sat on a bound in the full fit (then the refits
+      // may move it: its jackknife std is shown).
+      std::snprintf(line, sizeof(line), "%-10s %14.6f %-16s%s%14.6f\n", r.name, r.ours,
+                    std::isfinite(r.jack_std) ? "(no formal std)" : "(fixed)", jack_column,
+                    r.opencv);
     }
     out << line;
   }

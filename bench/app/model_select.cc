@@ -232,8 +232,13 @@ std::string FormatModelSelection(const ModelSelection& m) {
                     ("skipped: " + s.note).c_str());
     } else {
       std::string note = s.note;
-      if (static_cast<int>(i) == m.best) note = "best held-out" + (note.empty() ? "" : "; " + note);
-      if (static_cast<int>(i) == m.chosen) note = "CHOSEN" + (note.empty() ? "" : "; " + note);
+      auto prefix = [&note](const char* label) {
+        std::string labelled = label;
+        if (!note.empty()) labelled.append("; ").append(note);
+        note = labelled;
+      };
+      if (static_cast<int>(i) == m.best) prefix("best held-out");
+      if (static_cast<int>(i) == m.chosen) prefix("CHOSEN");
       std::snprintf(line, sizeof(line), "%-16s %6d %5d  %-8.4f  %-9.4f  %-9s  %-11s  %-11s  %s\n",
                     ToString(s.model), s.free_params, s.views, s.rms_px, s.cv_rms_px,
                     s.comparable ? Shown(s.z_vs_best, "%.2f").c_str() : "-",

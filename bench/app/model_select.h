@@ -56,21 +56,21 @@ struct ModelSelectOptions {
 };
 
 struct ModelScore {
-  LensModel model = LensModel::kPinholeK2;
-  bool fitted = false;     // Started and refined.
-  std::string note;        // Why not fitted, or what the start said.
-  CalibrateReport report;  // The full fit.
-  int free_params = 0;
-  int views = 0;  // Views the fit used.
-  double rms_px = 0, cv_rms_px = 0;
-  long held_out_points = 0;
+  CalibrateReport report;        // The full fit.
+  std::string note;              // Why not fitted, or what the start said.
   std::vector<int> used_views;   // Indices into the data's views.
   std::vector<double> held_out;  // e_v per used view [px^2], same order.
+  double rms_px = 0, cv_rms_px = 0;
+  double z_vs_best = 0;  // The rule's z (0 for the best).
+  double proj_diff_rms_px = 0, proj_diff_max_px = 0;
+  long held_out_points = 0;
+  LensModel model = LensModel::kPinholeK2;
+  int free_params = 0;
+  int views = 0;        // Views the fit used.
+  bool fitted = false;  // Started and refined.
   bool cross_validated = false;
   bool comparable = false;  // Cross-validated on the most views any candidate uses.
-  double z_vs_best = 0;     // The rule's z (0 for the best).
   bool within_noise = false;
-  double proj_diff_rms_px = 0, proj_diff_max_px = 0;
 };
 
 struct ModelSelection {
