@@ -58,22 +58,17 @@ JackknifeResult JackknifeIntrinsics(const std::vector<View>& views, const Refine
     }
     result.leave_one_out.push_back(refit.intrinsics);
   }
-  const IntrinsicsArray full_params = full.intrinsics.Params();
-  for (size_t p = 0; p < full_params.size(); ++p) {
+  std::vector<IntrinsicsArray> params;
+  for (const CameraIntrinsics& c : result.leave_one_out) params.push_back(c.Params());
+  std::vector<bool> fixed(PinholeSkewCamera::kNumParams, false);
+  for (int p : FixedIntrinsics(refine.model, refine.estimate_skew)) fixed[p] = true;
+  for (int p : refine.extra_fixed_intrinsics) fixed[p] = true;
+  for (int p = 0; p < PinholeSkewCamera::kNumParams; ++p) {
+    if (fixed[p]) continue;
     double mean = 0;
-    bool moved = false;  // A fixed parameter stays bit-identical to the full fit's in every refit.
-    for (const CameraIntrinsics& c : result.leave_one_out) {
-      const double value = c.Params()[p];
-      mean += value;
-      moved = moved || value != full_params[p];
-    }
-    if (!moved) continue;
-    mean /= n;
+    for (const IntrinsicsArray& a : params) mean += a[p] / n;
     double sum_sq = 0;
-    for (const CameraIntrinsics& c : result.leave_one_out) {
-      const double d = c.Params()[p] - mean;
-      sum_sq += d * d;
-    }
+    for (const IntrinsicsArray& a : params) sum_sq += (a[p] - mean) * (a[p] - mean);
     result.intrinsics_std[p] = std::sqrt((n - 1.0) / n * sum_sq);
   }
   return clock.Finish(&result, MethodStatus::kOk, "");

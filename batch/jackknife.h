@@ -38,8 +38,8 @@ struct JackknifeOptions {
 
 struct JackknifeResult : MethodSummary {
   int num_views = 0;
-  // Jackknife std per raw intrinsic (IntrinsicsArray order, phi in radians); NaN where the model
-  // keeps the parameter fixed.
+  // Jackknife std per raw intrinsic (IntrinsicsArray order, phi in radians); NaN where the options
+  // keep the parameter fixed (FixedIntrinsics, extra_fixed_intrinsics).
   IntrinsicsArray intrinsics_std{};
   // [i]: the calibration without view i.
   std::vector<CameraIntrinsics> leave_one_out;

@@ -41,6 +41,20 @@ void AddImageNoise(double sigma, int width, int height, Rng* rng, std::vector<fl
   }
 }
 
+namespace {
+
+// exp(-k^2 / (2 sigma^2)) for k in [-radius, radius] into *g (not normalised); returns their sum.
+float SampledGaussian(double sigma, int radius, std::vector<float>* g) {
+  g->resize(2 * radius + 1);
+  float sum = 0;
+  for (int k = -radius; k <= radius; ++k) {
+    sum += (*g)[k + radius] = static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)));
+  }
+  return sum;
+}
+
+}  // namespace
+
 // Blurs the pixels of [x0, x1) x [y0, y1) (clamped to the image) with a Gaussian of `sigma`,
 // edges clamped. Exact for the whole image when everything outside the box is farther than the
 // kernel's radius from anything but one constant gray (the background): such pixels keep their
@@ -49,10 +63,8 @@ void GaussianBlur(double sigma, int width, int height, const PixelBox& box,
                   std::vector<float>* image) {
   int x0 = box.x0, x1 = box.x1, y0 = box.y0, y1 = box.y1;
   const int radius = static_cast<int>(std::ceil(3 * sigma));
-  std::vector<float> kernel(2 * radius + 1);
-  float sum = 0;
-  for (int k = -radius; k <= radius; ++k)
-    sum += kernel[k + radius] = static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)));
+  std::vector<float> kernel;
+  const float sum = SampledGaussian(sigma, radius, &kernel);
   for (float& k : kernel) k /= sum;
   x0 = std::max(0, x0), y0 = std::max(0, y0);
   x1 = std::min(width, x1), y1 = std::min(height, y1);
@@ -104,17 +116,7 @@ void BlurNearBoards(double sigma, int width, int height, const std::array<int, 4
 void BlurNearBoardsAndSumBlocks(double sigma, int width, int height, int m,
                                 const std::array<int, 4>& box, const std::vector<float>& fine,
                                 std::vector<float>* pixels) {
-  pixels->resize(static_cast<size_t>(width) * height);
   const size_t fine_width = static_cast<size_t>(width) * m;
-  const float inv_m2 = 1.0f / static_cast<float>(m * m);
-  auto block_mean = [&](int i, int j) {
-    float sum = 0;
-    for (int b = 0; b < m; ++b) {
-      const float* fine_row = fine.data() + (static_cast<size_t>(j) * m + b) * fine_width + i * m;
-      for (int a = 0; a < m; ++a) sum += fine_row[a];
-    }
-    return sum * inv_m2;
-  };
   // The pixels whose blocks meet BlurNearBoards' region; empty without a board in view.
   const int radius = static_cast<int>(std::ceil(3 * sigma)), margin = 2 * radius + 2;
   const int fw = width * m, fh = height * m;
@@ -125,25 +127,13 @@ void BlurNearBoardsAndSumBlocks(double sigma, int width, int height, int m,
     py0 = std::max(0, box[2] - margin) / m;
     py1 = std::min(height, (std::min(fh, box[3] + margin) + m - 1) / m);
   }
-  for (int j = 0; j < height; ++j) {  // Outside them: the plain block means.
-    float* row = pixels->data() + static_cast<size_t>(j) * width;
-    const bool inside_rows = j >= py0 && j < py1;
-    for (int i = 0; i < width; ++i) {
-      if (inside_rows && i >= px0 && i < px1) {
-        i = px1 - 1;
-        continue;
-      }
-      row[i] = block_mean(i, j);
-    }
-  }
+  const PixelBox region{px0, px1, py0, py1};
+  SumBlocks(fine, width, height, m, pixels, &region);  // Outside it: the plain block means.
   if (px0 >= px1 || py0 >= py1) return;
   // The Gaussian as GaussianBlur samples it, convolved with the m-box and divided by m:
   // pixel i = sum_a kernel[a] fine[m i + a - radius] along each axis.
-  std::vector<float> g(2 * radius + 1);
-  float g_sum = 0;
-  for (int k = -radius; k <= radius; ++k) {
-    g_sum += g[k + radius] = static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)));
-  }
+  std::vector<float> g;
+  const float g_sum = SampledGaussian(sigma, radius, &g);
   const int taps = 2 * radius + m;
   std::vector<float> kernel(taps, 0.0f);
   for (int a = 0; a < taps; ++a) {
@@ -187,19 +177,28 @@ void BlurNearBoardsAndSumBlocks(double sigma, int width, int height, int m,
 
 // The mean of each m x m block of a (width m) x (height m) image: the pixels of a finer grid.
 void SumBlocks(const std::vector<float>& fine, int width, int height, int m,
-               std::vector<float>* pixels) {
-  pixels->assign(static_cast<size_t>(width) * height, 0.0f);
+               std::vector<float>* pixels, const PixelBox* skip) {
+  pixels->resize(static_cast<size_t>(width) * height);
   const size_t fine_width = static_cast<size_t>(width) * m;
   const float inv = 1.0f / static_cast<float>(m * m);
-  for (int j = 0; j < height; ++j) {
+  auto sum_columns = [&](int j, int i0, int i1) {
     float* row = pixels->data() + static_cast<size_t>(j) * width;
+    std::fill(row + i0, row + i1, 0.0f);
     for (int b = 0; b < m; ++b) {
       const float* fine_row = fine.data() + (static_cast<size_t>(j) * m + b) * fine_width;
-      for (int i = 0; i < width; ++i) {
+      for (int i = i0; i < i1; ++i) {
         for (int a = 0; a < m; ++a) row[i] += fine_row[i * m + a];
       }
     }
-    for (int i = 0; i < width; ++i) row[i] *= inv;
+    for (int i = i0; i < i1; ++i) row[i] *= inv;
+  };
+  for (int j = 0; j < height; ++j) {
+    if (skip && j >= skip->y0 && j < skip->y1 && skip->x0 < skip->x1) {
+      sum_columns(j, 0, std::clamp(skip->x0, 0, width));
+      sum_columns(j, std::clamp(skip->x1, 0, width), width);
+    } else {
+      sum_columns(j, 0, width);
+    }
   }
 }
 

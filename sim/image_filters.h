@@ -44,8 +44,9 @@ void BlurNearBoardsAndSumBlocks(double sigma, int width, int height, int m,
                                 const std::array<int, 4>& box, const std::vector<float>& fine,
                                 std::vector<float>* pixels);
 
-// *pixels = the mean of each m x m block of `fine`, a (width m) x (height m) image.
+// *pixels = the mean of each m x m block of `fine`, a (width m) x (height m) image; the pixels of
+// `skip` (when given) are left as they are.
 void SumBlocks(const std::vector<float>& fine, int width, int height, int m,
-               std::vector<float>* pixels);
+               std::vector<float>* pixels, const PixelBox* skip = nullptr);
 
 }  // namespace calibench

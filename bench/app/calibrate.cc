@@ -93,6 +93,13 @@ ZhangResult StartFromScratch(const PointData& data, LensModel model, std::string
   return start;
 }
 
+// The views the initialisation kept, in its order (that of ceres' poses).
+std::vector<View> UsedViews(const PointData& data, const ZhangResult& start) {
+  std::vector<View> used;
+  for (int v : start.used_views) used.push_back(data.views[v]);
+  return used;
+}
+
 }  // namespace
 
 CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOptions& options) {
@@ -108,8 +115,7 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
     report.ceres.message = report.initial_name + " initialisation failed: " + report.zhang.message;
     return report;
   }
-  std::vector<View> used;
-  for (int v : report.zhang.used_views) used.push_back(data.views[v]);
+  const std::vector<View> used = UsedViews(data, report.zhang);
   RefineOptions refine;
   refine.model = options.model;
   refine.estimate_skew = options.estimate_skew;
@@ -144,8 +150,7 @@ void AddJackknife(const PointData& data, const CalibrateOptions& options, Calibr
     }
     return;
   }
-  std::vector<View> used;
-  for (int v : report->zhang.used_views) used.push_back(data.views[v]);
+  const std::vector<View> used = UsedViews(data, report->zhang);
   JackknifeOptions jackknife;
   jackknife.view_ids = report->zhang.used_views;  // Failures name the input's view.
   jackknife.refine.model = options.model;
