@@ -1,0 +1,52 @@
+// RefineCalibration's internals shared by its source files (batch/refine.h): the parameter
+// storage of one problem, and the covariance computations of its header comment
+// (refine_covariance.cc). Internal to batch/.
+#pragma once
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Geometry>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "batch/refine.h"
+
+namespace calibench {
+namespace refine_internal {
+
+// Parameter storage for one problem: intrinsics and poses (quaternion x, y, z, w; translation).
+struct Parameters {
+  IntrinsicsArray intrinsics{};
+  std::vector<std::array<double, 4>> rotations;
+  std::vector<std::array<double, 3>> translations;
+
+  Parameters(const CameraIntrinsics& k, const std::vector<Rigid3>& poses) {
+    intrinsics = k.Params();
+    for (const Rigid3& pose : poses) {
+      const Eigen::Quaterniond q(pose.rotation);
+      rotations.push_back({q.x(), q.y(), q.z(), q.w()});
+      translations.push_back({pose.translation.x(), pose.translation.y(), pose.translation.z()});
+    }
+  }
+  Rigid3 Pose(size_t i) const {
+    const Eigen::Quaterniond q(rotations[i][3], rotations[i][0], rotations[i][1], rotations[i][2]);
+    return {q.normalized().toRotationMatrix(),
+            Eigen::Vector3d(translations[i][0], translations[i][1], translations[i][2])};
+  }
+};
+
+// scale (J^T J)^-1 of the intrinsics block by ceres::Covariance (DENSE_SVD of the whole Jacobian):
+// the reference, and IntrinsicsCovarianceAt's.
+bool CovarianceOfIntrinsics(ceres::Problem* problem, Parameters* params, double scale,
+                            IntrinsicsCovariance* covariance, std::string* why);
+// The joint covariance (RefineResult::joint_covariance) of the intrinsics and the one shared pose.
+bool JointCovariance(ceres::Problem* problem, Parameters* params, const std::vector<int>& fixed,
+                     double scale, Eigen::MatrixXd* covariance, std::string* why);
+// The intrinsics' covariance with one pose per view (the Schur complement of the poses).
+bool PerViewIntrinsicsCovariance(ceres::Problem* problem, Parameters* params,
+                                 const std::vector<int>& fixed, double scale,
+                                 IntrinsicsCovariance* covariance, std::string* why);
+
+}  // namespace refine_internal
+}  // namespace calibench
