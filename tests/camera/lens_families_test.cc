@@ -1,7 +1,7 @@
 // The omnidirectional lens families of camera/camera.h (unified, eucm, double-sphere): projection
 // against OpenCV's cv::omnidir and against the papers' models written with angles, Jet
-// derivatives, round trips through UnprojectToRay out to each model's edge, the edge itself, and
-// Check()'s refusals.
+// derivatives, and round trips through UnprojectToRay out to each model's edge (the edge itself
+// and Check()'s refusals: lens_families_edge_test.cc).
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
