@@ -95,14 +95,15 @@
 //      without the new case; the if-chains below do not warn.
 //   3. Each place outside camera.{h,cc} that supports only some families takes the new one or
 //      refuses it with a message:
-//      sim/render.cc RaySpaceOf (how its ray table holds the family's rays: on the plane z = 1,
-//      or stereographic past 90 deg; every family is drawn);
+//      sim/board_shader.h RaySpaceOf (how the renderer's ray table holds the family's rays: on the
+//      plane z = 1, or stereographic past 90 deg; every family is drawn);
 //      batch/projection_jacobian.cc (the family's lens step with its Jacobians: the refinement's
 //      hot path; tests/batch/refine_test.cc checks it against the Jet);
 //      batch/refine.cc SetLensBounds (the family's ranges as Ceres bounds);
 //      batch/zhang.cc CalibrateZhang (calibrateCamera flags, or cv::fisheye; refuses the others);
 //      batch/wide_init.cc FromProfile (the family from the unified profile);
-//      bench/config/camera_io.cc the writers and readers (opencv, kalibr, mrcal names);
+//      bench/config/camera_io_opencv.cc, camera_io_kalibr.cc, camera_io_mrcal.cc the writers and
+//      readers (opencv, kalibr, mrcal names);
 //      bench/config/scenario_fields.cc (the scenario's lens_family name table);
 //      bench/app/image_points.cc (curved tag edges for every family but radtan);
 //      bench/app/model_select.cc AutoCandidates (the models `--model auto` compares).

@@ -74,6 +74,15 @@ void InferModel(CameraFile* camera) {
   camera->estimate_skew = HasSkew(camera->intrinsics);
 }
 
+void SetCameraWithoutStd(const CameraIntrinsics& k, double width, double height,
+                         CameraFile* camera) {
+  camera->intrinsics = k;
+  camera->image_width = static_cast<int>(width);
+  camera->image_height = static_cast<int>(height);
+  camera->intrinsics_std.fill(std::nan(""));
+  InferModel(camera);
+}
+
 }  // namespace camera_io_internal
 
 namespace {

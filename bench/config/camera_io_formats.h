@@ -29,6 +29,10 @@ bool WriteText(const std::string& path, const std::string& text, std::string* wh
 // lens_model (the smallest model of the family holding every non-zero coefficient) and
 // estimate_skew from the intrinsics.
 void InferModel(CameraFile* camera);
+// A camera read from a format that holds no standard deviations (kalibr, mrcal): its intrinsics
+// and image size, every std NaN, the model inferred.
+void SetCameraWithoutStd(const CameraIntrinsics& k, double width, double height,
+                         CameraFile* camera);
 // std_<name> of raw slot i in the family's order (ParamNames: std_k1, std_xi, std_alpha, ..);
 // empty for an unused slot.
 std::string StdName(LensFamily family, int i);

@@ -159,11 +159,7 @@ bool ReadKalibr(const std::string& path, const YAML::Node& root, CameraFile* cam
   if (!ReadKalibrDistortion(cam, at, *m, &k, why)) return false;
   std::string reason;
   if (!k.Check(&reason)) return Fail(why, at + "intrinsics: " + reason);
-  camera->intrinsics = k;
-  camera->image_width = static_cast<int>(res[0]);
-  camera->image_height = static_cast<int>(res[1]);
-  camera->intrinsics_std.fill(std::nan(""));
-  InferModel(camera);
+  SetCameraWithoutStd(k, res[0], res[1], camera);
   return true;
 }
 

@@ -129,11 +129,7 @@ bool ReadMrcal(const std::string& path, const std::string& raw, CameraFile* came
   k.fku_px = v[0], k.fkv_px = v[1], k.u0_px = v[2], k.v0_px = v[3];
   if (v.size() > 4) k.k1 = v[4], k.k2 = v[5], k.p1 = v[6], k.p2 = v[7];
   if (v.size() > 8) k.k3 = v[8];
-  camera->intrinsics = k;
-  camera->image_width = static_cast<int>(size[0]);
-  camera->image_height = static_cast<int>(size[1]);
-  camera->intrinsics_std.fill(std::nan(""));
-  InferModel(camera);
+  SetCameraWithoutStd(k, size[0], size[1], camera);
   return true;
 }
 
