@@ -1,12 +1,14 @@
 // The renderer's inner pieces (sim/render.h; render.cc's FrameRenderer uses them): one board of a
 // frame as seen along rays (its ray -> board homography, the shade of a board point from the tag
-// bitmaps and Kalibr's corner squares, its pixel bounds), how the ray table holds a ray in two
-// numbers, and the n x n sample pattern of a pixel. Internal to sim/: not part of its API.
+// bitmaps and Kalibr's corner squares, the exact mean shade over a pixel's footprint on it, its
+// pixel bounds), how the ray table holds a ray in two numbers, and the n x n sample pattern of a
+// pixel. Internal to sim/: not part of its API.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -66,6 +68,101 @@ inline Eigen::Vector2d Stereographic(const Eigen::Vector3d& unit_ray) {
   return unit_ray.head<2>() / w;
 }
 
+// A convex polygon: a pixel's footprint on a board (4 vertices) clipped by up to four axis-parallel
+// lines (at most one vertex more per line; room for rounding's extra crossings).
+struct SmallPolygon {
+  static constexpr int kCapacity = 16;
+  std::array<Eigen::Vector2d, kCapacity> v;
+  int n = 0;
+};
+
+// Sutherland-Hodgman: the part of `in` where coordinate `axis` is >= value (keep_above) or <=
+// value.
+inline void ClipToHalfPlane(const SmallPolygon& in, int axis, double value, bool keep_above,
+                            SmallPolygon* out) {
+  out->n = 0;
+  if (in.n == 0) return;
+  const double sign = keep_above ? 1.0 : -1.0;
+  const Eigen::Vector2d* a = &in.v[in.n - 1];  // Each edge a -> b, the closing edge first.
+  double da = sign * ((*a)[axis] - value);
+  for (int k = 0; k < in.n; ++k) {
+    const Eigen::Vector2d& b = in.v[k];
+    const double db = sign * (b[axis] - value);
+    if ((da >= 0) != (db >= 0) && out->n < SmallPolygon::kCapacity) {
+      out->v[out->n++] = *a + (da / (da - db)) * (b - *a);
+    }
+    if (db >= 0 && out->n < SmallPolygon::kCapacity) out->v[out->n++] = b;
+    a = &b;
+    da = db;
+  }
+}
+
+// The homography from a pixel's unit square (fa, fb) in [0, 1]^2 to its footprint on a board, the
+// quadrilateral of its corners' board points q0 = b(0, 0), q1 = b(1, 0), q2 = b(1, 1), q3 = b(0, 1)
+// (Heckbert 1989, square to quadrilateral), held as its inverse: the pixel coordinates of a board
+// point. A pinhole camera's pixel -> board map is this homography exactly; through a lens (the rays
+// inside a pixel interpolated between its corners') it holds to second order in the pixel's size,
+// so pixel areas computed through it carry the first-order change of scale across the pixel (the
+// board's perspective, the lens's compression) that board areas would miss.
+class PixelFromBoard {
+ public:
+  // q in local coordinates with q0 = (0, 0). False for a degenerate quadrilateral.
+  bool Init(const SmallPolygon& q) {
+    const double x1 = q.v[1].x(), x2 = q.v[2].x(), x3 = q.v[3].x();
+    const double y1 = q.v[1].y(), y2 = q.v[2].y(), y3 = q.v[3].y();
+    const double sx = -x1 + x2 - x3, sy = -y1 + y2 - y3;
+    const double dx1 = x1 - x2, dx2 = x3 - x2, dy1 = y1 - y2, dy2 = y3 - y2;
+    const double den = dx1 * dy2 - dx2 * dy1;
+    if (!(std::abs(den) > 0)) return false;
+    const double g = (sx * dy2 - dx2 * sy) / den, h = (dx1 * sy - sx * dy1) / den;
+    Eigen::Matrix3d board_from_pixel;
+    board_from_pixel << x1 + g * x1, x3 + h * x3, 0, y1 + g * y1, y3 + h * y3, 0, g, h, 1;
+    const double det = board_from_pixel.determinant();
+    if (!(std::abs(det) > 0)) return false;
+    pixel_from_board_ = board_from_pixel.inverse();
+    return true;
+  }
+
+  // Twice the signed area, in pixels, of a polygon of the footprint (local board coordinates).
+  double TwicePixelArea(const SmallPolygon& p) const {
+    if (p.n == 0) return 0;
+    const Eigen::Matrix3d& m = pixel_from_board_;
+    const auto map = [&m](const Eigen::Vector2d& b) {
+      const double w = 1.0 / (m(2, 0) * b.x() + m(2, 1) * b.y() + m(2, 2));
+      return Eigen::Vector2d((m(0, 0) * b.x() + m(0, 1) * b.y() + m(0, 2)) * w,
+                             (m(1, 0) * b.x() + m(1, 1) * b.y() + m(1, 2)) * w);
+    };
+    double sum = 0;
+    Eigen::Vector2d a = map(p.v[p.n - 1]);
+    for (int k = 0; k < p.n; ++k) {
+      const Eigen::Vector2d b = map(p.v[k]);
+      sum += a.x() * b.y() - a.y() * b.x();
+      a = b;
+    }
+    return sum;
+  }
+
+ private:
+  Eigen::Matrix3d pixel_from_board_;
+};
+
+// The lines coordinate = const of one axis that cross an interval, ascending; full when more than
+// kMax cross it (cells far smaller than a pixel).
+struct AxisLines {
+  static constexpr int kMax = 12;
+  std::array<double, kMax> at;
+  int n = 0;
+  bool full = false;
+  void Add(double x, double lo, double hi) {
+    if (!(x > lo && x < hi)) return;
+    if (n == kMax) {
+      full = true;
+      return;
+    }
+    at[n++] = x;
+  }
+};
+
 // One board of the frame: its ray -> board homography and a table of its cells' shades.
 class BoardShader {
  public:
@@ -106,6 +203,10 @@ class BoardShader {
     width_ = f.total_width();
     cols_ = g.tag_cols;
     rows_ = g.tag_rows;
+    if ((std::max(cols_, rows_) + 2) * (width_ + 1) > 0xFFFF) {
+      if (why) *why = "the renderer takes at most 5000 tags along a side of a grid";
+      return false;
+    }
     // Cell (X, Y) = (c * width + col, r * width + row_from_bottom), X fastest.
     cells_.resize(static_cast<size_t>(rows_) * width_ * cols_ * width_);
     for (int r = 0; r < rows_; ++r) {
@@ -143,10 +244,25 @@ class BoardShader {
 
   // Shade of board point (bx, by): 0 black, 1 white, kOffBoard outside the board.
   int Shade(double bx, double by) const {
+    uint32_t cell = 0;
+    return ShadeAndCell(bx, by, &cell);
+  }
+
+  // Shade, and on the board the cell the point falls in as two 16-bit keys (column << 16 | row),
+  // each non-decreasing in its coordinate: no cell line of an axis lies between two points whose
+  // keys for it agree. A key numbers tag t's bitmap column (row) k, t in [-1, tags] (on the board:
+  // its margin is less than a pitch), k in [0, width] (the gap after a bitmap shares its last
+  // key; the corner squares' sides are lines of the tags' black squares).
+  int ShadeAndCell(double bx, double by, uint32_t* cell) const {
     if (bx < min_ || by < min_ || bx > max_x_ || by > max_y_) return kOffBoard;
+    // The tag whose full bitmap (reference square plus border_start cells around) may hold b.
+    const int c = FloorSmall((bx + start_ * cell_) * inv_pitch_);
+    const int r = FloorSmall((by + start_ * cell_) * inv_pitch_);
+    const int col = FloorSmall((bx - c * pitch_) * inv_cell_) + start_;
+    const int row = FloorSmall((by - r * pitch_) * inv_cell_) + start_;
+    *cell = AxisKey(c, col, cols_) << 16 | AxisKey(r, row, rows_);
     if (corner_squares_) {
-      // Square (i, j) spans [i p - g, i p) x [j p - g, j p) (sim/target.h). Its edges are edges
-      // of the tags' black squares too: AxisKeys needs no new keys.
+      // Square (i, j) spans [i p - g, i p) x [j p - g, j p) (sim/target.h).
       const double u = bx + gap_, v = by + gap_;
       const int i = FloorSmall(u * inv_pitch_), j = FloorSmall(v * inv_pitch_);
       if (i >= 0 && j >= 0 && i <= cols_ && j <= rows_ && u - i * pitch_ < gap_ &&
@@ -154,21 +270,64 @@ class BoardShader {
         return 0;
       }
     }
-    // The tag whose full bitmap (reference square plus border_start cells around) may hold b.
-    const int c = FloorSmall((bx + start_ * cell_) * inv_pitch_);
-    const int r = FloorSmall((by + start_ * cell_) * inv_pitch_);
     if (c < 0 || r < 0 || c >= cols_ || r >= rows_) return 1;
-    const int col = FloorSmall((bx - c * pitch_) * inv_cell_) + start_;
-    const int row = FloorSmall((by - r * pitch_) * inv_cell_) + start_;
     if (col < 0 || row < 0 || col >= width_ || row >= width_) return 1;
     return cells_[(static_cast<size_t>(r) * width_ + row) * cols_ * width_ + c * width_ + col];
   }
 
-  // Keys of the column and row a board point falls in, non-decreasing in bx and in by: two points
-  // with equal x keys see no vertical cell edge between them.
-  void AxisKeys(double bx, double by, int* kx, int* ky) const {
-    *kx = AxisKey(bx, max_x_, cols_);
-    *ky = AxisKey(by, max_y_, rows_);
+  // Mean of lut[Shade + 1] (off-board, black, white) over a pixel whose footprint on this board is
+  // `quad` (the board points of its corners (0, 0), (1, 0), (1, 1), (0, 1)): the shade is constant
+  // between the lines of LinesCrossing, so the quad is cut along them (ClipToHalfPlane) and each
+  // piece weighs its area in the pixel (PixelFromBoard). False, *mean untouched, when an axis holds
+  // more lines than AxisLines takes (cells far below a pixel) or the quad is degenerate (a board
+  // seen edge-on): the caller samples instead.
+  bool MeanOverFootprint(const std::array<Eigen::Vector2d, 4>& quad,
+                         const std::array<float, 3>& lut, float* mean) const {
+    // Local coordinates about the first corner: no cancellation in the areas.
+    const Eigen::Vector2d origin = quad[0];
+    SmallPolygon footprint;
+    footprint.n = 4;
+    Eigen::Vector2d lo = Eigen::Vector2d::Zero(), hi = Eigen::Vector2d::Zero();
+    for (int k = 0; k < 4; ++k) {
+      footprint.v[k] = quad[k] - origin;
+      lo = lo.cwiseMin(footprint.v[k]);
+      hi = hi.cwiseMax(footprint.v[k]);
+    }
+    PixelFromBoard pixel;
+    if (!pixel.Init(footprint)) return false;
+    std::array<AxisLines, 2> lines;
+    for (int axis = 0; axis < 2; ++axis) {
+      LinesCrossing(axis, origin[axis] + lo[axis], origin[axis] + hi[axis], &lines[axis]);
+      if (lines[axis].full) return false;
+      for (int k = 0; k < lines[axis].n; ++k) lines[axis].at[k] -= origin[axis];
+    }
+    std::array<double, 3> weight = {0, 0, 0};  // Twice each shade's area in the pixel.
+    if (lines[0].n + lines[1].n == 1) {  // The common case: one line cuts the footprint in two.
+      const int axis = lines[0].n == 1 ? 0 : 1;
+      const double at = lines[axis].at[0];
+      // Each side shaded at its piece's centroid, never at a corner of the footprint: a corner
+      // may lie on a line of the other axis, and see the cell beyond the footprint.
+      SmallPolygon above, below;
+      ClipToHalfPlane(footprint, axis, at, true, &above);
+      ClipToHalfPlane(footprint, axis, at, false, &below);
+      const Eigen::Vector2d above_point = origin + Centroid(above);
+      const Eigen::Vector2d below_point = origin + Centroid(below);
+      weight[Shade(above_point.x(), above_point.y()) + 1] += pixel.TwicePixelArea(above);
+      weight[Shade(below_point.x(), below_point.y()) + 1] += pixel.TwicePixelArea(below);
+      return WeightedMean(weight, lut, mean);
+    }
+    SmallPolygon slab, piece, scratch;
+    for (int i = 0; i <= lines[0].n; ++i) {
+      ClipBetween(footprint, 0, lines[0], i, &slab, &scratch);
+      if (slab.n < 3) continue;
+      for (int j = 0; j <= lines[1].n; ++j) {
+        ClipBetween(slab, 1, lines[1], j, &piece, &scratch);
+        if (piece.n < 3) continue;
+        const Eigen::Vector2d inside = origin + Centroid(piece);
+        weight[Shade(inside.x(), inside.y()) + 1] += pixel.TwicePixelArea(piece);
+      }
+    }
+    return WeightedMean(weight, lut, mean);
   }
 
   // Pixel-corner box [i0, i1] x [j0, j1] outside which the board cannot be seen: the projection of
@@ -226,12 +385,73 @@ class BoardShader {
   int j1() const { return j1_; }
 
  private:
-  int AxisKey(double x, double max, int tags) const {
-    if (x < min_) return std::numeric_limits<int>::min();
-    if (x > max) return std::numeric_limits<int>::max();
-    const int c = std::clamp(FloorSmall((x + start_ * cell_) * inv_pitch_), -1, tags);
-    const int col = std::clamp(FloorSmall((x - c * pitch_) * inv_cell_) + start_, 0, width_);
-    return c * (width_ + 1) + col;
+  // The mean of its vertices: inside a convex polygon.
+  static Eigen::Vector2d Centroid(const SmallPolygon& p) {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    for (int k = 0; k < p.n; ++k) sum += p.v[k];
+    return p.n > 0 ? Eigen::Vector2d(sum / p.n) : sum;
+  }
+
+  // sum_s lut[s] weight[s] / sum_s weight[s]; false when the weights sum to no area.
+  static bool WeightedMean(const std::array<double, 3>& weight, const std::array<float, 3>& lut,
+                           float* mean) {
+    const double total = weight[0] + weight[1] + weight[2];
+    if (!(std::abs(total) > 0)) return false;
+    *mean =
+        static_cast<float>((lut[0] * weight[0] + lut[1] * weight[1] + lut[2] * weight[2]) / total);
+    return true;
+  }
+
+  uint32_t AxisKey(int tag, int k, int tags) const {
+    return static_cast<uint32_t>((std::clamp(tag, -1, tags) + 1) * (width_ + 1) +
+                                 std::clamp(k, 0, width_));
+  }
+
+  // The lines coordinate `axis` = const (0: x, 1: y) in (lo, hi) on which Shade may change: the
+  // board's outline, the cell lines of every tag bitmap that reaches the interval (tag t's cells
+  // start at t p - start cell), the corner squares' sides (i p - g and i p); ascending.
+  void LinesCrossing(int axis, double lo, double hi, AxisLines* lines) const {
+    const int tags = axis == 0 ? cols_ : rows_;
+    lines->Add(min_, lo, hi);
+    lines->Add(axis == 0 ? max_x_ : max_y_, lo, hi);
+    const double first = -start_ * cell_, span = width_ * cell_;
+    const int t0 = std::max(0, FloorSmall((lo - first - span) * inv_pitch_));
+    const int t1 = std::min(tags - 1, FloorSmall((hi - first) * inv_pitch_));
+    for (int t = t0; t <= t1 && !lines->full; ++t) {
+      const double start = t * pitch_ + first;
+      const int k0 = std::max(0, FloorSmall((lo - start) * inv_cell_));
+      const int k1 = std::min(width_, FloorSmall((hi - start) * inv_cell_) + 1);
+      for (int k = k0; k <= k1; ++k) lines->Add(start + k * cell_, lo, hi);
+    }
+    if (corner_squares_) {
+      const int i0 = std::max(0, FloorSmall(lo * inv_pitch_));
+      const int i1 = std::min(tags, FloorSmall((hi + gap_) * inv_pitch_) + 1);
+      for (int i = i0; i <= i1; ++i) {
+        lines->Add(i * pitch_ - gap_, lo, hi);
+        lines->Add(i * pitch_, lo, hi);
+      }
+    }
+    for (int k = 1; k < lines->n; ++k) {  // Insertion sort: a few lines.
+      for (int m = k; m > 0 && lines->at[m] < lines->at[m - 1]; --m) {
+        std::swap(lines->at[m], lines->at[m - 1]);
+      }
+    }
+  }
+
+  // The part of `in` between lines k - 1 and k of `lines` (unbounded below for k = 0, above for
+  // k = lines.n).
+  static void ClipBetween(const SmallPolygon& in, int axis, const AxisLines& lines, int k,
+                          SmallPolygon* out, SmallPolygon* scratch) {
+    const SmallPolygon* from = &in;
+    if (k > 0) {
+      ClipToHalfPlane(*from, axis, lines.at[k - 1], true, scratch);
+      from = scratch;
+    }
+    if (k < lines.n) {
+      ClipToHalfPlane(*from, axis, lines.at[k], false, out);
+    } else {
+      *out = *from;
+    }
   }
 
   bool visible_ = false;
@@ -253,25 +473,12 @@ inline Eigen::Vector2d SampleOffset(int a, int b, int n) {
   return {(a * n + b + 0.5) / nn, (b * n + a + 0.5) / nn};
 }
 
-// Sum of sample(a, b) over the n x n samples of a pixel (a = column, b = row). With
-// `rows_are_simple`, the caller guarantees that the shade cannot change and change back along a
-// row of samples (the edges crossing the pixel are parallel lines at least a pixel apart): a row
-// whose end samples agree is then filled without sampling inside.
+// Sum of sample(a, b) over the n x n samples of a pixel (a = column, b = row).
 template <typename Sample>
-float SumSamples(int n, bool rows_are_simple, const Sample& sample) {
+float SumSamples(int n, const Sample& sample) {
   float sum = 0;
   for (int b = 0; b < n; ++b) {
-    if (!rows_are_simple || n <= 2) {
-      for (int a = 0; a < n; ++a) sum += sample(a, b);
-      continue;
-    }
-    const float first = sample(0, b), end = sample(n - 1, b);
-    sum += first + end;
-    if (first == end) {
-      sum += (n - 2) * first;
-      continue;
-    }
-    for (int a = 1; a < n - 1; ++a) sum += sample(a, b);
+    for (int a = 0; a < n; ++a) sum += sample(a, b);
   }
   return sum;
 }

@@ -206,8 +206,21 @@ struct CornerRays {
 struct CornerHits {
   std::vector<int16_t>& hit;
   std::vector<Eigen::Vector2f>& in_board;  // Float: 1e-7 m on a 1 m board.
+  std::vector<uint32_t>& cell;             // BoardShader::ShadeAndCell's, where hit >= 0.
   size_t stride;
 };
+
+// Whether four corners on the same board and shade may hold a pixel of another shade between
+// them: a corner of the pattern (a tag's, a cell's) pokes in when both a column and a row line
+// cross the pixel. One axis's lines alone cross it from side to side and change the shade there
+// only for cells thinner than a pixel (the renderer assumes features larger than a pixel).
+bool MayHoldAPatternCorner(const CornerHits& hits, size_t k00) {
+  const size_t k01 = k00 + hits.stride;
+  const uint32_t a = hits.cell[k00];
+  const uint32_t differ =
+      (a ^ hits.cell[k00 + 1]) | (a ^ hits.cell[k01]) | (a ^ hits.cell[k01 + 1]);
+  return (differ >> 16) != 0 && (differ & 0xFFFF) != 0;
+}
 
 // Pass 1: what each pixel corner sees (the nearest board along its ray), and where on it.
 void TraceCorners(const std::vector<BoardShader>& boards, const CornerRays& rays, RaySpace space,
@@ -225,7 +238,7 @@ void TraceCorners(const std::vector<BoardShader>& boards, const CornerRays& rays
         double bx = 0, by = 0, depth = 0;
         if (!board.ToBoard(ray, &bx, &by, &depth) || !(depth < depths[i])) continue;
         depths[i] = depth;
-        hits->hit[k] = static_cast<int16_t>(2 * b + board.Shade(bx, by));
+        hits->hit[k] = static_cast<int16_t>(2 * b + board.ShadeAndCell(bx, by, &hits->cell[k]));
         hits->in_board[k] = Eigen::Vector2f(bx, by);
       }
     }
@@ -247,32 +260,31 @@ bool SeesOneBoard(const std::vector<BoardShader>& boards, const CornerHits& hits
   return one_board;
 }
 
-// The n x n samples' sum of a pixel on one board, their board points interpolated between the
-// corners' (a homography is affine to 1e-6 px over one pixel). lut: off-board, black, white.
-float SumOnOneBoard(const BoardShader& shader, const std::array<float, 3>& lut,
-                    const CornerHits& hits, size_t k00, const std::vector<Eigen::Vector2d>& offsets,
-                    int n) {
+// The mean gray of a pixel that sees one board: its footprint there is the quadrilateral of its
+// corners' board points (straight-sided: the rays inside a pixel are bilinear in the pixel, the
+// board a homography of them), each cell's share of the pixel exact (BoardShader::
+// MeanOverFootprint; through a lens to second order in the pixel's size). Cells far below a
+// pixel: the n x n samples' mean, their board points interpolated between the corners'.
+// lut: off-board, black, white.
+float MeanOnOneBoard(const BoardShader& shader, const std::array<float, 3>& lut,
+                     const CornerHits& hits, size_t k00,
+                     const std::vector<Eigen::Vector2d>& offsets, int n) {
   const size_t k01 = k00 + hits.stride;
+  const std::array<Eigen::Vector2d, 4> quad = {
+      hits.in_board[k00].cast<double>(), hits.in_board[k00 + 1].cast<double>(),
+      hits.in_board[k01 + 1].cast<double>(), hits.in_board[k01].cast<double>()};
+  float mean = 0;
+  if (shader.MeanOverFootprint(quad, lut, &mean)) return mean;
   // b(fa, fb) = p + fa u + fb v + fa fb q over the pixel, from its corners' board points.
-  const Eigen::Vector2d p = hits.in_board[k00].cast<double>();
-  const Eigen::Vector2d u = hits.in_board[k00 + 1].cast<double>() - p;
-  const Eigen::Vector2d v = hits.in_board[k01].cast<double>() - p;
-  const Eigen::Vector2d q = hits.in_board[k01 + 1].cast<double>() - p - u - v;
-  // Cell-edge lines of one direction only cross the pixel when all four corners share the
-  // column key or the row key (keys are monotone, the footprint is in the corners' hull).
-  int kx[4], ky[4];
-  for (int c = 0; c < 4; ++c) {
-    const Eigen::Vector2f& corner = hits.in_board[c < 2 ? k00 + c : k01 + c - 2];
-    shader.AxisKeys(corner.x(), corner.y(), &kx[c], &ky[c]);
-  }
-  const bool one_direction = (kx[0] == kx[1] && kx[0] == kx[2] && kx[0] == kx[3]) ||
-                             (ky[0] == ky[1] && ky[0] == ky[2] && ky[0] == ky[3]);
-  return SumSamples(n, one_direction, [&](int a, int b) {
+  const Eigen::Vector2d& p = quad[0];
+  const Eigen::Vector2d u = quad[1] - p, v = quad[3] - p;
+  const Eigen::Vector2d q = quad[2] - p - u - v;
+  const float sum = SumSamples(n, [&](int a, int b) {
     const Eigen::Vector2d& f = offsets[b * n + a];
-    const double fa = f.x(), fb = f.y();
-    const Eigen::Vector2d point = p + fa * u + fb * v + fa * fb * q;
+    const Eigen::Vector2d point = p + f.x() * u + f.y() * v + f.x() * f.y() * q;
     return lut[shader.Shade(point.x(), point.y()) + 1];
   });
+  return sum / static_cast<float>(n * n);
 }
 
 // The pixel box [x0, x1) x [y0, y1) of the visible boards (empty: x0 = w, y0 = h).
@@ -355,16 +367,19 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
   // Per-thread scratch buffers, reused from frame to frame (no page faults per frame).
   thread_local std::vector<int16_t> corners;
   thread_local std::vector<Eigen::Vector2f> corner_in_board;
+  thread_local std::vector<uint32_t> corner_cells;
   const size_t num_corners = static_cast<size_t>(w + 1) * (h + 1);
   corners.assign(num_corners, kOffBoard);
   corner_in_board.resize(num_corners);
+  corner_cells.resize(num_corners);
   const Eigen::Matrix3d a_inv = intrinsics_.Matrix().inverse();
   const CornerRays corner_rays{corner_rays_, a_inv, stride};
-  CornerHits hits{corners, corner_in_board, stride};
+  CornerHits hits{corners, corner_in_board, corner_cells, stride};
   const RaySpace space = RaySpaceOf(intrinsics_.family);
   TraceCorners(boards, corner_rays, space, h, &hits);
-  // Pass 2, pixels: one shade if the four corners agree, else n x n samples: interpolated on the
-  // board when the pixel sees one board only (SumOnOneBoard), traced otherwise.
+  // Pass 2, pixels: one shade if the four corners agree and no pattern corner pokes in between
+  // them (MayHoldAPatternCorner); else, when the pixel sees one board only,
+  // the exact area shares of its footprint there (MeanOnOneBoard); else n x n traced samples.
   std::vector<Eigen::Vector2d> offsets(static_cast<size_t>(n) * n);
   for (int b = 0; b < n; ++b) {
     for (int a = 0; a < n; ++a) offsets[b * n + a] = SampleOffset(a, b, n);
@@ -388,20 +403,21 @@ bool FrameRenderer::ShadePixels(const std::vector<BoardView>& views, const Eigen
     const int16_t* bottom = top + stride;
     for (int i = i_begin; i < i_end; ++i) {
       const int c00 = top[i];
-      if (c00 == top[i + 1] && c00 == bottom[i] && c00 == bottom[i + 1]) {
+      const size_t k00 = j * stride + i;
+      if (c00 == top[i + 1] && c00 == bottom[i] && c00 == bottom[i + 1] &&
+          (c00 == kOffBoard || !MayHoldAPatternCorner(hits, k00))) {
         row[i] = gray_of[c00 + 1];
         continue;
       }
-      const size_t k00 = j * stride + i;
-      float sum = 0;
       if (SeesOneBoard(boards, hits, k00, i, j)) {
         const int board = c00 / 2;
         const std::array<float, 3> lut = {gray_of[kOffBoard + 1], gray_of[2 * board + 1],
                                           gray_of[2 * board + 2]};
-        sum = SumOnOneBoard(boards[board], lut, hits, k00, offsets, n);
-      } else {
-        sum = SumTracedSamples({i, j, corner_rays, boards, gray_of, offsets, space}, n, sample_ray);
+        row[i] = MeanOnOneBoard(boards[board], lut, hits, k00, offsets, n);
+        continue;
       }
+      const float sum =
+          SumTracedSamples({i, j, corner_rays, boards, gray_of, offsets, space}, n, sample_ray);
       row[i] = sum / static_cast<float>(n * n);
     }
   }

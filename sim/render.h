@@ -13,22 +13,26 @@
 //      rays with z <= 0 too (r is never flipped to z = 1); keep the nearest hit (smallest lambda)
 //      that lands on a board (tags, their white margins, a white frame of one gap around);
 //   3. shade: black or white cell of the tag bitmap (TagFamily), white board, or background.
-// Antialiasing: each pixel is the mean of n x n samples (supersample = n; a sheared grid whose n^2
-// samples have distinct x and y offsets, so that an axis-aligned edge is resolved to 1/n^2 px, not
-// 1/n px) — but only pixels whose
-// four corners do not all see the same shade of the same board are supersampled (features are
-// assumed larger than a pixel: tag cells of a few pixels). Then optional Gaussian blur (PSF sigma
-// in px; computed only near the boards: the uniform background is unchanged by it), Gaussian
-// noise in gray levels (iid within a frame, read from a fixed table of normals in blocks the
-// frame's rng chooses: image_filters.h AddImageNoise), and rounding to 8 bits.
+// Antialiasing: a pixel is the mean shade over its area. A pixel whose four corners see the same
+// shade of the same board, with no pattern corner (a tag's or a cell's) between them, is that
+// shade (features are assumed larger than a pixel: tag cells of a few pixels). A pixel that sees
+// one board holds the exact area share of each cell its footprint overlaps: the footprint, the
+// quadrilateral of its corners' board points, cut along the cell lines, each piece's area taken in
+// the pixel through the homography of its four corners (exact for a pinhole camera; through a
+// lens, to second order in the pixel's size). Other pixels (two boards, a board's outline, cells far below a pixel)
+// are the mean of n x n traced samples (supersample = n; a sheared grid whose n^2 samples have
+// distinct x and y offsets, so that an axis-aligned edge is resolved to 1/n^2 px, not 1/n px).
+// Then optional Gaussian blur (PSF sigma in px; computed only near the boards: the uniform
+// background is unchanged by it), Gaussian noise in gray levels (iid within a frame, read from a
+// fixed table of normals in blocks the frame's rng chooses: image_filters.h AddImageNoise), and
+// rounding to 8 bits.
 // The blur is the physical one: the scene convolved with the PSF, then integrated over each pixel
 // (box * Gaussian, the model the photometric fit assumes). A Gaussian applied to the pixels'
 // values instead samples the kernel at whole pixels and moves edges with their sub-pixel phase
 // (by up to 0.029 px at sigma = 0.5 px, 0.008 px at 1 px). So the frame is rendered on a grid
-// m times finer (m x m sub-pixels a pixel, each area-sampled as above), blurred there by sigma m
+// m times finer (m x m sub-pixels a pixel, each antialiased as above), blurred there by sigma m
 // sub-pixels and summed back into pixels: the edge shift falls to < 5e-4 px for m >= 3 / sigma
 // (measured on straight edges; RenderOptions::blur_grid). m = 1 is the fast pixel-level blur.
-// Each sub-pixel is area-sampled by n x n samples as a pixel is.
 // Speed: with distortion, FrameRenderer computes the rays of the (w + 1) x (h + 1) pixel corners
 // once per camera (without, a corner's ray is A^-1 times the corner); the table holds each in two
 // numbers: (x, y) on the plane z = 1 for radtan and equidistant (rays in front only), the
@@ -77,7 +81,7 @@ constexpr double kMaxRenderPixels = 64e6;
 
 struct RenderOptions {
   int width = 640, height = 480;
-  int supersample = 4;         // n x n samples in pixels that straddle an edge.
+  int supersample = 4;         // n x n samples where two boards or a board's outline meet.
   double blur_sigma_px = 0.0;  // Gaussian PSF; 0: none.
   // Sub-pixels per pixel side on which the blur is computed (header comment): 0 chooses
   // m = ceil(3 / blur_sigma_px), at most 8 (exact to < 5e-4 px of edge shift); 1 blurs the pixels
@@ -115,7 +119,7 @@ class FrameRenderer {
 
  private:
   FrameRenderer() = default;
-  // The sharp, area-sampled gray level of every pixel (no blur, noise or rounding) seen by
+  // The sharp, antialiased gray level of every pixel (no blur, noise or rounding) seen by
   // `camera` (this renderer's size; `ray_map` maps the table's rays to its rays), and the pixel box
   // [x0, x1) x [y0, y1) outside which the frame is the background.
   bool ShadePixels(const std::vector<BoardView>& views, const Eigen::Matrix3d& ray_map,

@@ -10,7 +10,7 @@ struct CornerBiasArgs {
   std::string out_path;  // CSV, written atomically.
   int views = 8;         // Sub-pixel shifted views per case.
   int draws = 8;         // Noise draws per view.
-  int supersample = 16;  // Renderer samples per pixel side (the sweeps use 4).
+  int supersample = 16;  // Renderer samples per pixel side at a board's outline (RenderOptions).
   int threads = 2;
 };
 

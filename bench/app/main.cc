@@ -356,8 +356,8 @@ CLI::App* AddCornerBiasCommand(CLI::App* app, calibench::CornerBiasArgs* bias_ar
                           "Sub-pixel shifted views per case (default 8)");
   corner_bias->add_option("--draws", bias_args->draws, "Noise draws per view (default 8)");
   corner_bias->add_option("--supersample", bias_args->supersample,
-                          "Renderer samples per pixel side (default 16: an axis-aligned edge to "
-                          "1/256 px; the sweeps use 4)");
+                          "Renderer samples per pixel side where a board's outline meets the "
+                          "background (default 16; pixels on the board hold exact cell areas)");
   corner_bias->add_option("--threads", bias_args->threads, "Worker threads (default 2)");
   return corner_bias;
 }

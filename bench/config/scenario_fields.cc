@@ -398,7 +398,9 @@ void Visit(FieldVisitor& v, NoiseOptions& n) {
 
 void Visit(FieldVisitor& v, RenderedSourceOptions& o) {
   RenderOptions& ro = o.render;
-  v.Field({"supersample", "samples", "n×n area samples in pixels that straddle an edge."},
+  v.Field({"supersample", "samples",
+           "n×n samples in pixels where two boards or a board's outline meet (pixels on one board "
+           "hold exact cell areas)."},
           &ro.supersample);
   v.Field({"blur_sigma_px", "px", "Gaussian PSF; 0: none.", "≥ 0"}, &ro.blur_sigma_px);
   v.Field({"blur_grid", "",

@@ -25,7 +25,7 @@ TEST(CornerBias, FrontoParallelTagIsUnbiasedAndTheRendererExact) {
   ASSERT_TRUE(r.ok) << r.message;
   const CornerStageResult& edge = r.stage(CornerStage::kEdgeFit);
   EXPECT_EQ(edge.detections, options.views * options.draws);
-  // 32 px tag, 24 black cells of 4 x 4 px: 768 px^2; supersampling resolves edges to 1/16 px.
+  // 32 px tag, 24 black cells of 4 x 4 px: 768 px^2; the renderer holds exact cell areas.
   EXPECT_NEAR(r.black_area_px2, 768.0, 1e-9);
   EXPECT_NEAR(r.rendered_black_area_px2 / r.black_area_px2, 1.0, 1e-3);
   for (const CornerStats& s : edge.corners) {

@@ -168,7 +168,7 @@ TEST(PhotometricFit, PatternRectanglesTileTheBitmapsBlackCells) {
   EXPECT_NE(why.find("not in tag36h11"), std::string::npos) << why;
 }
 
-// Rendered single tags (detect/corner_bias.h) at 16 x 16 supersampling, blur 1 px: the renderer's
+// Rendered single tags (detect/corner_bias.h: exact cell areas a pixel), blur 1 px: the renderer's
 // sampled Gaussian kernel is close to the continuous PSF the model assumes from sigma ~ 1 px (at
 // 0.5 px its three taps leave 3-4 gray levels of misfit, README). Bias bound: 0.005 px, the
 // issue's target for the physical floor (12 views: the bias's standard error is ~0.001 px).

@@ -27,7 +27,7 @@ TEST(Rig, TwoGridsAtAnAngleGiveNonCoplanarPoints) {
   EXPECT_LT(Eigen::JacobiSVD<Eigen::MatrixXd>(c1).singularValues()[2], 1e-12);
 }
 
-// Bounds on noise-free 4x4-supersampled frames of this rig: every tag fully in view is found,
+// Bounds on noise-free frames of this rig: every tag fully in view is found,
 // and the refined corners' error stays within the targets (RMS 0.05 px, bias 0.02 px).
 constexpr double kRmsBoundPx = 0.05, kBiasBoundPx = 0.02;
 
