@@ -284,7 +284,7 @@ class BoardShader {
   bool MeanOverFootprint(const std::array<Eigen::Vector2d, 4>& quad,
                          const std::array<float, 3>& lut, float* mean) const {
     // Local coordinates about the first corner: no cancellation in the areas.
-    const Eigen::Vector2d origin = quad[0];
+    const Eigen::Vector2d& origin = quad[0];
     SmallPolygon footprint;
     footprint.n = 4;
     Eigen::Vector2d lo = Eigen::Vector2d::Zero(), hi = Eigen::Vector2d::Zero();

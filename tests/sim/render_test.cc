@@ -25,6 +25,17 @@ BoardView FrontoParallel(double tx, double ty) {
   return b;
 }
 
+// A sharp, noise-free 640 x 480 frame of one board, black 0 / white 255, with n x n samples where
+// the renderer samples.
+bool RenderBlackOnWhite(const CameraIntrinsics& k, const BoardView& board, int supersample,
+                        GrayImage* image, std::string* why) {
+  RenderOptions o;
+  o.supersample = supersample;
+  o.black_gray = 0;
+  o.white_gray = 255;
+  return RenderFrame(k, {board}, o, nullptr, image, why);
+}
+
 TEST(TagFamily, BitmapsComeFromTheLibrary) {
   std::string why;
   const auto f = TagFamily::Create("tag36h11", &why);
@@ -89,13 +100,9 @@ TEST(Render, EdgeLandsWhereTheCameraModelPutsIt) {
   const double edge_u = 99.5 + 45.0 / 64.0;
   // Tag 0's left edge is board x = 0: u = 500 * tx + 319.5.
   BoardView b = FrontoParallel((edge_u - 319.5) / 500, -0.1);
-  RenderOptions o;
-  o.supersample = 64;
-  o.black_gray = 0;
-  o.white_gray = 255;
   GrayImage img;
   std::string why;
-  ASSERT_TRUE(RenderFrame(k, {b}, o, nullptr, &img, &why)) << why;
+  ASSERT_TRUE(RenderBlackOnWhite(k, b, 64, &img, &why)) << why;
   // Row through the lower part of tag 0's black border (board y in (0, s/8)).
   // v = 239.5 + 500 * (-y - 0.1): board y = s/16 = 0.0125 m is v = 183.25.
   const int row = static_cast<int>(std::lround(239.5 + 500 * (-0.0125 - 0.1)));
@@ -118,7 +125,8 @@ double PixelAreaInside(int i, int j, const std::vector<Eigen::Vector2d>& polygon
     orientation += a.x() * b.y() - a.y() * b.x();
   }
   for (size_t e = 0; e < polygon.size() && !piece.empty(); ++e) {
-    const Eigen::Vector2d a = polygon[e], d = polygon[(e + 1) % polygon.size()] - a;
+    const Eigen::Vector2d& a = polygon[e];
+    const Eigen::Vector2d d = polygon[(e + 1) % polygon.size()] - a;
     const auto side = [&](const Eigen::Vector2d& x) {  // > 0 inside.
       return (orientation > 0 ? 1 : -1) * (d.x() * (x.y() - a.y()) - d.y() * (x.x() - a.x()));
     };
@@ -169,13 +177,9 @@ TEST(Render, PixelsOnOneBoardHoldTheExactAreaOfEachCell) {
   BoardView frontal = FrontoParallel(-0.35, -0.1);
   frontal.grid.tag_size_m = 0.06;
   for (const BoardView& b : {tilted, frontal}) {
-    RenderOptions o;
-    o.supersample = 1;
-    o.black_gray = 0;
-    o.white_gray = 255;
     GrayImage img;
     std::string why;
-    ASSERT_TRUE(RenderFrame(k, {b}, o, nullptr, &img, &why)) << why;
+    ASSERT_TRUE(RenderBlackOnWhite(k, b, 1, &img, &why)) << why;
     // The images of tag 0's black cells: cell (col, row) of the bitmap (row 0 at the top) spans
     // board x in [(col - start) c, (col - start + 1) c], y in [(w - 1 - row - start) c, ...].
     const TagFamily& f = *b.family;
