@@ -77,6 +77,14 @@ using RectSlots = std::array<uint8_t, 4>;
 struct PatternLines {
   std::vector<Eigen::Vector3d> raw, unit, scaled, squares;
   std::vector<double> inv_norm;
+  // With a camera (BendLines): a line's image is curved, and blurring a curved edge moves its
+  // mean-level crossing towards its centre of curvature. A pixel at distance f from the curve
+  // sees the + side as a straight edge at f - kappa s_t^2 / 2 would show it, kappa the image
+  // curvature (1/px, > 0 when the centre of curvature is on the + side), s_t^2 = sigma^2 + 1/12
+  // the variance of the PSF and the pixel box along the edge (the first-order term of the
+  // blurred disc, Phi(d/s) - (kappa s / 2) phi(d/s)). Per line: the shift kappa s_t^2 / 2 (px)
+  // and its sigma-derivative kappa sigma. Empty without a camera.
+  std::vector<double> bend_shift, bend_shift_dsigma;
 };
 // Per pixel, per line of its rectangles (slots 0..num_lines-1; kSlotZero/kSlotOne are the
 // constants): P(f), P'(f), dP/dsigma(f), and d b / d f (weight; the constant slots collect unread
@@ -162,6 +170,9 @@ class TagFit {
   // The pattern's lines under g (PatternLines); false when a line's |l_xy| <= min_norm (a
   // degenerate homography).
   bool LinesUnder(const Eigen::Matrix3d& g, double min_norm, PatternLines* lines) const;
+  // With a camera, PatternLines::bend_shift and bend_shift_dsigma for PSF sigma: each line's
+  // image curvature at its point nearest the tag's centre (second differences of ToPixel).
+  void BendLines(double sigma, PatternLines* lines) const;
   // Narrows [*lo, *hi] to row j's part of the region: the outline's span (with a camera) or the
   // span inside the four limit lines, each linear in i along the row (without).
   void RowSpan(int j, const RegionBox& region, bool outline_spans, const PatternLines& lines,

@@ -208,6 +208,35 @@ bool TagFit::LinesUnder(const Eigen::Matrix3d& g, double min_norm, PatternLines*
   return true;
 }
 
+void TagFit::BendLines(double sigma, PatternLines* lines) const {
+  const size_t n_lines = lines->raw.size();
+  lines->bend_shift.assign(n_lines, 0.0);
+  lines->bend_shift_dsigma.assign(n_lines, 0.0);
+  if (!camera_) return;
+  constexpr double kStep = 0.25;  // Along the line, in p^ (the tag spans about [-1, 1]).
+  const double half_var = 0.5 * (sigma * sigma + 1.0 / 12);
+  for (size_t i = 0; i < n_lines; ++i) {
+    const Eigen::Vector3d& l = lines->raw[i];
+    const double n2 = l.head<2>().squaredNorm();
+    if (!(n2 > 0)) continue;
+    const Eigen::Vector2d foot = -l.z() / n2 * l.head<2>();  // Nearest the centre p^ = 0.
+    const Eigen::Vector2d along = Eigen::Vector2d(-l.y(), l.x()) / std::sqrt(n2);
+    const Eigen::Vector2d before = ToPixel(foot - kStep * along), at = ToPixel(foot),
+                          after = ToPixel(foot + kStep * along);
+    const Eigen::Vector2d velocity = (after - before) / (2 * kStep);
+    const Eigen::Vector2d acceleration = (after - 2 * at + before) / (kStep * kStep);
+    const double speed2 = velocity.squaredNorm();
+    // The + side's image normal: perpendicular to the curve, towards where l . p grows.
+    const Eigen::Vector2d towards_plus = PixelJacobian(foot) * l.head<2>();
+    Eigen::Vector2d normal(-velocity.y(), velocity.x());
+    if (normal.dot(towards_plus) < 0) normal = -normal;
+    const double kappa = acceleration.dot(normal) / (std::sqrt(speed2) * speed2);
+    if (!std::isfinite(kappa)) continue;
+    lines->bend_shift[i] = kappa * half_var;
+    lines->bend_shift_dsigma[i] = kappa * sigma;
+  }
+}
+
 namespace {
 // Per limit k of the region: the side of its line where the region lies.
 constexpr std::array<double, 4> kLimitSign = {1, -1, 1, -1};
@@ -490,7 +519,7 @@ void TagFit::ProfileLines(size_t index, const Eigen::Vector3d& p, const PatternL
       const Eigen::Vector2d mt_l = m.transpose() * lines.raw[line].head<2>();
       out->lens_inv_n[k] = 1 / mt_l.norm();
       out->lens_r[k] = m * mt_l * out->lens_inv_n[k];
-      f = lines.raw[line].dot(p) * out->lens_inv_n[k];
+      f = lines.raw[line].dot(p) * out->lens_inv_n[k] - lines.bend_shift[line];
       out->normal[k] = mt_l * out->lens_inv_n[k];
     } else {
       f = scale_ * lines.unit[line].dot(p);
@@ -498,6 +527,7 @@ void TagFit::ProfileLines(size_t index, const Eigen::Vector3d& p, const PatternL
     }
     out->distance[k] = f;
     out->profile[k] = layout_.lines[line].vertical ? tables[0](f) : tables[1](f);
+    if (camera_) out->profile[k].dp_dsigma -= lines.bend_shift_dsigma[line] * out->profile[k].dp_dd;
   }
 }
 
@@ -534,6 +564,7 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
   const Eigen::Vector2d shading(x[kShadeX], x[kShadeY]);
   PatternLines lines;
   if (!LinesUnder(g, 1e-12, &lines)) return false;
+  BendLines(sigma, &lines);
   // The edges' normals in the image (with a camera: at the tag's centre) for the pixel box.
   auto image_normal = [&](int line) -> Eigen::Vector2d {
     return (centre_jacobian_.transpose() * lines.raw[line].head<2>()).normalized();
