@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "bench/app/calibrate.h"
+#include "bench/app/calibrate_cmd.h"
 #include "bench/app/image_points.h"
 #include "sim/render.h"
 #include "sim/synthetic.h"
@@ -162,8 +163,9 @@ struct Fit {
 };
 
 // calibrate --images DIR --target (Kalibr grid) --model M: detection with curved edges, the
-// calibration, then up to kCornerPasses re-fits of the corners through the estimate.
-constexpr int kCornerPasses = 1;
+// calibration, then the re-fits of the corners through the estimate, as many as calibrate's
+// default allows (--corner-iterations).
+const int kCornerPasses = CalibrateArgs().corner_iterations;
 Fit CalibrateImages(const std::string& dir, LensModel model) {
   const auto start = std::chrono::steady_clock::now();
   Fit fit;
@@ -262,33 +264,35 @@ Consistency CheckAgainstTruth(const WideTruth& truth, const RefineResult& r) {
   return c;
 }
 
-// Measured (seeds 100-106, 20 views each, one corner pass through the lens, RMS 0.0043-0.0053
-// px, the renderer's pixels exact): the fitted camera projects every ray of the field within
-// 0.0014-0.0080 px of the truth (max over the field). In units of the reported std the errors are
-// larger than a right covariance gives: max |z| 1.5 (unified 160), 2.2-2.6 (eucm and double
-// sphere 190, pinhole-equi and double sphere 160), 3.2 (eucm 160), 4.6 (unified 190: 4 of 9
-// beyond 2 std, k2 the worst). The formal std comes from 2100-2400 corners at 0.005 px RMS (f.ku
-// +-0.016 px on 331 px) and assumes unbiased corners; the pipeline's corners keep a bias of
-// ~1e-3 px through these lenses (sharp, the unified 190 truth's k2 lands 9 std off). Here a 4.6
-// std error is a projection error of 0.008 px.
+// Measured (seeds 100-106, 20 views each, the corners re-fitted through the estimate until f.ku
+// settles: 2-3 passes; RMS 0.0042-0.0048 px): the fitted camera projects every ray of the field
+// within 0.0013-0.0043 px of the truth (max over the field), and 47 of the 50 free intrinsics lie
+// within 2 reported std of the truth: unified 190's v0 at 2.08, and eucm 160's alpha and beta at
+// 3.45 and 2.94 (nearly collinear: one error direction; its Mahalanobis d2 15.7 for 6 dof). A 95%
+// interval expects 2.5 of 50 beyond. The Mahalanobis distance is chi-square-like for most truths
+// (6-21 for 6-9 dof) but 104 for pinhole-equi 160 deg, whose k1..k4 are so correlated that tiny
+// corner biases fall in directions the covariance calls very tight: printed, not asserted.
+// With a single pass (the corners fitted once through the first, homography-based estimate, f.ku
+// 3 px off on unified 190) up to 4.6 std: the passes matter.
 //
-// Tolerances: kTruthProjectionPx bounds the projection difference to the truth over the field:
-// 2x the corners' RMS (a calibration whose projection is off by more than twice its data's noise
-// anywhere is wrong); measured up to 0.008 px. kMaxAbsZ bounds every parameter's error in
-// reported std: the measured 4.6 plus a margin; std 2x too small would double every z and put
-// the 2.6-3.2 truths past it. The Mahalanobis distance (7-176 for 6-9 dof) is printed, not
-// asserted.
+// Tolerances: kStdUnits, the "within 2 reported std", bounds every parameter but
+// kMaxBeyond2Std per truth (2: one correlated pair leaves together, as measured); kMaxAbsZ bounds
+// all of them (the measured 3.45 plus a margin; P(|z| > 4) = 6e-5 for a right covariance).
+// kTruthProjectionPx bounds the projection difference to the truth over the field: 2x the
+// corners' RMS (a calibration whose projection is off by more than twice its data's noise
+// anywhere is wrong).
 //
 // kEquivalentDiffPx: the cross-fit of an equivalent pair (eucm with beta = 1 is unified without
 // distortion) differs by the fit's noise only: measured 0.0016 px max over the image, against
-// 0.0014 px for the own family's fit; 0.02 px is several times that.
+// 0.0013 px for the own family's fit; 0.02 px is several times that.
 //
 // Cross-fits of families that are not equivalent (measured, reported only): double-sphere 190 deg
 // by eucm 0.024 px max (fit RMS 0.011 px against 0.005 px); unified 160 deg (radtan on the
 // sphere) by double-sphere 0.38 px max; pinhole-equi 160 deg by double-sphere 0.11 px max.
 constexpr double kStdUnits = 2.0;
+constexpr int kMaxBeyond2Std = 2;
+constexpr double kMaxAbsZ = 4.0;
 constexpr double kTruthProjectionPx = 0.01;
-constexpr double kMaxAbsZ = 5.0;
 constexpr double kEquivalentDiffPx = 0.02;
 
 // A truth, and optionally another model fitted to its corners (the cross-fit).
@@ -300,7 +304,7 @@ struct Case {
 
 class CalibrateWideRendered : public testing::TestWithParam<Case> {};
 
-TEST_P(CalibrateWideRendered, ProjectsAsTheTruthWithEveryIntrinsicNearIt) {
+TEST_P(CalibrateWideRendered, EveryIntrinsicWithinItsStdOfTheTruth) {
   const Case& test = GetParam();
   const WideTruth truth = Truths()[test.truth];
   const std::string dir =
@@ -321,6 +325,7 @@ TEST_P(CalibrateWideRendered, ProjectsAsTheTruthWithEveryIntrinsicNearIt) {
   EXPECT_EQ(fit.views_used, kViews);
   EXPECT_EQ(own.unprojectable, 0);
   EXPECT_LT(own.max_px, kTruthProjectionPx);
+  EXPECT_LE(c.beyond_2_std, kMaxBeyond2Std);
   EXPECT_LT(c.max_abs_z, kMaxAbsZ) << c.worst;
   if (test.cross) {
     CalibrateOptions options;
