@@ -203,8 +203,12 @@ class BoardShader {
     width_ = f.total_width();
     cols_ = g.tag_cols;
     rows_ = g.tag_rows;
-    if ((std::max(cols_, rows_) + 2) * (width_ + 1) > 0xFFFF) {
-      if (why) *why = "the renderer takes at most 5000 tags along a side of a grid";
+    const int max_tags_per_side = 0xFFFF / (width_ + 1) - 2;  // Cell keys fit 16 bits.
+    if (std::max(cols_, rows_) > max_tags_per_side) {
+      if (why)
+        *why = "the renderer takes at most " + std::to_string(max_tags_per_side) + " " + g.family +
+               " tags along a side of a grid (given " + std::to_string(std::max(cols_, rows_)) +
+               ")";
       return false;
     }
     // Cell (X, Y) = (c * width + col, r * width + row_from_bottom), X fastest.

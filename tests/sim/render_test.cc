@@ -252,6 +252,18 @@ TEST(Render, BackgroundNoiseAndBlurBehave) {
   too_many.grid.tag_cols = 30;  // 900 tags > 587 codes.
   EXPECT_FALSE(RenderFrame(k, {too_many}, RenderOptions(), nullptr, &img, &why));
   EXPECT_NE(why.find("587"), std::string::npos) << why;
+  // A row of 6000 tagStandard52h13 tags (48714 codes): more than the renderer's 16-bit cell keys
+  // number along a side (65535 / (bitmap width 10 + 1) - 2 = 5955).
+  BoardView long_row = FrontoParallel(0, 0);
+  long_row.grid.family = "tagStandard52h13";
+  long_row.family = TagFamily::Create("tagStandard52h13", nullptr);
+  long_row.grid.tag_rows = 1;
+  long_row.grid.tag_cols = 6000;
+  ASSERT_NE(long_row.family, nullptr);
+  EXPECT_FALSE(RenderFrame(k, {long_row}, RenderOptions(), nullptr, &img, &why));
+  EXPECT_NE(why.find("at most 5955 tagStandard52h13 tags along a side of a grid (given 6000)"),
+            std::string::npos)
+      << why;
 }
 
 // The noise table (image_filters.h AddImageNoise): a frame's noise is uncorrelated between
