@@ -247,16 +247,13 @@ class BoardShader {
   }
 
   // Shade of board point (bx, by): 0 black, 1 white, kOffBoard outside the board.
-  int Shade(double bx, double by) const {
-    uint32_t cell = 0;
-    return ShadeAndCell(bx, by, &cell);
-  }
+  int Shade(double bx, double by) const { return ShadeAndCell(bx, by, nullptr); }
 
-  // Shade, and on the board the cell the point falls in as two 16-bit keys (column << 16 | row),
-  // each non-decreasing in its coordinate: no cell line of an axis lies between two points whose
-  // keys for it agree. A key numbers tag t's bitmap column (row) k, t in [-1, tags] (on the board:
-  // its margin is less than a pitch), k in [0, width] (the gap after a bitmap shares its last
-  // key; the corner squares' sides are lines of the tags' black squares).
+  // Shade, and on the board (when `cell` is given) the cell the point falls in as two 16-bit keys
+  // (column << 16 | row), each non-decreasing in its coordinate: no cell line of an axis lies
+  // between two points whose keys for it agree. A key numbers tag t's bitmap column (row) k, t in
+  // [-1, tags] (on the board: its margin is less than a pitch), k in [0, width] (the gap after a
+  // bitmap shares its last key; the corner squares' sides are lines of the tags' black squares).
   int ShadeAndCell(double bx, double by, uint32_t* cell) const {
     if (bx < min_ || by < min_ || bx > max_x_ || by > max_y_) return kOffBoard;
     // The tag whose full bitmap (reference square plus border_start cells around) may hold b.
@@ -264,7 +261,7 @@ class BoardShader {
     const int r = FloorSmall((by + start_ * cell_) * inv_pitch_);
     const int col = FloorSmall((bx - c * pitch_) * inv_cell_) + start_;
     const int row = FloorSmall((by - r * pitch_) * inv_cell_) + start_;
-    *cell = AxisKey(c, col, cols_) << 16 | AxisKey(r, row, rows_);
+    if (cell) *cell = AxisKey(c, col, cols_) << 16 | AxisKey(r, row, rows_);
     if (corner_squares_) {
       // Square (i, j) spans [i p - g, i p) x [j p - g, j p) (sim/target.h).
       const double u = bx + gap_, v = by + gap_;
@@ -306,26 +303,16 @@ class BoardShader {
       for (int k = 0; k < lines[axis].n; ++k) lines[axis].at[k] -= origin[axis];
     }
     std::array<double, 3> weight = {0, 0, 0};  // Twice each shade's area in the pixel.
-    if (lines[0].n + lines[1].n == 1) {  // The common case: one line cuts the footprint in two.
-      const int axis = lines[0].n == 1 ? 0 : 1;
-      const double at = lines[axis].at[0];
-      // Each side shaded at its piece's centroid, never at a corner of the footprint: a corner
-      // may lie on a line of the other axis, and see the cell beyond the footprint.
-      SmallPolygon above, below;
-      ClipToHalfPlane(footprint, axis, at, true, &above);
-      ClipToHalfPlane(footprint, axis, at, false, &below);
-      const Eigen::Vector2d above_point = origin + Centroid(above);
-      const Eigen::Vector2d below_point = origin + Centroid(below);
-      weight[Shade(above_point.x(), above_point.y()) + 1] += pixel.TwicePixelArea(above);
-      weight[Shade(below_point.x(), below_point.y()) + 1] += pixel.TwicePixelArea(below);
-      return WeightedMean(weight, lut, mean);
-    }
-    SmallPolygon slab, piece, scratch;
+    // Each piece shaded at its centroid, never at a corner of the footprint: a corner may lie on a
+    // line of the other axis and see the cell beyond the footprint.
+    SmallPolygon slab_buffer, slab_scratch, piece_buffer, piece_scratch;
     for (int i = 0; i <= lines[0].n; ++i) {
-      ClipBetween(footprint, 0, lines[0], i, &slab, &scratch);
+      const SmallPolygon& slab =
+          ClipBetween(footprint, 0, lines[0], i, &slab_buffer, &slab_scratch);
       if (slab.n < 3) continue;
       for (int j = 0; j <= lines[1].n; ++j) {
-        ClipBetween(slab, 1, lines[1], j, &piece, &scratch);
+        const SmallPolygon& piece =
+            ClipBetween(slab, 1, lines[1], j, &piece_buffer, &piece_scratch);
         if (piece.n < 3) continue;
         const Eigen::Vector2d inside = origin + Centroid(piece);
         weight[Shade(inside.x(), inside.y()) + 1] += pixel.TwicePixelArea(piece);
@@ -443,19 +430,17 @@ class BoardShader {
   }
 
   // The part of `in` between lines k - 1 and k of `lines` (unbounded below for k = 0, above for
-  // k = lines.n).
-  static void ClipBetween(const SmallPolygon& in, int axis, const AxisLines& lines, int k,
-                          SmallPolygon* out, SmallPolygon* scratch) {
+  // k = lines.n): `in` itself when no line bounds it, else in *out or *scratch.
+  static const SmallPolygon& ClipBetween(const SmallPolygon& in, int axis, const AxisLines& lines,
+                                         int k, SmallPolygon* out, SmallPolygon* scratch) {
     const SmallPolygon* from = &in;
     if (k > 0) {
       ClipToHalfPlane(*from, axis, lines.at[k - 1], true, scratch);
       from = scratch;
     }
-    if (k < lines.n) {
-      ClipToHalfPlane(*from, axis, lines.at[k], false, out);
-    } else {
-      *out = *from;
-    }
+    if (k == lines.n) return *from;
+    ClipToHalfPlane(*from, axis, lines.at[k], false, out);
+    return *out;
   }
 
   bool visible_ = false;
