@@ -19,9 +19,9 @@
 // one board holds the exact area share of each cell its footprint overlaps: the footprint, the
 // quadrilateral of its corners' board points, cut along the cell lines, each piece's area taken in
 // the pixel through the homography of its four corners (exact for a pinhole camera; through a
-// lens, to second order in the pixel's size). Other pixels (two boards, a board's outline, cells far below a pixel)
-// are the mean of n x n traced samples (supersample = n; a sheared grid whose n^2 samples have
-// distinct x and y offsets, so that an axis-aligned edge is resolved to 1/n^2 px, not 1/n px).
+// lens, to second order in the pixel's size). Other pixels (two boards, a board's outline, cells
+// far below a pixel) are the mean of n x n traced samples (supersample = n; a sheared grid whose
+// n^2 samples have distinct x and y offsets: an axis-aligned edge resolved to 1/n^2 px, not 1/n).
 // Then optional Gaussian blur (PSF sigma in px; computed only near the boards: the uniform
 // background is unchanged by it), Gaussian noise in gray levels (iid within a frame, read from a
 // fixed table of normals in blocks the frame's rng chooses: image_filters.h AddImageNoise), and

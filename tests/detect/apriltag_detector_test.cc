@@ -9,7 +9,7 @@
 namespace calibench {
 namespace {
 
-// Noise-free 640x480 renders (exact cell areas a pixel), read by raw AprilTag 3 (no refinement yet).
+// Noise-free 640x480 renders (exact cell areas), read by raw AprilTag 3 (no refinement yet).
 // Measured on this machine's packages: ~0.09 px RMS after the half-pixel conversion.
 constexpr double kRawRmsTolPx = 0.15;
 constexpr double kBiasTolPx = 0.05;  // |mean error| per axis: the half-pixel offset is gone.
