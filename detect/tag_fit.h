@@ -1,7 +1,8 @@
 // The photometric fit's machinery (detect/photometric_fit.h): the tag's layout of lines and
 // rectangles, the model plane, the classification of a tag's pixels and the evaluation of the
 // model's cost and Jacobian over them. Internal to detect/: photometric_fit.cc runs the fit,
-// tag_fit_pixels.cc holds the pixel work.
+// tag_fit_geometry.cc holds the layout, the model plane and the lines under a homography,
+// tag_fit_pixels.cc the pixel work.
 #pragma once
 
 #include <Eigen/Core>
