@@ -20,16 +20,23 @@ bool FindChessboardCorners(const GrayImageView& gray, const ChessboardOptions& o
                       static_cast<size_t>(gray.stride));
   const cv::Size pattern(options.cols, options.rows);
   std::vector<cv::Point2f> found_corners;
-  bool found = cv::findChessboardCorners(
-      image, pattern, found_corners, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
-  if (found) {
+  auto classic = [&] {
+    if (!cv::findChessboardCorners(image, pattern, found_corners,
+                                   cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE |
+                                       cv::CALIB_CB_FAST_CHECK)) {
+      return false;
+    }
     cv::cornerSubPix(image, found_corners, cv::Size(5, 5), cv::Size(-1, -1),
                      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.1));
     *how = "findChessboardCorners + cornerSubPix";
-  } else {
-    found = cv::findChessboardCornersSB(image, pattern, found_corners);
+    return true;
+  };
+  auto sector_based = [&] {
     *how = "findChessboardCornersSB";
-  }
+    return cv::findChessboardCornersSB(image, pattern, found_corners);
+  };
+  const bool found =
+      options.sector_based_first ? sector_based() || classic() : classic() || sector_based();
   const size_t expected = static_cast<size_t>(options.cols) * static_cast<size_t>(options.rows);
   if (!found || found_corners.size() != expected) return false;
   for (const cv::Point2f& p : found_corners) corners->emplace_back(p.x, p.y);

@@ -1,10 +1,14 @@
 // Chessboard (checkerboard) corner detection: the inner corners of a cols x rows pattern, in
 // calibench's pixel convention (camera/camera.h: pixel centres at integers, which is OpenCV's).
 //
-//   1. cv::findChessboardCorners (adaptive threshold, normalised image), refined by
+//   1. cv::findChessboardCorners (adaptive threshold, normalised image; with its fast check, which
+//      rejects in milliseconds an image it would search for seconds in vain, e.g. a fisheye's bent
+//      board: the same boards and corners on the bundled and shared sets), refined by
 //      cv::cornerSubPix with a 5 x 5 half-window (11 x 11 px) and 30 iterations / 0.1 px, as
 //      OpenCV's own calibration sample does (X-junctions: cornerSubPix's model fits them);
 //   2. if that finds nothing, cv::findChessboardCornersSB (sub-pixel by itself).
+// With sector_based_first, 2 is tried before 1: on a fisheye's bent boards the classic search often
+// fails after seconds where the sector-based one succeeds in tens of milliseconds.
 // Corner (r, c), r < rows, c < cols, is returned at index r * cols + c.
 #pragma once
 
@@ -17,7 +21,8 @@
 namespace calibench {
 
 struct ChessboardOptions {
-  int cols = 9, rows = 6;  // Inner corners per row and per column.
+  int cols = 9, rows = 6;           // Inner corners per row and per column.
+  bool sector_based_first = false;  // Header comment.
   bool Check(std::string* why) const;
 };
 

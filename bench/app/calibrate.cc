@@ -363,7 +363,7 @@ CornerMoves CompareCorners(const PointData& a, const std::vector<int>& a_index,
 struct RefitEffect {
   double bend_px = std::nan(""), fku_move_px = std::nan("");
 };
-RefitEffect PredictRefit(const ImageTagCache& tags, const CameraIntrinsics* fitted_through,
+RefitEffect PredictRefit(const ImageDetectionCache& tags, const CameraIntrinsics* fitted_through,
                          const CameraIntrinsics& next, const PointData& data) {
   RefitEffect effect;
   if (!tags.filled) return effect;
@@ -419,14 +419,21 @@ void IterateCornersThroughTheLens(const std::string& dir, const CalibrationTarge
     log << "\n";
   };
   if (!state->report.IsUsable()) return;
-  print(options.init ? "through --init's lens:" : "through a homography:", state->report, nullptr);
+  const bool aprilgrid = target.type == CalibrationTarget::Type::kAprilGrid;
+  print(options.init ? "through --init's lens:"
+        : aprilgrid  ? "through a homography:"
+                     : "in the image:",
+        state->report, nullptr);
   // The camera the current corners were fitted through (none: a homography in pixels).
   std::optional<CameraIntrinsics> fitted_through;
   if (options.init) fitted_through = options.init->intrinsics;
   for (int pass = 1; pass <= max_iterations; ++pass) {
     const CameraIntrinsics& camera = state->report.camera.intrinsics;
+    // A checkerboard's corners have no prediction: the pass is run.
     const RefitEffect effect =
-        PredictRefit(state->tags, fitted_through ? &*fitted_through : nullptr, camera, state->data);
+        aprilgrid ? PredictRefit(state->detections, fitted_through ? &*fitted_through : nullptr,
+                                 camera, state->data)
+                  : RefitEffect();
     const double tolerance_px = kCornerIterationTol * state->report.ceres.intrinsics_std[0];
     if (effect.fku_move_px < tolerance_px) {
       std::snprintf(line, sizeof(line),
@@ -437,12 +444,13 @@ void IterateCornersThroughTheLens(const std::string& dir, const CalibrationTarge
       log << line;
       break;
     }
-    ImageCalibration next;  // Its tags stay in state->tags (the cache) until it replaces *state.
+    // Its detections stay in state->detections (the cache) until it replaces *state.
+    ImageCalibration next;
     std::string why;
     ImagePointOptions image_options = images;
     image_options.lens = FamilyOf(options.model);
     image_options.camera = state->report.camera.intrinsics;
-    image_options.tag_cache = &state->tags;
+    image_options.detection_cache = &state->detections;
     if (!LoadImagePoints(dir, target, &next.data, &next.images, &next.used_index, &why,
                          image_options)) {
       log << "corners through the lens: pass " << pass << " failed (" << why
@@ -461,7 +469,7 @@ void IterateCornersThroughTheLens(const std::string& dir, const CalibrationTarge
     const double step =
         std::abs(next.report.camera.intrinsics.fku_px - state->report.camera.intrinsics.fku_px);
     const double std_fku = next.report.ceres.intrinsics_std[0];
-    next.tags = std::move(state->tags);
+    next.detections = std::move(state->detections);
     *state = std::move(next);
     print(("through the lens, pass " + std::to_string(pass) + ":").c_str(), state->report, &moves);
     if (!(step >= kCornerIterationTol * std_fku)) break;  // Also stops on a NaN std.

@@ -80,11 +80,10 @@ int CalibrateImages(const CalibrateArgs& args, bool auto_model, CalibrateOptions
     }
     image_options.refinement = refinement;
   }
-  // The re-fit through the lens is the photometric fit's.
   const bool photometric = image_options.refinement.value_or(CornerRefinement::kPhotometric) ==
                            CornerRefinement::kPhotometric;
   ImageCalibration state;
-  image_options.tag_cache = &state.tags;
+  image_options.detection_cache = &state.detections;
   if (!LoadImagePoints(args.images_dir, target, &state.data, &state.images, &state.used_index, &why,
                        image_options)) {
     std::cerr << "calibench: --images: " << why << "\n";
@@ -96,8 +95,10 @@ int CalibrateImages(const CalibrateArgs& args, bool auto_model, CalibrateOptions
     return 2;
   }
   if (!FitCamera(state.data, auto_model, &options, &state.report)) return 4;
-  if (!args.evaluate && target.type == CalibrationTarget::Type::kAprilGrid &&
-      options.model != LensModel::kPinhole && args.corner_iterations > 0 && photometric) {
+  // The tags' re-fit through the lens is the photometric fit's; a checkerboard's is its own.
+  const bool refits = target.type != CalibrationTarget::Type::kAprilGrid || photometric;
+  if (!args.evaluate && options.model != LensModel::kPinhole && args.corner_iterations > 0 &&
+      refits) {
     IterateCornersThroughTheLens(args.images_dir, target, image_options, options,
                                  args.corner_iterations, &state, std::cerr);
   }

@@ -4,15 +4,21 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 
 #include "detect/chessboard.h"
+#include "detect/x_junction.h"
 #include "util/parallel_for.h"
 
 namespace calibench {
 namespace {
 
 namespace fs = std::filesystem;
+
+// The smallest window radius of a checkerboard corner's X-junction refinement: a 1 px blurred
+// edge's gradient (smoothed by 1 px more) spans about +-2.5 px.
+constexpr double kMinJunctionRadiusPx = 2.5;
 
 // A view needs this many points: more than a homography's 4, so that a view says something.
 constexpr size_t kMinViewPoints = 8;
@@ -27,20 +33,56 @@ bool IsImageFile(const fs::path& p) {
   return false;
 }
 
-// The checkerboard's corners (detect/chessboard.h) with their board points: corner (r, c) of the
-// targetCols x targetRows inner corners is at (c * colSpacing, r * rowSpacing, 0).
-bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, View* view,
-                      std::string* how) {
-  ChessboardOptions options;
-  options.cols = t.cols;
-  options.rows = t.rows;
-  std::vector<Eigen::Vector2d> corners;
+// The checkerboard's corners (detect/chessboard.h, the sector-based detector first for a wide
+// `lens`; taken from *found when `reuse`, else stored there), refined as X-junctions through
+// `camera` when given (a corner whose refinement fails is left out, and counted in *how), with
+// their board points: corner (r, c) of the targetCols x targetRows inner corners is at (c *
+// colSpacing, r * rowSpacing, 0).
+bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, LensFamily lens,
+                      const CameraIntrinsics* camera, bool reuse,
+                      std::vector<Eigen::Vector2d>* found, View* view, std::string* how) {
   const GrayImageView image(gray.data, gray.cols, gray.rows, static_cast<int>(gray.step));
-  if (!FindChessboardCorners(image, options, &corners, how)) return false;
+  if (!reuse) {
+    ChessboardOptions options;
+    options.cols = t.cols;
+    options.rows = t.rows;
+    options.sector_based_first = lens != LensFamily::kRadTan;  // Wide lenses bend the board.
+    if (!FindChessboardCorners(image, options, found, how)) found->clear();
+  } else {
+    *how = "the first pass's corners";
+  }
+  const size_t expected = static_cast<size_t>(t.cols) * static_cast<size_t>(t.rows);
+  if (found->size() != expected) return false;
+  int failed = 0;
+  std::string first_reason;
+  auto at = [&](int r, int c) { return (*found)[r * t.cols + c]; };
   for (int r = 0; r < t.rows; ++r) {
     for (int c = 0; c < t.cols; ++c) {
+      Eigen::Vector2d pixel = at(r, c);
+      if (camera) {
+        // The window stays inside the corner's four squares: at most half the distance to the
+        // nearest neighbouring corner (a tilted board's squares can be a few pixels wide).
+        double nearest = std::numeric_limits<double>::infinity();
+        for (const auto& [dr, dc] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+          if (r + dr < 0 || r + dr >= t.rows || c + dc < 0 || c + dc >= t.cols) continue;
+          nearest = std::min(nearest, (at(r + dr, c + dc) - pixel).norm());
+        }
+        XJunctionOptions options;
+        options.radius_px = std::clamp(0.5 * nearest, kMinJunctionRadiusPx, options.radius_px);
+        const XJunctionSummary s = RefineXJunction(image, &*camera, options, &pixel);
+        if (!s.converged) {
+          if (failed++ == 0) first_reason = s.message;
+          continue;
+        }
+      }
       view->points.emplace_back(c * t.col_spacing_m, r * t.row_spacing_m, 0.0);
-      view->pixels.push_back(corners[r * t.cols + c]);
+      view->pixels.push_back(pixel);
+    }
+  }
+  if (camera) {
+    *how += ", X-junctions through the lens";
+    if (failed > 0) {
+      *how += " (" + std::to_string(failed) + " corners left out: " + first_reason + ")";
     }
   }
   return true;
@@ -161,15 +203,17 @@ struct ImageOutcome {
   DetectionCounts counts;
 };
 
-// What one image contributes: a checkerboard's corners, or the AprilGrid's tags found (or taken
-// from *found when `reuse`) and refined (through fit_camera when given).
+// What one image contributes: a checkerboard's corners or the AprilGrid's tags, found (or taken
+// from *found / *found_corners when `reuse`) and refined (through fit_camera when given).
 struct ImageJob {
   const CalibrationTarget& target;
   const std::vector<Eigen::Vector3d>& grid_corners;  // AprilGrid: point id -> board point.
   FrameDetector* detector;                           // AprilGrid only.
   FoundTags* found;                                  // The image's tags (a cache slot or local).
+  std::vector<Eigen::Vector2d>* found_corners;       // Checkerboard: the same for its corners.
   bool reuse;
   const CameraIntrinsics* fit_camera;
+  LensFamily lens;  // The family the images will be calibrated with.
 };
 void ProcessImage(const fs::path& file, const ImageJob& job, ImageOutcome* out) {
   ImageResult& r = out->result;
@@ -180,7 +224,8 @@ void ProcessImage(const fs::path& file, const ImageJob& job, ImageOutcome* out) 
   if (gray.empty()) return;  // r.reason says why.
   out->size = gray.size();
   if (job.target.type != CalibrationTarget::Type::kAprilGrid) {
-    if (!FindCheckerboard(gray, job.target, &out->view, &r.reason)) {
+    if (!FindCheckerboard(gray, job.target, job.lens, job.fit_camera, job.reuse, job.found_corners,
+                          &out->view, &r.reason)) {
       r.reason = "no " + std::to_string(job.target.cols) + "x" + std::to_string(job.target.rows) +
                  " checkerboard found";
     }
@@ -271,25 +316,29 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
   data->format = aprilgrid ? "images+aprilgrid" : "images+checkerboard";
   *report = ImageFolderReport();
   used_index->clear();
-  ImageTagCache* cache = options.tag_cache;
+  ImageDetectionCache* cache = options.detection_cache;
   const bool through_lens = aprilgrid && detectors[0]->FindingUsesCamera();
   const bool reuse = cache && cache->filled && cache->per_image.size() == files.size() &&
                      (cache->found_through_lens || !through_lens);
   if (cache && !reuse) {
-    *cache = ImageTagCache();
+    *cache = ImageDetectionCache();
     cache->per_image.resize(files.size());
+    cache->checkerboard_corners.resize(files.size());
     cache->found_through_lens = through_lens;
   }
   const CameraIntrinsics* fit_camera = options.camera ? &*options.camera : nullptr;
   std::vector<ImageOutcome> outcomes(files.size());
   ParallelFor(files.size(), workers, [&](int worker, size_t f) {
     FoundTags found_here;  // Without a cache.
+    std::vector<Eigen::Vector2d> corners_here;
     const ImageJob job{target,
                        grid_corners,
                        aprilgrid ? detectors[worker].get() : nullptr,
                        cache ? &cache->per_image[f] : &found_here,
+                       cache ? &cache->checkerboard_corners[f] : &corners_here,
                        reuse,
-                       fit_camera};
+                       fit_camera,
+                       options.lens};
     ProcessImage(files[f], job, &outcomes[f]);
   });
   const cv::Size size = CollectOutcomes(target, &outcomes, data, report, used_index);

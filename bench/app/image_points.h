@@ -3,8 +3,10 @@
 // Every PNG / JPG / JPEG / TIF / TIFF / BMP file of DIR (sorted by name) is read as 8-bit gray
 // (ReadGray8: 16-bit images are scaled by their own percentiles). The target (target_io.h) is
 // found per image:
-//   checkerboard: detect/chessboard.h. Corner (r, c) of the targetCols x targetRows inner corners
-//       is at (c * colSpacing, r * rowSpacing, 0);
+//   checkerboard: detect/chessboard.h (cornerSubPix); given a camera (ImagePointOptions::camera),
+//       each corner is then refined as an X-junction through its lens (detect/x_junction.h) and a
+//       corner whose refinement fails is left out. Corner (r, c) of the targetCols x targetRows
+//       inner corners is at (c * colSpacing, r * rowSpacing, 0);
 //   aprilgrid: AprilTag 3 with the target's black border + edge-fit refinement (+ the corner
 //       squares' handling) + matching (detect/frame_detector.h, ImageDetectorOptions).
 // Pixels use calibench's convention (camera.h), which is OpenCV's. An image that cannot be read,
@@ -23,22 +25,27 @@
 
 namespace calibench {
 
-// The tags AprilTag 3 found in each image of a folder (FrameDetector::FindTags), kept by a
-// calibration that re-fits the corners through each new estimate of its camera: the images are
-// read again, the detector does not run again.
-struct ImageTagCache {
+// What the detector found in each image of a folder (AprilTag 3's tags, FrameDetector::FindTags;
+// a checkerboard's corners, detect/chessboard.h), kept by a calibration that re-fits the corners
+// through each new estimate of its camera: the images are read again, the detector does not run
+// again.
+struct ImageDetectionCache {
   bool filled = false;
   // FindTags painted corner squares out through a distorting camera (FrameDetector::
   // FindingUsesCamera): it then finds more tags than without one, and is not reused by a pass
   // that has a camera when it was filled without.
   bool found_through_lens = false;
   std::vector<FoundTags> per_image;  // By the folder's image order; empty for unreadable images.
+  // checkerboard: each image's corners as detect/chessboard.h found them (row-major; empty: not
+  // found or unreadable), by the folder's image order.
+  std::vector<std::vector<Eigen::Vector2d>> checkerboard_corners;
 };
 
 // How the corners of a folder of images are found.
 struct ImagePointOptions {
   LensFamily lens = LensFamily::kRadTan;  // The family the images will be calibrated with.
-  // A calibration of these images: the photometric fit is drawn through its lens (lens-aware).
+  // A calibration of these images: the photometric fit is drawn through its lens (lens-aware);
+  // a checkerboard's corners are refined as X-junctions through it (detect/x_junction.h).
   std::optional<CameraIntrinsics> camera;
   // nullopt: the photometric fit (the edge fit with curved edges for a fisheye without camera).
   std::optional<CornerRefinement> refinement;
@@ -47,7 +54,7 @@ struct ImagePointOptions {
   bool predict_missing_tags = true;
   // In / out, aprilgrid only: filled by the first call that gets it, reused by later ones (as
   // long as the folder is unchanged).
-  ImageTagCache* tag_cache = nullptr;
+  ImageDetectionCache* detection_cache = nullptr;
   // Images are read and detected in parallel on this many threads (<= 0: every core); the
   // result does not depend on it.
   int threads = 0;

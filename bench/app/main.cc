@@ -270,9 +270,10 @@ CLI::App* AddCalibrateCommand(CLI::App* app, calibench::CalibrateArgs* cal) {
       ->check(CLI::ExistingFile);
   calibrate
       ->add_option("--corner-iterations", cal->corner_iterations,
-                   "With --images (aprilgrid) and a lens model that distorts: re-fit the corners "
-                   "through the estimate and recalibrate at most this often, until f moves by "
-                   "< 0.1 std, or a re-fit is predicted to move it less (0: detect once)")
+                   "With --images and a lens model that distorts: re-fit the corners (tags or "
+                   "checkerboard X-junctions) through the estimate and recalibrate at most this "
+                   "often, until f moves by < 0.1 std, or (aprilgrid) a re-fit is predicted to "
+                   "move it less (0: detect once)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   calibrate

@@ -47,6 +47,31 @@ TEST(CalibrateImages, OpenCvLeftMatchesOpenCvsPublishedResult) {
   EXPECT_NEAR(k.u0_px, r.zhang.intrinsics.u0_px, kSameOptimumPx);
 }
 
+// The same images with the corners re-fitted as X-junctions through the estimate (calibrate
+// --images's default for a lens that distorts): a better corner moves the camera a little from
+// OpenCV's procedure (measured: f.ku +0.027, f.kv +0.053, u0 +0.117, v0 -0.051 px, at most 0.26
+// of their stds) and lowers the RMS (0.1964 -> 0.1938 px). Held: every move below kRefitMoveStd of
+// its std, and a lower RMS.
+constexpr double kRefitMoveStd = 0.35;
+TEST(CalibrateImages, OpenCvLeftThroughTheLensStaysAtOpenCvsResult) {
+  const FolderCalibration fit = CalibrateFolderThroughTheLens(
+      BundledData("opencv-left"),
+      "target_type: 'checkerboard'\ntargetCols: 9\ntargetRows: 6\nrowSpacingMeters: 0.025\n"
+      "colSpacingMeters: 0.025\n",
+      LensModel::kPinholeRadTan5);
+  const CalibrateReport &first = fit.first, &r = fit.last.report;
+  std::printf("%s", fit.log.c_str());
+  ASSERT_TRUE(r.IsUsable()) << r.ceres.message;
+  const IntrinsicsArray after = r.ceres.intrinsics.Params(),
+                        before = first.ceres.intrinsics.Params();
+  for (const int i : {0, 1, 3, 4}) {  // fku, fkv, u0, v0.
+    std::printf("  %s: %+.4f px = %+.2f std\n", ParamNames(LensFamily::kRadTan)[i],
+                after[i] - before[i], (after[i] - before[i]) / r.ceres.intrinsics_std[i]);
+    EXPECT_LT(std::abs(after[i] - before[i]), kRefitMoveStd * r.ceres.intrinsics_std[i]);
+  }
+  EXPECT_LT(r.ceres.rms_reproj_px, first.ceres.rms_reproj_px);
+}
+
 // The whole chain on images with a known answer: a Kalibr AprilGrid (2-bit border) rendered from
 // 12 viewpoints by a
 // distorted camera (k1 = -0.1, k2 = 0.02), 1 gray level of noise, written as PNG, then
@@ -132,7 +157,7 @@ TEST(CalibrateImages, EurocLikeLensIsCalibratedThroughTheLens) {
       ASSERT_EQ(WriteRenderedAprilGridFolder(dir, truth, grid, folder), 24);
       ImageCalibration state;
       ImagePointOptions image_options;
-      image_options.tag_cache = &state.tags;
+      image_options.detection_cache = &state.detections;
       ASSERT_TRUE(LoadImagePoints(dir, target, &state.data, &state.images, &state.used_index, &why,
                                   image_options))
           << why;
@@ -182,7 +207,7 @@ TEST(CalibrateImages, EurocLikeLensIsCalibratedThroughTheLens) {
       ImageCalibration refit;
       ImagePointOptions refit_options;
       refit_options.camera = r.camera.intrinsics;
-      refit_options.tag_cache = &state.tags;
+      refit_options.detection_cache = &state.detections;
       ASSERT_TRUE(LoadImagePoints(dir, target, &refit.data, &refit.images, &refit.used_index, &why,
                                   refit_options))
           << why;

@@ -15,7 +15,6 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -165,7 +164,6 @@ struct Fit {
 // calibrate --images DIR --target (Kalibr grid) --model M: detection with curved edges, the
 // calibration, then the re-fits of the corners through the estimate, as many as calibrate's
 // default allows (--corner-iterations).
-const int kCornerPasses = CalibrateArgs().corner_iterations;
 Fit CalibrateImages(const std::string& dir, LensModel model) {
   const auto start = std::chrono::steady_clock::now();
   Fit fit;
@@ -173,23 +171,11 @@ Fit CalibrateImages(const std::string& dir, LensModel model) {
   std::string why;
   EXPECT_TRUE(LoadTargetYaml(WriteTarget("kalibr_grid.yaml", kKalibrTargetYaml), &target, &why))
       << why;
-  ImagePointOptions image_options;
-  image_options.lens = FamilyOf(model);
-  ImageCalibration state;
-  image_options.tag_cache = &state.tags;
-  EXPECT_TRUE(LoadImagePoints(dir, target, &state.data, &state.images, &state.used_index, &why,
-                              image_options))
-      << why;
-  CalibrateOptions options;
-  options.model = model;
-  state.report = CalibrateFromPoints(state.data, options);
-  EXPECT_TRUE(state.report.IsUsable()) << state.report.ceres.message;
-  std::ostringstream log;
-  IterateCornersThroughTheLens(dir, target, image_options, options, kCornerPasses, &state, log);
-  std::printf("%s", log.str().c_str());
-  fit.data = state.data;
-  fit.report = state.report;
-  fit.views_used = state.images.used;
+  const FolderCalibration c = CalibrateFolderThroughTheLens(dir, target, model);
+  std::printf("%s", c.log.c_str());
+  fit.data = c.last.data;
+  fit.report = c.last.report;
+  fit.views_used = c.last.images.used;
   fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return fit;
 }

@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "bench/app/calibrate.h"
+#include "bench/app/calibrate_cmd.h"
 #include "bench/app/image_points.h"
 #include "bench/config/target_io.h"
 
@@ -34,6 +36,46 @@ inline CalibrateReport CalibrateFolder(const std::string& dir, const std::string
   CalibrateOptions options;
   options.model = model;
   return CalibrateFromPoints(data, options);
+}
+
+// What calibrate --images does on a folder: detection, the calibration, then the corners re-fitted
+// through each estimate of the lens and the camera recalibrated (IterateCornersThroughTheLens), at
+// most `passes` times (calibrate's default: --corner-iterations).
+struct FolderCalibration {
+  CalibrateReport first;  // Before any re-fit.
+  ImageCalibration last;  // After the last re-fit (its report is the result).
+  std::string log;        // The passes' lines.
+};
+inline FolderCalibration CalibrateFolderThroughTheLens(
+    const std::string& dir, const CalibrationTarget& target, LensModel model,
+    int passes = CalibrateArgs().corner_iterations) {
+  FolderCalibration out;
+  ImageCalibration& state = out.last;
+  ImagePointOptions image_options;
+  image_options.lens = FamilyOf(model);
+  image_options.detection_cache = &state.detections;
+  std::string why;
+  EXPECT_TRUE(LoadImagePoints(dir, target, &state.data, &state.images, &state.used_index, &why,
+                              image_options))
+      << why;
+  CalibrateOptions options;
+  options.model = model;
+  state.report = CalibrateFromPoints(state.data, options);
+  EXPECT_TRUE(state.report.IsUsable()) << state.report.ceres.message;
+  out.first = state.report;
+  std::ostringstream log;
+  IterateCornersThroughTheLens(dir, target, image_options, options, passes, &state, log);
+  out.log = log.str();
+  return out;
+}
+// The same with the target given as YAML text.
+inline FolderCalibration CalibrateFolderThroughTheLens(const std::string& dir,
+                                                       const std::string& target_yaml,
+                                                       LensModel model) {
+  CalibrationTarget target;
+  std::string why;
+  EXPECT_TRUE(LoadTargetYaml(WriteTarget("target.yaml", target_yaml), &target, &why)) << why;
+  return CalibrateFolderThroughTheLens(dir, target, model);
 }
 
 // Ceres refines zhang's optimum; both minimise the same reprojection error on the same corners,

@@ -1,5 +1,5 @@
-// Test fixture data on disk: a folder of PNG views of an AprilGrid rendered by a known camera
-// (calibrate --images input with a known answer). Poses come from sim/synthetic.h.
+// Test fixture data on disk: a folder of PNG views of an AprilGrid or a checkerboard rendered by a
+// known camera (calibrate --images input with a known answer). Poses come from sim/synthetic.h.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "sim/checkerboard_image.h"
 #include "sim/render.h"
 #include "sim/synthetic.h"
 #include "util/random.h"
@@ -24,9 +25,42 @@ struct RenderedFolderOptions {
   double blur_sigma_px = 0.0;
 };
 
+// A random facing viewpoint (tilt up to ~35 degrees, min_distance_m..max_distance_m) of the board
+// point `centre`.
+inline Rigid3 RandomFacingView(const RenderedFolderOptions& options, const Eigen::Vector3d& centre,
+                               Rng* rng) {
+  const Eigen::Vector3d tilt(rng->Uniform(-0.6, 0.6), rng->Uniform(-0.6, 0.6),
+                             rng->Uniform(-0.4, 0.4));
+  const double distance = rng->Uniform(options.min_distance_m, options.max_distance_m);
+  const double lateral = options.lateral_m;
+  const Eigen::Vector3d at(rng->Uniform(-lateral, lateral),
+                           rng->Uniform(-0.8 * lateral, 0.8 * lateral), distance);
+  // ExpSO3(tilt) D = D ExpSO3(D tilt) for D = diag(1, -1, -1).
+  return FacingBoardPose({tilt.x(), -tilt.y(), -tilt.z()}, centre, at);
+}
+
+// True when every point projects more than `margin` px inside the image.
+inline bool AllInside(const CameraIntrinsics& truth, const Rigid3& cam_from_board,
+                      const std::vector<Eigen::Vector3d>& points, const RenderedFolderOptions& o,
+                      double margin) {
+  for (const Eigen::Vector3d& p : points) {
+    Eigen::Vector2d pixel;
+    if (!ProjectPoint(truth, cam_from_board * p, &pixel) || pixel.x() < margin ||
+        pixel.y() < margin || pixel.x() > o.width - 1 - margin ||
+        pixel.y() > o.height - 1 - margin) {
+      return false;
+    }
+  }
+  return true;
+}
+
+inline bool WritePng(const std::string& path, GrayImage* image) {
+  const cv::Mat mat(image->height, image->width, CV_8UC1, image->pixels.data());
+  return cv::imwrite(path, mat);
+}
+
 // Writes DIR/view<k>.png (k < options.views) of `grid` seen by `truth` from random facing
-// viewpoints (tilt up to ~35 degrees, min_distance_m..max_distance_m, every corner > 5 px inside
-// the image).
+// viewpoints (RandomFacingView, every corner > 5 px inside the image).
 // Returns the number of views written (< options.views only if poses ran out).
 inline int WriteRenderedAprilGridFolder(const std::string& dir, const CameraIntrinsics& truth,
                                         const AprilGrid& grid,
@@ -46,26 +80,44 @@ inline int WriteRenderedAprilGridFolder(const std::string& dir, const CameraIntr
   Rng rng(options.seed);
   int written = 0;
   for (int attempt = 0; written < options.views && attempt < 200; ++attempt) {
-    BoardView view{grid, family, {}};
-    const Eigen::Vector3d tilt(rng.Uniform(-0.6, 0.6), rng.Uniform(-0.6, 0.6),
-                               rng.Uniform(-0.4, 0.4));
-    const double distance = rng.Uniform(options.min_distance_m, options.max_distance_m);
-    const double lateral = options.lateral_m;
-    const Eigen::Vector3d at(rng.Uniform(-lateral, lateral),
-                             rng.Uniform(-0.8 * lateral, 0.8 * lateral), distance);
-    // ExpSO3(tilt) D = D ExpSO3(D tilt) for D = diag(1, -1, -1).
-    view.cam_from_board = FacingBoardPose({tilt.x(), -tilt.y(), -tilt.z()}, centre, at);
-    bool inside = true;
-    for (const Eigen::Vector3d& p : grid.CornersInBoard()) {
-      Eigen::Vector2d pixel;
-      inside &= ProjectPoint(truth, view.cam_from_board * p, &pixel) && pixel.x() > 5 &&
-                pixel.y() > 5 && pixel.x() < options.width - 6 && pixel.y() < options.height - 6;
-    }
-    if (!inside) continue;
+    BoardView view{grid, family, RandomFacingView(options, centre, &rng)};
+    if (!AllInside(truth, view.cam_from_board, grid.CornersInBoard(), options, 5)) continue;
     GrayImage image;
     if (!renderer->Render({view}, &rng, &image, nullptr)) return written;
-    const cv::Mat mat(image.height, image.width, CV_8UC1, image.pixels.data());
-    if (!cv::imwrite(dir + "/view" + std::to_string(written) + ".png", mat)) return written;
+    if (!WritePng(dir + "/view" + std::to_string(written) + ".png", &image)) return written;
+    ++written;
+  }
+  return written;
+}
+
+// The same for a checkerboard (sim/checkerboard_image.h): every inner corner and the outer squares'
+// corners (one square beyond) > 5 px inside the image.
+inline int WriteRenderedCheckerboardFolder(const std::string& dir, const CameraIntrinsics& truth,
+                                           const CheckerboardPattern& pattern,
+                                           const RenderedFolderOptions& options) {
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  CheckerboardImageOptions image_options;
+  image_options.width = options.width;
+  image_options.height = options.height;
+  image_options.blur_sigma_px = options.blur_sigma_px;
+  image_options.noise_sigma_gray = options.noise_sigma_gray;
+  std::vector<Eigen::Vector3d> outline;  // The squares' outer corners.
+  for (int r = -1; r <= pattern.rows; ++r) {
+    for (int c = -1; c <= pattern.cols; ++c) outline.push_back(pattern.Corner(r, c));
+  }
+  const Eigen::Vector3d centre =
+      pattern.Corner(0, 0) / 2 + pattern.Corner(pattern.rows - 1, pattern.cols - 1) / 2;
+  Rng rng(options.seed);
+  int written = 0;
+  for (int attempt = 0; written < options.views && attempt < 200; ++attempt) {
+    const Rigid3 cam_from_board = RandomFacingView(options, centre, &rng);
+    if (!AllInside(truth, cam_from_board, outline, options, 5)) continue;
+    GrayImage image;
+    if (!RenderCheckerboard(truth, cam_from_board, pattern, image_options, &rng, &image, nullptr) ||
+        !WritePng(dir + "/view" + std::to_string(written) + ".png", &image)) {
+      return written;
+    }
     ++written;
   }
   return written;

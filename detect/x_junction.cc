@@ -1,0 +1,257 @@
+#include "detect/x_junction.h"
+
+#include <Eigen/Dense>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "detect/tangent_plane.h"
+
+namespace calibench {
+namespace {
+
+// Below this ratio of the smallest to the largest eigenvalue of sum w g g^T the gradients span
+// one direction only (an edge, not a junction): q is then undetermined along the edge.
+constexpr double kMinGradientSpread = 1e-3;
+
+// Pixel -> the plane the junction is solved in (header comment): the tangent plane about the
+// current estimate's ray through a camera, the image (relative to the estimate) without one.
+struct LocalPlane {
+  const CameraIntrinsics* camera = nullptr;
+  bool normalized = false;  // The undistorted normalised plane z = 1 instead of a tangent plane.
+  TangentPlane plane;
+  Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();
+
+  bool About(const Eigen::Vector2d& q_px) {
+    centre_px = q_px;
+    if (!camera || normalized) return true;
+    Eigen::Vector3d ray;
+    return UnprojectToRay(*camera, q_px, &ray) && TangentPlane::About(ray, &plane);
+  }
+  bool FromPixel(const Eigen::Vector2d& p, Eigen::Vector2d* t) const {
+    if (!camera) {
+      *t = p - centre_px;
+      return true;
+    }
+    if (normalized) return UnprojectPixel(*camera, p, t);
+    return plane.FromPixel(*camera, p, t);
+  }
+  bool ToPixel(const Eigen::Vector2d& t, Eigen::Vector2d* p) const {
+    if (!camera) {
+      *p = centre_px + t;
+      return true;
+    }
+    if (normalized) return ProjectPoint(*camera, Eigen::Vector3d(t.x(), t.y(), 1), p);
+    return plane.ToPixel(*camera, t, p);
+  }
+};
+
+// How far pixel -> plane departs from an affine map over a window of radius r about q: the
+// change of its Jacobian (central differences) across the window along x and along y, relative
+// to the Jacobian at q (Frobenius norms); infinite where a point has no ray.
+double Nonlinearity(const LocalPlane& local, const Eigen::Vector2d& q, double r) {
+  auto jacobian = [&](const Eigen::Vector2d& p, Eigen::Matrix2d* j) {
+    Eigen::Vector2d tx0, tx1, ty0, ty1;
+    if (!local.FromPixel(p - Eigen::Vector2d(1, 0), &tx0) ||
+        !local.FromPixel(p + Eigen::Vector2d(1, 0), &tx1) ||
+        !local.FromPixel(p - Eigen::Vector2d(0, 1), &ty0) ||
+        !local.FromPixel(p + Eigen::Vector2d(0, 1), &ty1)) {
+      return false;
+    }
+    *j << (tx1 - tx0) / 2, (ty1 - ty0) / 2;
+    return true;
+  };
+  Eigen::Matrix2d at_q, a, b, c, d;
+  if (!jacobian(q, &at_q) || !jacobian(q - Eigen::Vector2d(r, 0), &a) ||
+      !jacobian(q + Eigen::Vector2d(r, 0), &b) || !jacobian(q - Eigen::Vector2d(0, r), &c) ||
+      !jacobian(q + Eigen::Vector2d(0, r), &d) || !(at_q.norm() > 0)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return ((b - a).norm() + (d - c).norm()) / at_q.norm();
+}
+
+// The normalised Gaussian of `sigma` px sampled at whole pixels to 3 sigma; {1} for sigma 0.
+std::vector<double> GaussianKernel(double sigma) {
+  if (!(sigma > 0)) return {1.0};
+  const int k = static_cast<int>(std::ceil(3 * sigma));
+  std::vector<double> kernel(2 * k + 1);
+  double sum = 0;
+  for (int i = -k; i <= k; ++i) sum += kernel[i + k] = std::exp(-0.5 * i * i / (sigma * sigma));
+  for (double& v : kernel) v /= sum;
+  return kernel;
+}
+
+// *patch = the w x h pixels from (x0, y0) of `image` convolved with kernel x kernel (separable;
+// the caller keeps the kernel's reach inside the image).
+void SmoothPatch(const GrayImageView& image, const std::vector<double>& kernel, int x0, int y0,
+                 int w, int h, std::vector<double>* patch) {
+  const int k = static_cast<int>(kernel.size()) / 2;
+  std::vector<double> rows(static_cast<size_t>(w) * (h + 2 * k));  // Smoothed along x.
+  for (int j = 0; j < h + 2 * k; ++j) {
+    for (int i = 0; i < w; ++i) {
+      double sum = 0;
+      for (int d = -k; d <= k; ++d) sum += kernel[d + k] * image.at(x0 + i + d, y0 + j - k);
+      rows[static_cast<size_t>(j) * w + i] = sum;
+    }
+  }
+  patch->assign(static_cast<size_t>(w) * h, 0.0);
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      double sum = 0;
+      for (int d = -k; d <= k; ++d)
+        sum += kernel[d + k] * rows[static_cast<size_t>(j + k + d) * w + i];
+      (*patch)[static_cast<size_t>(j) * w + i] = sum;
+    }
+  }
+}
+
+}  // namespace
+
+bool XJunctionOptions::Check(std::string* why) const {
+  auto fail = [&](const char* reason) {
+    if (why) *why = reason;
+    return false;
+  };
+  if (!(radius_px >= 2 && radius_px <= 50)) return fail("radius_px must be 2..50");
+  if (max_iterations < 1) return fail("max_iterations must be >= 1");
+  if (!(tolerance_px > 0)) return fail("tolerance_px must be > 0");
+  if (!(max_move_px > 0)) return fail("max_move_px must be > 0");
+  if (!(gradient_sigma_px >= 0 && gradient_sigma_px <= 5))
+    return fail("gradient_sigma_px must be 0..5");
+  return true;
+}
+
+XJunctionSummary RefineXJunction(const GrayImageView& image, const CameraIntrinsics* camera,
+                                 const XJunctionOptions& options, Eigen::Vector2d* corner) {
+  XJunctionSummary summary;
+  if (!options.Check(&summary.message)) return summary;
+  const Eigen::Vector2d start = *corner;
+  if (!start.allFinite()) {
+    summary.message = "the start is not finite";
+    return summary;
+  }
+  const double r = options.radius_px;
+  LocalPlane local;
+  local.camera = camera;
+  if (camera) {
+    // The plane in which the image is nearest an affine map over the window (header comment).
+    LocalPlane normalized = local;
+    normalized.normalized = true;
+    if (!local.About(start)) {
+      summary.message = "the estimate has no ray through the lens";
+      return summary;
+    }
+    if (normalized.About(start) &&
+        Nonlinearity(normalized, start, r) < Nonlinearity(local, start, r)) {
+      local = normalized;
+    }
+  }
+  // Pixels per plane unit at the start (the weights' scale: any fixed matrix keeps the window
+  // point-symmetric), from the plane points around it.
+  Eigen::Matrix2d dt_dp_at_start;
+  {
+    Eigen::Vector2d tx0, tx1, ty0, ty1;
+    if (!local.About(start) || !local.FromPixel(start - Eigen::Vector2d(1, 0), &tx0) ||
+        !local.FromPixel(start + Eigen::Vector2d(1, 0), &tx1) ||
+        !local.FromPixel(start - Eigen::Vector2d(0, 1), &ty0) ||
+        !local.FromPixel(start + Eigen::Vector2d(0, 1), &ty1)) {
+      summary.message = "a pixel of the window has no ray through the lens";
+      return summary;
+    }
+    dt_dp_at_start << (tx1 - tx0) / 2, (ty1 - ty0) / 2;
+  }
+  const Eigen::Matrix2d px_per_t = dt_dp_at_start.inverse();
+  const double area_at_start = std::abs(dt_dp_at_start.determinant());
+  Eigen::Vector2d q = start;
+  // The window's grid (plane points, smoothed pixels), kept while its bounds do not change.
+  std::vector<Eigen::Vector2d> t;
+  std::vector<double> smooth;
+  std::array<int, 4> grid_bounds = {0, -1, 0, -1};
+  const std::vector<double> kernel = GaussianKernel(options.gradient_sigma_px);
+  for (summary.iterations = 1; summary.iterations <= options.max_iterations; ++summary.iterations) {
+    Eigen::Vector2d q_t;  // q in the plane.
+    if (!local.FromPixel(q, &q_t)) {
+      summary.message = "the estimate has no ray through the lens";
+      return summary;
+    }
+    // Window pixels [x0, x1] x [y0, y1]; the grid of plane points has one ring more (for dt/dp),
+    // and the gradients read one pixel beyond the window, of an image smoothed by a kernel of
+    // half-width k.
+    const int x0 = static_cast<int>(std::ceil(q.x() - r)),
+              x1 = static_cast<int>(std::floor(q.x() + r));
+    const int y0 = static_cast<int>(std::ceil(q.y() - r)),
+              y1 = static_cast<int>(std::floor(q.y() + r));
+    const int k = static_cast<int>(kernel.size()) / 2;
+    if (x0 < 1 + k || y0 < 1 + k || x1 > image.width - 2 - k || y1 > image.height - 2 - k) {
+      summary.message = "the window leaves the image";
+      return summary;
+    }
+    const int gw = x1 - x0 + 3, gh = y1 - y0 + 3;
+    if (grid_bounds != std::array<int, 4>{x0, x1, y0, y1}) {
+      grid_bounds = {x0, x1, y0, y1};
+      SmoothPatch(image, kernel, x0 - 1, y0 - 1, gw, gh, &smooth);
+      t.assign(static_cast<size_t>(gw) * gh, Eigen::Vector2d::Zero());
+      for (int j = 0; j < gh; ++j) {
+        for (int i = 0; i < gw; ++i) {
+          if (!local.FromPixel(Eigen::Vector2d(x0 - 1 + i, y0 - 1 + j), &t[j * gw + i])) {
+            summary.message = "a pixel of the window has no ray through the lens";
+            return summary;
+          }
+        }
+      }
+    }
+    auto t_at = [&](int x, int y) -> const Eigen::Vector2d& {
+      return t[static_cast<size_t>(y - y0 + 1) * gw + (x - x0 + 1)];
+    };
+    auto smooth_at = [&](int x, int y) {
+      return smooth[static_cast<size_t>(y - y0 + 1) * gw + (x - x0 + 1)];
+    };
+    Eigen::Matrix2d a = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d b = Eigen::Vector2d::Zero();
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const Eigen::Vector2d& tp = t_at(x, y);
+        const double d2 = (px_per_t * (tp - q_t)).squaredNorm() / (r * r);
+        if (d2 >= 1) continue;
+        Eigen::Matrix2d dt_dp;
+        dt_dp << (t_at(x + 1, y) - t_at(x - 1, y)) / 2, (t_at(x, y + 1) - t_at(x, y - 1)) / 2;
+        const Eigen::Vector2d g_px(0.5 * (smooth_at(x + 1, y) - smooth_at(x - 1, y)),
+                                   0.5 * (smooth_at(x, y + 1) - smooth_at(x, y - 1)));
+        // dI/dt = (dp/dt)^T dI/dp = (dt/dp)^-T dI/dp.
+        const Eigen::Vector2d g = dt_dp.transpose().partialPivLu().solve(g_px);
+        const double w = (1 - d2) * (1 - d2) * std::abs(dt_dp.determinant()) / area_at_start;
+        const Eigen::Matrix2d ggt = w * g * g.transpose();
+        a += ggt;
+        b += ggt * tp;
+      }
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(a);
+    const double largest = eigen.eigenvalues()(1);
+    if (!(largest > 0) || !(eigen.eigenvalues()(0) > kMinGradientSpread * largest)) {
+      summary.message = "no junction: the window's gradients do not span two directions";
+      return summary;
+    }
+    Eigen::Vector2d next;
+    if (!local.ToPixel(a.ldlt().solve(b), &next) || !next.allFinite()) {
+      summary.message = "the estimate left the lens's valid region";
+      return summary;
+    }
+    const double step = (next - q).norm();
+    q = next;
+    if ((q - start).norm() > options.max_move_px) {
+      summary.message = "the estimate moved more than max_move_px from its start";
+      return summary;
+    }
+    if (step < options.tolerance_px) {
+      summary.converged = true;
+      *corner = q;
+      return summary;
+    }
+  }
+  summary.iterations = options.max_iterations;
+  summary.message = "did not settle within max_iterations";
+  return summary;
+}
+
+}  // namespace calibench
