@@ -196,6 +196,7 @@ std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
   std::vector<FittedTag> fitted;
   const bool photometric = options_.refinement == CornerRefinement::kPhotometric;
   const bool edge_fit = options_.refinement == CornerRefinement::kEdgeFit;
+  std::map<int, FitFailure> refused;  // Decoded ids whose photometric fit was refused.
   for (size_t t = 0; t < found.tags.size(); ++t) {
     TagDetection tag = found.tags[t];
     FittedTag out{tag.id, {}, {}, std::numeric_limits<double>::quiet_NaN()};
@@ -205,6 +206,7 @@ std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
                                                          tag.corners, options_.photometric, camera);
       if (!fit.ok()) {
         ++local.refused_tags[static_cast<int>(fit.failure)];
+        refused[tag.id] = fit.failure;
         continue;
       }
       tag.corners = fit.corners;
@@ -228,8 +230,8 @@ std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
   }
   if (photometric && options_.predict_missing_tags) {
     std::set<int> tried;
-    for (const TagDetection& tag : found.tags) tried.insert(tag.id);
-    PredictMissingTags(view, camera, std::move(tried), &fitted, &local);
+    for (const FittedTag& tag : fitted) tried.insert(tag.id);
+    PredictMissingTags(view, camera, std::move(tried), refused, &fitted, &local);
   }
   std::vector<Observation> observations;
   for (const FittedTag& tag : fitted) {
@@ -243,7 +245,9 @@ std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
 }
 
 void FrameDetector::PredictMissingTags(const GrayImageView& view, const CameraIntrinsics* camera,
-                                       std::set<int> tried, std::vector<FittedTag>* fitted,
+                                       std::set<int> tried,
+                                       const std::map<int, FitFailure>& refused,
+                                       std::vector<FittedTag>* fitted,
                                        DetectionCounts* counts) const {
   std::vector<double> residuals;
   for (const FittedTag& tag : *fitted) residuals.push_back(tag.residual_rms_gray);
@@ -297,13 +301,20 @@ void FrameDetector::PredictMissingTags(const GrayImageView& view, const CameraIn
         tried.insert(id);
         const PhotometricFitResult fit = FitTagPhotometric(view, patterns_[PointId(id, 0) / 4],
                                                            corners, options_.photometric, camera);
+        const auto was_refused = refused.find(id);
         if (!fit.ok() || !(fit.residual_rms_gray <= max_residual_gray)) {
-          ++counts->refused_predictions;
+          // A decoded tag refused again stays counted once, in refused_tags.
+          if (was_refused == refused.end()) ++counts->refused_predictions;
           continue;
         }
         fitted->push_back({id, fit.corners, fit.crlb_px, fit.residual_rms_gray});
         ++counts->tags;
-        ++counts->predicted_tags;
+        if (was_refused != refused.end()) {
+          --counts->refused_tags[static_cast<int>(was_refused->second)];
+          ++counts->refitted_tags;
+        } else {
+          ++counts->predicted_tags;
+        }
         ++added;
       }
     }

@@ -56,6 +56,7 @@ bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
       image.duplicate_tags = counts.duplicate_tags;
       image.unrefined_copy_tags = counts.unrefined_copy_tags;
       image.predicted_tags = counts.predicted_tags;
+      image.refitted_tags = counts.refitted_tags;
       image.refused_predictions = counts.refused_predictions;
     }
     images->push_back(std::move(image));
@@ -104,6 +105,11 @@ std::string FormatImageCorners(const std::vector<ImageCorners>& images,
     if (image.predicted_tags > 0) {
       extra += ", " + std::to_string(image.predicted_tags) +
                " of them not decoded but fitted where their neighbours put them";
+    }
+    if (image.refitted_tags > 0) {
+      extra += ", " + std::to_string(image.refitted_tags) +
+               " of them refused from AprilTag 3's corners but fitted where their neighbours put "
+               "them";
     }
     if (image.refused_predictions > 0) {
       extra += ", " + std::to_string(image.refused_predictions) +

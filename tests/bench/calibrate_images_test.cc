@@ -115,14 +115,14 @@ TEST(CalibrateImages, RenderedAprilGridRecoversTheCamera) {
 // (IterateCornersThroughTheLens), f and c come within kWithinStd reported stds of the truth.
 // Sharp and blurred (1 px) frames, 2 gray levels of noise.
 // 2 std, as the corners' accuracy asks: 16 checks (4 parameters x 4 cases) of one draw each, so
-// 0.7 are expected outside by chance if the stds are right; measured |error| / std at most 1.53
-// (the blurred Kalibr grid's f.kv), on frames rendered with the exact PSF-and-pixel blur.
+// 0.7 are expected outside by chance if the stds are right; measured |error| / std at most 1.37
+// (the blurred 1-bit grid's f.kv), on frames rendered with the exact PSF-and-pixel blur.
 constexpr double kWithinStd = 2.0;
-// Tags found: every one of the sharp 1-bit grid. At 1 px of blur AprilTag 3's own quad search
-// misses some small, tilted 1-bit tags before any refinement (measured 827 of 864, none refused
-// by the fit). On the Kalibr grid the frame detector misses tags of the outer columns (measured
-// 851 of 864 sharp, 857 at 1 px blur; not every tag yet).
-constexpr double kMinFoundBlurred = 0.95, kMinFoundKalibr = 0.96;
+// Tags found: every one on sharp frames of both grids. Tags AprilTag 3 misses, and decoded tags
+// whose fit from its corners is refused (a corner thrown off by a corner square), are fitted where
+// their neighbours put them (FrameDetectorOptions::predict_missing_tags): measured 864 of 864 on
+// every case but the blurred Kalibr grid's 863 (its last tag at the board's corner refused again).
+constexpr double kMinFoundBlurred = 0.998;
 
 TEST(CalibrateImages, EurocLikeLensIsCalibratedThroughTheLens) {
   const CameraIntrinsics truth{458.0, 457.0, 90.0, 367.0, 248.0, -0.28, 0.074};
@@ -174,9 +174,7 @@ TEST(CalibrateImages, EurocLikeLensIsCalibratedThroughTheLens) {
                   images.tags_detected, log.str().c_str());
       ASSERT_TRUE(r.IsUsable());
       const std::string label = std::to_string(border) + "-bit, blur " + std::to_string(blur);
-      if (squares) {
-        EXPECT_GE(images.tags_detected, kMinFoundKalibr * 24 * 36) << label;
-      } else if (blur == 0) {
+      if (blur == 0) {
         EXPECT_EQ(images.tags_detected, 24 * 36) << label;
       } else {
         EXPECT_GE(images.tags_detected, kMinFoundBlurred * 24 * 36) << label;

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <opencv2/imgproc.hpp>
@@ -108,7 +109,9 @@ TEST(FrameDetector, CountsEveryRuleAndMatchesPointIds) {
 // Tags the detector missed are fitted where their neighbours put them, and only where the pixels
 // show the tag: a 3 x 4 grid at 30 degrees of yaw, noise 2 gray levels; six of its decoded tags
 // are taken out of FindTags' result as if AprilTag 3 had missed them, then one of those is half
-// covered (a gray rectangle) and another has its data cells painted white.
+// covered (a gray rectangle) and another has its data cells painted white. A decoded tag whose
+// corner AprilTag 3 put 3 px off (beyond the fit's max_correction_px of 1.5) is refused from
+// there and fitted again where its neighbours put it.
 TEST(FrameDetector, PredictsMissedTagsAndRefusesTagsThePixelsDoNotShow) {
   const auto family = TagFamily::Create("tag36h11", 1, nullptr);
   ASSERT_NE(family, nullptr);
@@ -164,10 +167,16 @@ TEST(FrameDetector, PredictsMissedTagsAndRefusesTagsThePixelsDoNotShow) {
     kept.from_copy.push_back(false);
   }
   ASSERT_EQ(kept.tags.size(), 6u);
+  const auto thrown_off = std::find_if(kept.tags.begin(), kept.tags.end(),
+                                       [](const TagDetection& tag) { return tag.id == 1; });
+  ASSERT_NE(thrown_off, kept.tags.end());
+  thrown_off->corners[2] += Eigen::Vector2d(3.0, 0.0);
   DetectionCounts counts;
   const std::vector<Observation> observations = detector->RefineTags(view, kept, nullptr, &counts);
   EXPECT_EQ(counts.tags, 10);
   EXPECT_EQ(counts.predicted_tags, 4);       // Tags 0, 3, 6 and 7.
+  EXPECT_EQ(counts.refitted_tags, 1);        // Tag 1.
+  EXPECT_EQ(counts.RefusedTags(), 0);        // Tag 1's refusal undone.
   EXPECT_EQ(counts.refused_predictions, 2);  // Tags 5 and 10.
   ASSERT_EQ(observations.size(), 10u * 4);
   std::set<int> tags_seen;
@@ -182,8 +191,12 @@ TEST(FrameDetector, PredictsMissedTagsAndRefusesTagsThePixelsDoNotShow) {
   options.predict_missing_tags = false;
   const auto plain = FrameDetector::Create({grid}, options, &why);
   ASSERT_NE(plain, nullptr) << why;
-  EXPECT_EQ(plain->RefineTags(view, kept, nullptr, &counts).size(), 6u * 4);
+  EXPECT_EQ(plain->RefineTags(view, kept, nullptr, &counts).size(), 5u * 4);
   EXPECT_EQ(counts.predicted_tags, 0);
+  EXPECT_EQ(counts.refitted_tags, 0);
+  EXPECT_EQ(counts.refused_tags[static_cast<int>(FitFailure::kMoved)] +
+                counts.refused_tags[static_cast<int>(FitFailure::kNotConverged)],
+            1);  // Tag 1, refused from its thrown-off corner.
 }
 
 }  // namespace
