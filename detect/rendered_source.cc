@@ -63,6 +63,7 @@ void DetectionStatsAccumulator::AddFrame(int tags_expected, const DetectionCount
   for (int f = 0; f < kNumFitFailures; ++f) stats_.refused_by_reason[f] += counts.refused_tags[f];
   stats_.border_tags += counts.border_tags;
   stats_.predicted_tags += counts.predicted_tags;
+  stats_.refitted_tags += counts.refitted_tags;
   stats_.refused_predictions += counts.refused_predictions;
 }
 

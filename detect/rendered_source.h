@@ -46,7 +46,9 @@ struct DetectionStats {
   long refused_tags = 0;  // Photometric fit refused: tag dropped (by reason below).
   std::array<long, kNumFitFailures> refused_by_reason{};  // Indexed by FitFailure.
   long border_tags = 0;                                   // Dropped for touching the image border.
-  long predicted_tags = 0;       // Of tags_detected: fitted where neighbours predicted them.
+  long predicted_tags = 0;  // Of tags_detected: fitted where neighbours predicted them.
+  long refitted_tags = 0;   // Of tags_detected: decoded, refused from AprilTag 3's corners, then
+                            // fitted where neighbours predicted them (DetectionCounts).
   long refused_predictions = 0;  // Predicted tags whose fit was refused (dropped).
   long corners = 0;
   double rms_px = 0, bias_x_px = 0, bias_y_px = 0, p95_px = 0;  // Per-corner Euclidean error.

@@ -15,8 +15,9 @@ namespace {
 // one direction only (an edge, not a junction): q is then undetermined along the edge.
 constexpr double kMinGradientSpread = 1e-3;
 
-// Pixel -> the plane the junction is solved in (header comment): the tangent plane about the
-// current estimate's ray through a camera, the image (relative to the estimate) without one.
+// Pixel -> the plane the junction is solved in (header comment): through a camera the tangent
+// plane about the start's ray or the undistorted normalised plane, the image (relative to the
+// start) without one.
 struct LocalPlane {
   const CameraIntrinsics* camera = nullptr;
   bool normalized = false;  // The undistorted normalised plane z = 1 instead of a tangent plane.
@@ -228,6 +229,7 @@ XJunctionSummary RefineXJunction(const GrayImageView& image, const CameraIntrins
     }
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(a);
     const double largest = eigen.eigenvalues()(1);
+    summary.gradient_spread = largest > 0 ? eigen.eigenvalues()(0) / largest : 0.0;
     if (!(largest > 0) || !(eigen.eigenvalues()(0) > kMinGradientSpread * largest)) {
       summary.message = "no junction: the window's gradients do not span two directions";
       return summary;

@@ -14,14 +14,14 @@
 // of curvature (0.01 px with a fisheye at 60 deg and a 6 px window). So, given a camera, every
 // pixel is carried to a plane where lines of the board are straight whatever the lens: p -> t(p),
 // and its gradient (a covector) -> (dt/dp)^-T g (dt/dp by central differences of t over the
-// pixel grid). The weights are taken in that plane, scaled to pixels at q, times each pixel's
-// area there (|det dt/dp|), so that the sum stays an integral over a point-symmetric window of the
-// plane. The solution is mapped back to a pixel through the lens. Two planes serve: the tangent
-// plane about the start's ray (detect/tangent_plane.h; any direction, past 90 deg too) and the
-// undistorted normalised plane z = 1 (an affine image of a pinhole's pixels). The blur is isotropic
-// in pixels, not in the plane: where p -> t is not affine, the blurred edges' flanks are unequal
-// and q moves (+0.003 px at 1 px blur for a pinhole seen through the tangent plane 15 deg off
-// axis). So the plane is chosen per corner as the one nearer an affine map over the window (the
+// pixel grid). The weights are taken in that plane, scaled to pixels at the start, times each
+// pixel's area there (|det dt/dp|), so that the sum stays an integral over a point-symmetric window
+// of the plane. The solution is mapped back to a pixel through the lens. Two planes serve: the
+// tangent plane about the start's ray (detect/tangent_plane.h; any direction, past 90 deg too) and
+// the undistorted normalised plane z = 1 (an affine image of a pinhole's pixels). The blur is
+// isotropic in pixels, not in the plane: where p -> t is not affine, the blurred edges' flanks are
+// unequal and q moves (+0.003 px at 1 px blur for a pinhole seen through the tangent plane 15 deg
+// off axis). So the plane is chosen per corner as the one nearer an affine map over the window (the
 // change of dt/dp across it): the normalised plane for a pinhole, the tangent plane for a fisheye.
 // The plane is fixed for the corner, so the window's plane points are computed again only when the
 // window moves by a whole pixel.
@@ -44,9 +44,11 @@ struct XJunctionOptions {
   // The weight's radius (biweight (1 - d^2 / R^2)^2): 6 px covers cornerSubPix's 11 x 11 window
   // of OpenCV's calibration sample; keep it below half the smallest square in pixels.
   double radius_px = 6.0;
-  // The window follows q, so each iteration is a fixed-point step: on sheared junctions (a
-  // tilted board's thin squares) it contracts slowly (measured up to ~60 iterations to 1e-4 px).
-  int max_iterations = 100;
+  // The window follows q, so each iteration is a fixed-point step; it contracts fast where the
+  // window holds one junction (5-15 iterations to 1e-4 px). A corner that needs more has other
+  // structure in its window (squares under ~10 px): measured on rendered fisheye views, corners
+  // that took 35-90 iterations were 0.08-0.5 px off, so they are refused.
+  int max_iterations = 30;
   double tolerance_px = 1e-4;  // Stop when an iteration moves q by less.
   double max_move_px = 3.0;    // From the starting point; beyond it the junction was not there.
   // The image is smoothed by a Gaussian of this sigma before its gradients are taken (central
@@ -59,6 +61,10 @@ struct XJunctionOptions {
 struct XJunctionSummary {
   bool converged = false;
   int iterations = 0;
+  // The smallest over the largest eigenvalue of sum w g g^T at the last iteration: 1 for edges
+  // crossing at right angles, about tan^2(theta / 2) for lines crossing at theta; a sheared
+  // junction (thin squares of a tilted board) is poorly located along its bisector.
+  double gradient_spread = 0;
   std::string message;  // Why it failed.
 };
 

@@ -124,6 +124,17 @@ std::vector<float> ShadePixels(const CameraIntrinsics& camera, const Rigid3& cam
 
 }  // namespace
 
+bool CheckerboardPattern::Check(std::string* why) const {
+  if (cols >= 2 && rows >= 2 && cols <= 10000 && rows <= 10000 && square_m > 0 &&
+      std::isfinite(square_m)) {
+    return true;
+  }
+  if (why) {
+    *why = "a checkerboard needs 2..10000 inner corners a side and a positive, finite square";
+  }
+  return false;
+}
+
 bool CheckerboardImageOptions::Check(std::string* why) const {
   auto fail = [&](const std::string& reason) {
     if (why) *why = reason;
@@ -152,10 +163,7 @@ bool RenderCheckerboard(const CameraIntrinsics& camera, const Rigid3& cam_from_b
     if (why) *why = "noise_sigma_gray > 0 needs a random generator";
     return false;
   }
-  if (pattern.cols < 2 || pattern.rows < 2 || !(pattern.square_m > 0)) {
-    if (why) *why = "a checkerboard needs at least 2 x 2 inner corners and a positive square";
-    return false;
-  }
+  if (!pattern.Check(why)) return false;
   const int w = options.width, h = options.height;
   std::vector<float> values;
   PixelBox box{};

@@ -34,12 +34,14 @@ struct CheckerboardPattern {
   double square_m = 0.03;  // Side of a square.
   // Inner corner (r, c) in the board frame.
   Eigen::Vector3d Corner(int r, int c) const { return {c * square_m, r * square_m, 0.0}; }
+  // At least 2 x 2 inner corners, at most 10000 a side; a positive, finite square.
+  bool Check(std::string* why) const;
 };
 
 struct CheckerboardImageOptions {
   int width = 640, height = 480;
-  // n x n samples in a pixel that an edge or outline crosses (ceil(n / m) in each of the m x m
-  // sub-pixels of a blurred frame).
+  // n x n samples in a pixel that an edge or outline crosses (max(2, ceil(n / m)) in each of the
+  // m x m sub-pixels of a blurred frame).
   int supersample = 8;
   double blur_sigma_px = 0.0;     // Gaussian PSF; 0: none.
   double noise_sigma_gray = 0.0;  // Gaussian noise added before quantisation.

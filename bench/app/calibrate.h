@@ -79,15 +79,15 @@ struct ImageCalibration {
 // calibrate --images through a lens that distorts: the corners of every image are fitted again
 // through the current estimate (aprilgrid: the lens-aware photometric fit,
 // detect/photometric_fit.h, the tags' edges bending as the lens bends them; checkerboard: the
-// X-junctions in the tangent plane of each corner's ray, detect/x_junction.h; what the detector
-// found before is reused, state->detections) and the camera is recalibrated (from scratch, as the
-// first time: started from the previous camera, Levenberg-Marquardt was measured to stop in a worse
-// minimum on a 160 deg fisheye), until f.ku moves by less than kCornerIterationTol of its std or
-// after `max_iterations` re-fits. Each pass prints one line to `log`: f.ku +- std, RMS, and the RMS
-// and largest move of the corners matched between passes. Before each pass on an aprilgrid the
-// change it could make is predicted (the largest change in how the new estimate bends a tag's edges
-// against the camera the corners were fitted through, EdgeBendChangePx, and the f.ku move that
-// bounds, calibrate.cc PredictRefit); a pass predicted to move f.ku by less than
+// X-junctions in a plane where the board's lines are straight, detect/x_junction.h; what the
+// detector found before is reused, state->detections) and the camera is recalibrated (from scratch,
+// as the first time: started from the previous camera, Levenberg-Marquardt was measured to stop in
+// a worse minimum on a 160 deg fisheye), until f.ku moves by less than kCornerIterationTol of its
+// std or after `max_iterations` re-fits. Each pass prints one line to `log`: f.ku +- std, RMS, and
+// the RMS and largest move of the corners matched between passes. Before each pass on an aprilgrid
+// the change it could make is predicted (the largest change in how the new estimate bends a tag's
+// edges against the camera the corners were fitted through, EdgeBendChangePx, and the f.ku move
+// that bounds, calibrate.cc PredictRefit); a pass predicted to move f.ku by less than
 // kCornerIterationTol of its std is not run, and the log says so. `images`: how the images are read
 // (threads, refinement); its camera, lens and detection_cache are set per pass. *state (its report
 // usable) is replaced by the last usable pass.

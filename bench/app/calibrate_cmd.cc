@@ -50,7 +50,8 @@ bool FitCamera(const PointData& data, bool auto_model, CalibrateOptions* options
 }
 
 // calibrate --images: the target's corners in the images, the fit (FitCamera), the corners re-fit
-// through the lens (aprilgrid, photometric), the reports and the camera file.
+// through the lens (a lens that distorts; tags: with the photometric fit), the reports and the
+// camera file.
 int CalibrateImages(const CalibrateArgs& args, bool auto_model, CalibrateOptions options,
                     CameraFormat format) {
   CalibrationTarget target;
@@ -67,8 +68,13 @@ int CalibrateImages(const CalibrateArgs& args, bool auto_model, CalibrateOptions
   // With --init, the given camera's lens draws the corner fit from the first pass.
   ImagePointOptions image_options;
   image_options.predict_missing_tags = !args.no_tag_prediction;
-  // --model auto: the candidates include wide lenses, whose bent tag edges need the curved fit.
-  image_options.lens = auto_model ? LensFamily::kUnified : FamilyOf(options.model);
+  // --model auto: the candidates include wide lenses, whose bent tag edges need the curved fit; a
+  // checkerboard is found as OpenCV's procedure finds it (the classic search first), since a
+  // pinhole pick keeps those corners.
+  const bool aprilgrid = target.type == CalibrationTarget::Type::kAprilGrid;
+  image_options.lens = !auto_model ? FamilyOf(options.model)
+                       : aprilgrid ? LensFamily::kUnified
+                                   : LensFamily::kRadTan;
   if (options.init) image_options.camera = options.init->intrinsics;
   image_options.threads = args.threads;
   if (!args.corner_refinement.empty()) {
@@ -96,7 +102,7 @@ int CalibrateImages(const CalibrateArgs& args, bool auto_model, CalibrateOptions
   }
   if (!FitCamera(state.data, auto_model, &options, &state.report)) return 4;
   // The tags' re-fit through the lens is the photometric fit's; a checkerboard's is its own.
-  const bool refits = target.type != CalibrationTarget::Type::kAprilGrid || photometric;
+  const bool refits = !aprilgrid || photometric;
   if (!args.evaluate && options.model != LensModel::kPinhole && args.corner_iterations > 0 &&
       refits) {
     IterateCornersThroughTheLens(args.images_dir, target, image_options, options,

@@ -221,21 +221,22 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
 }
 
 std::string FormatDetectionStats(const DetectionStats& s) {
-  char text[800];
+  char text[900];
   std::snprintf(
       text, sizeof(text),
       "frames %d (%d without detections)\n"
       "tags: %ld detected of %ld fully in view: detection rate %.4f; %ld unknown ids, "
       "%ld dropped at the border, %ld unrefined (%ld more dropped: found only in a "
       "modified copy), %ld refused by the photometric fit; %ld of the detected not decoded "
-      "but predicted from their neighbours (%ld predictions refused)\n"
+      "but predicted from their neighbours (%ld predictions refused), %ld refused from "
+      "AprilTag 3's corners but fitted from their neighbours'\n"
       "corner error vs truth over %ld corners: RMS %.4f px, bias (%.4f, %.4f) px, "
       "p95 %.4f px; along the tag diagonals: radial (outward) bias %.4f px, tangential "
       "%.4f px; Cramer-Rao std per axis (RMS) %.4f px\n",
       s.frames, s.frames_without_detections, s.tags_detected, s.tags_expected, s.DetectionRate(),
       s.unknown_tags, s.border_tags, s.unrefined_tags, s.unrefined_copy_tags, s.refused_tags,
-      s.predicted_tags, s.refused_predictions, s.corners, s.rms_px, s.bias_x_px, s.bias_y_px,
-      s.p95_px, s.bias_radial_px, s.bias_tangent_px, s.crlb_rms_px);
+      s.predicted_tags, s.refused_predictions, s.refitted_tags, s.corners, s.rms_px, s.bias_x_px,
+      s.bias_y_px, s.p95_px, s.bias_radial_px, s.bias_tangent_px, s.crlb_rms_px);
   return text;
 }
 

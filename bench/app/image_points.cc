@@ -16,9 +16,36 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The smallest window radius of a checkerboard corner's X-junction refinement: a 1 px blurred
-// edge's gradient (smoothed by 1 px more) spans about +-2.5 px.
-constexpr double kMinJunctionRadiusPx = 2.5;
+// A checkerboard corner's X-junction refinement (detect/x_junction.h) sees its four squares only:
+// its window's radius is at most half the corner's reach, the distance to the nearest far side of
+// an adjacent square (a neighbouring corner's distance for square squares, less for a tilted
+// board's sheared ones), and its move at most half of it (never onto a neighbouring junction).
+// A corner whose reach is below kMinSquareReachPx is left out: measured on rendered fisheye views
+// (2 gray levels of noise, 1 px blur), corners of squares 6.5-8 px across came out 0.2-0.5 px off
+// where the others were within 0.16 px. The window's radius is at least kMinJunctionRadiusPx: a
+// 1 px blurred edge's gradient, smoothed by 1 px more, spans about +-2.5 px.
+constexpr double kMinSquareReachPx = 8.0, kMinJunctionRadiusPx = 2.5;
+
+// The reach of inner corner (r, c) of the rows x cols corners `found` (row-major; above).
+double SquareReachPx(const std::vector<Eigen::Vector2d>& found, int rows, int cols, int r, int c) {
+  auto at = [&](int rr, int cc) -> const Eigen::Vector2d& { return found[rr * cols + cc]; };
+  auto distance_to_line = [](const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                             const Eigen::Vector2d& b) {
+    const Eigen::Vector2d d = b - a;
+    const double n = d.norm();
+    return n > 0 ? std::abs(d.x() * (p - a).y() - d.y() * (p - a).x()) / n : (p - a).norm();
+  };
+  double reach = std::numeric_limits<double>::infinity();
+  for (const int dr : {-1, 1}) {
+    for (const int dc : {-1, 1}) {
+      if (r + dr < 0 || r + dr >= rows || c + dc < 0 || c + dc >= cols) continue;
+      const Eigen::Vector2d &p = at(r, c), &across = at(r + dr, c + dc);
+      reach = std::min({reach, distance_to_line(p, at(r, c + dc), across),
+                        distance_to_line(p, at(r + dr, c), across)});
+    }
+  }
+  return reach;
+}
 
 // A view needs this many points: more than a homography's 4, so that a view says something.
 constexpr size_t kMinViewPoints = 8;
@@ -55,20 +82,18 @@ bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, LensFamil
   if (found->size() != expected) return false;
   int failed = 0;
   std::string first_reason;
-  auto at = [&](int r, int c) { return (*found)[r * t.cols + c]; };
   for (int r = 0; r < t.rows; ++r) {
     for (int c = 0; c < t.cols; ++c) {
-      Eigen::Vector2d pixel = at(r, c);
+      Eigen::Vector2d pixel = (*found)[r * t.cols + c];
       if (camera) {
-        // The window stays inside the corner's four squares: at most half the distance to the
-        // nearest neighbouring corner (a tilted board's squares can be a few pixels wide).
-        double nearest = std::numeric_limits<double>::infinity();
-        for (const auto& [dr, dc] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-          if (r + dr < 0 || r + dr >= t.rows || c + dc < 0 || c + dc >= t.cols) continue;
-          nearest = std::min(nearest, (at(r + dr, c + dc) - pixel).norm());
+        const double reach = SquareReachPx(*found, t.rows, t.cols, r, c);
+        if (!(reach >= kMinSquareReachPx)) {
+          if (failed++ == 0) first_reason = "its squares are too thin in the image";
+          continue;
         }
         XJunctionOptions options;
-        options.radius_px = std::clamp(0.5 * nearest, kMinJunctionRadiusPx, options.radius_px);
+        options.radius_px = std::clamp(0.5 * reach, kMinJunctionRadiusPx, options.radius_px);
+        options.max_move_px = std::min(options.max_move_px, 0.5 * reach);
         const XJunctionSummary s = RefineXJunction(image, &*camera, options, &pixel);
         if (!s.converged) {
           if (failed++ == 0) first_reason = s.message;
@@ -318,10 +343,14 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
   used_index->clear();
   ImageDetectionCache* cache = options.detection_cache;
   const bool through_lens = aprilgrid && detectors[0]->FindingUsesCamera();
-  const bool reuse = cache && cache->filled && cache->per_image.size() == files.size() &&
+  std::string source = dir + "\n" + TargetYamlText(target);
+  for (const std::string& name : names) source += "\n" + name;
+  const bool reuse = cache && cache->filled && cache->source == source &&
+                     cache->per_image.size() == files.size() &&
                      (cache->found_through_lens || !through_lens);
   if (cache && !reuse) {
     *cache = ImageDetectionCache();
+    cache->source = source;
     cache->per_image.resize(files.size());
     cache->checkerboard_corners.resize(files.size());
     cache->found_through_lens = through_lens;

@@ -31,6 +31,8 @@ namespace calibench {
 // again.
 struct ImageDetectionCache {
   bool filled = false;
+  // What it was filled from: the folder and the target (its YAML text); reused only for the same.
+  std::string source;
   // FindTags painted corner squares out through a distorting camera (FrameDetector::
   // FindingUsesCamera): it then finds more tags than without one, and is not reused by a pass
   // that has a camera when it was filled without.
@@ -52,8 +54,8 @@ struct ImagePointOptions {
   // Grid tags AprilTag 3 did not decode are fitted where their neighbours put them
   // (FrameDetectorOptions::predict_missing_tags; photometric refinement only).
   bool predict_missing_tags = true;
-  // In / out, aprilgrid only: filled by the first call that gets it, reused by later ones (as
-  // long as the folder is unchanged).
+  // In / out: filled by the first call that gets it, reused by later ones on the same folder
+  // (the same files) and target.
   ImageDetectionCache* detection_cache = nullptr;
   // Images are read and detected in parallel on this many threads (<= 0: every core); the
   // result does not depend on it.

@@ -18,7 +18,8 @@ namespace {
 // reported std of f.ku, f.kv, u0, v0: with cornerSubPix's corners up to 4.8 (EuRoC-like, blurred)
 // and 6.9 (fisheye, blurred): the bent edges bias cornerSubPix, and the fisheye's boards are found
 // only by the sector-based detector, whose corners are worse; re-fitted as X-junctions through
-// the estimate, at most 1.19 blurred and 2.55 sharp (the sharp fisheye's v0: sharp frames keep
+// the estimate, at most 1.71 blurred (the fisheye's v0) and 2.48 sharp (the sharp fisheye's v0:
+// sharp frames keep
 // the pixel-phase error of a gradient-based corner, x_junction_test.cc, correlated between a
 // view's neighbouring corners).
 // kWithinStd = 3: 16 checks, 0.04 expected outside by chance if the stds are right.

@@ -197,10 +197,58 @@ TEST(XJunction, RefusesWhatIsNotAJunction) {
   EXPECT_NE(refine(flat, {32, 32}).find("no junction"), std::string::npos);
   EXPECT_NE(refine(edge, {31.5, 32}).find("no junction"), std::string::npos);
   EXPECT_NE(refine(edge, {3, 32}).find("leaves the image"), std::string::npos);
-  XJunctionOptions bad;
-  bad.radius_px = 0.5;
-  EXPECT_NE(refine(edge, {32, 32}, bad).find("radius_px"), std::string::npos);
   EXPECT_NE(refine(edge, {NAN, 32}).find("not finite"), std::string::npos);
+  const std::vector<std::pair<void (*)(XJunctionOptions*), const char*>> bad_options = {
+      {[](XJunctionOptions* o) { o->radius_px = 0.5; }, "radius_px"},
+      {[](XJunctionOptions* o) { o->max_iterations = 0; }, "max_iterations"},
+      {[](XJunctionOptions* o) { o->tolerance_px = 0; }, "tolerance_px"},
+      {[](XJunctionOptions* o) { o->max_move_px = -1; }, "max_move_px"},
+      {[](XJunctionOptions* o) { o->gradient_sigma_px = NAN; }, "gradient_sigma_px"}};
+  for (const auto& [spoil, field] : bad_options) {
+    XJunctionOptions bad;
+    spoil(&bad);
+    EXPECT_NE(refine(edge, {32, 32}, bad).find(field), std::string::npos) << field;
+  }
+}
+
+// A real junction (a pinhole's board, 1 px blur) started 0.6 px off: refused, and left where it
+// started, when one iteration may not settle it or when it may move only 0.2 px; found within
+// 0.02 px by the defaults.
+TEST(XJunction, StopsAtItsLimits) {
+  const CameraIntrinsics camera{458.0, 457.0, 90.0, 367.0, 248.0};
+  CheckerboardPattern pattern;
+  const Rigid3 cam_from_board =
+      FacingBoardPose({0.2, 0.3, 0.1}, pattern.Corner(2, 4), {0, 0, 0.45});
+  CheckerboardImageOptions options;
+  options.width = 752, options.height = 480;
+  options.blur_sigma_px = 1.0;
+  GrayImage image;
+  std::string why;
+  ASSERT_TRUE(RenderCheckerboard(camera, cam_from_board, pattern, options, nullptr, &image, &why))
+      << why;
+  Eigen::Vector2d truth;
+  ASSERT_TRUE(ProjectPoint(camera, cam_from_board * pattern.Corner(2, 4), &truth));
+  const Eigen::Vector2d start = truth + Eigen::Vector2d(0.6, 0.0);
+  auto refine = [&](const XJunctionOptions& o, Eigen::Vector2d* corner) {
+    return RefineXJunction(image, &camera, o, corner);
+  };
+  XJunctionOptions one_step;
+  one_step.max_iterations = 1;
+  Eigen::Vector2d corner = start;
+  XJunctionSummary s = refine(one_step, &corner);
+  EXPECT_FALSE(s.converged);
+  EXPECT_NE(s.message.find("max_iterations"), std::string::npos) << s.message;
+  EXPECT_EQ(corner, start);
+  XJunctionOptions short_move;
+  short_move.max_move_px = 0.2;
+  s = refine(short_move, &corner);
+  EXPECT_FALSE(s.converged);
+  EXPECT_NE(s.message.find("max_move_px"), std::string::npos) << s.message;
+  EXPECT_EQ(corner, start);
+  s = refine(XJunctionOptions(), &corner);
+  EXPECT_TRUE(s.converged) << s.message;
+  EXPECT_LT((corner - truth).norm(), 0.02);
+  EXPECT_GT(s.gradient_spread, 0.3);  // Edges crossing near right angles.
 }
 
 }  // namespace
