@@ -293,7 +293,8 @@ void FrameDetector::PredictMissingTags(const GrayImageView& view, const CameraIn
             NearBorder(corners, view)) {
           continue;
         }
-        if (lens) {  // Not past the field the decoded tags reach.
+        // Not past the field the decoded tags reach, unless AprilTag 3 decoded this one there.
+        if (lens && refused.count(id) == 0) {
           bool beyond = false;
           for (const Eigen::Vector2d& corner : corners) beyond |= off_axis(corner) > max_off_axis;
           if (beyond) continue;

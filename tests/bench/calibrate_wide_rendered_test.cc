@@ -252,10 +252,11 @@ Consistency CheckAgainstTruth(const WideTruth& truth, const RefineResult& r) {
 
 // Measured (seeds 100-106, 20 views each, the corners re-fitted through the estimate until f.ku
 // settles: 2-3 passes; RMS 0.0042-0.0048 px): the fitted camera projects every ray of the field
-// within 0.0013-0.0043 px of the truth (max over the field), and 47 of the 50 free intrinsics lie
-// within 2 reported std of the truth: unified 190's v0 at 2.08, and eucm 160's alpha and beta at
-// 3.45 and 2.94 (nearly collinear: one error direction; its Mahalanobis d2 15.7 for 6 dof). A 95%
-// interval expects 2.5 of 50 beyond. The Mahalanobis distance is chi-square-like for most truths
+// within 0.0013-0.0038 px of the truth (max over the field), and 48 of the 50 free intrinsics lie
+// within 2 reported std of the truth: eucm 160's alpha and beta at 2.88 and 2.48 (nearly
+// collinear: one error direction; its Mahalanobis d2 11.9 for 6 dof). A 95% interval expects 2.5
+// of 50 beyond. (Before decoded tags refused from AprilTag 3's corners were fitted again from
+// their neighbours: 47 of 50, unified 190's v0 at 2.08, the eucm pair at 3.45 and 2.94.) The Mahalanobis distance is chi-square-like for most truths
 // (6-21 for 6-9 dof) but 104 for pinhole-equi 160 deg, whose k1..k4 are so correlated that tiny
 // corner biases fall in directions the covariance calls very tight: printed, not asserted.
 // With a single pass (the corners fitted once through the first, homography-based estimate, f.ku
@@ -263,7 +264,8 @@ Consistency CheckAgainstTruth(const WideTruth& truth, const RefineResult& r) {
 //
 // Tolerances: kStdUnits, the "within 2 reported std", bounds every parameter but
 // kMaxBeyond2Std per truth (2: one correlated pair leaves together, as measured); kMaxAbsZ bounds
-// all of them (the measured 3.45 plus a margin; P(|z| > 4) = 6e-5 for a right covariance).
+// all of them (the largest measured, 3.45 before that change, plus a margin; P(|z| > 4) = 6e-5
+// for a right covariance).
 // kTruthProjectionPx bounds the projection difference to the truth over the field: 2x the
 // corners' RMS (a calibration whose projection is off by more than twice its data's noise
 // anywhere is wrong).
