@@ -101,7 +101,8 @@ struct Case {
 //   normalised plane it is +0.0034: the plane's perspective varies the blur across the window;
 //   cornerSubPix +0.0001 to +0.0135, the image-space junction +0.0033 / +0.0118 with the EuRoC-like
 //   lens / fisheye: the edges' sagitta); held to kRadialBiasTolPx. RMS 0.0064-0.0087 px against
-//   cornerSubPix's 0.018-0.024: held to kBlurredRmsTolPx.
+//   cornerSubPix's 0.018-0.024: held to kBlurredRmsTolPx. At 0.5 px of blur: radial +0.0000 to
+//   +0.0007, RMS 0.0035-0.0055 (cornerSubPix 0.032-0.036), the same bounds.
 // - With 2 gray levels of noise on top the noise dominates: RMS 0.027-0.030 px (cornerSubPix
 //   0.033), held to kNoisyRmsTolPx; the mean radial error to kRadialBiasTolPx plus 3 standard
 //   errors of a mean of 54 corners.
@@ -126,11 +127,14 @@ TEST(XJunction, CornersThroughLensesAgainstTheirExactProjections) {
   const std::vector<Case> cases = {
       {"pinhole", pinhole, axis, 0.45, 0.0, 0},
       {"pinhole, blur 1", pinhole, axis, 0.45, 1.0, 0},
+      {"pinhole, blur 0.5", pinhole, axis, 0.45, 0.5, 0},
       {"euroc-like, image edge", euroc, near_edge, 0.45, 0.0, 0},
       {"euroc-like, image edge, blur 1", euroc, near_edge, 0.45, 1.0, 0},
+      {"euroc-like, image edge, blur 0.5", euroc, near_edge, 0.45, 0.5, 0},
       {"euroc-like, image edge, blur 1, noise 2", euroc, near_edge, 0.45, 1.0, 2},
       {"fisheye, 60 deg", fisheye, at_60_deg, 0.2, 0.0, 0},
       {"fisheye, 60 deg, blur 1", fisheye, at_60_deg, 0.2, 1.0, 0},
+      {"fisheye, 60 deg, blur 0.5", fisheye, at_60_deg, 0.2, 0.5, 0},
       {"fisheye, 60 deg, blur 1, noise 2", fisheye, at_60_deg, 0.2, 1.0, 2},
   };
   for (const Case& c : cases) {
