@@ -293,8 +293,15 @@ void FrameDetector::PredictMissingTags(const GrayImageView& view, const CameraIn
             NearBorder(corners, view)) {
           continue;
         }
-        // Not past the field the decoded tags reach, unless AprilTag 3 decoded this one there.
-        if (lens && refused.count(id) == 0) {
+        // Not past the field the decoded tags reach, unless AprilTag 3 decoded this one there and
+        // its fit failed from a thrown-off corner (moved, not converged, diverged), not for the
+        // reasons of a squeezed tag at the image circle's edge (border, contrast, pixels).
+        const auto decoded = refused.find(id);
+        const bool thrown_off =
+            decoded != refused.end() && (decoded->second == FitFailure::kMoved ||
+                                         decoded->second == FitFailure::kNotConverged ||
+                                         decoded->second == FitFailure::kDiverged);
+        if (lens && !thrown_off) {
           bool beyond = false;
           for (const Eigen::Vector2d& corner : corners) beyond |= off_axis(corner) > max_off_axis;
           if (beyond) continue;

@@ -48,8 +48,9 @@
 // max_predicted_residual_ratio x the decoded tags' median (an occluded or shadowed tag is refused
 // and counted). Predicted tags join the neighbours of the next ones. A decoded tag whose fit from
 // AprilTag 3's corners was refused (a corner thrown off, e.g. by a Kalibr corner square: measured
-// on EuRoC-like rendered views, 3-6 of 864 tags) is predicted the same way, its id being known,
-// and is not held to the field the fitted tags reach (AprilTag 3 decoded it there).
+// on EuRoC-like rendered views, 3-6 of 864 tags) is predicted the same way, its id being known;
+// when its fit failed from a thrown-off corner (moved, not converged, diverged) it is not held to
+// the field the fitted tags reach (AprilTag 3 decoded it there).
 #pragma once
 
 #include <Eigen/Core>

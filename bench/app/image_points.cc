@@ -19,12 +19,11 @@ namespace fs = std::filesystem;
 // A checkerboard corner's X-junction refinement (detect/x_junction.h) sees its four squares only:
 // its window's radius is at most half the corner's reach, the distance to the nearest far side of
 // an adjacent square (a neighbouring corner's distance for square squares, less for a tilted
-// board's sheared ones), and its move at most half of it (never onto a neighbouring junction).
-// A corner whose reach is below kMinSquareReachPx is left out: measured on rendered fisheye views
-// (2 gray levels of noise, 1 px blur), corners of squares 6.5-8 px across came out 0.2-0.5 px off
-// where the others were within 0.16 px. The window's radius is at least kMinJunctionRadiusPx: a
-// 1 px blurred edge's gradient, smoothed by 1 px more, spans about +-2.5 px.
-constexpr double kMinSquareReachPx = 8.0, kMinJunctionRadiusPx = 2.5;
+// board's sheared ones). A corner whose reach is below kMinSquareReachPx is left out: measured on
+// rendered fisheye views (2 gray levels of noise, 1 px blur), corners of squares 6.5-8 px across
+// came out 0.2-0.5 px off where the others were within 0.16 px. So the radius is at least 4 px,
+// and the refinement's own move limit (3 px) keeps a corner off its neighbours' junctions.
+constexpr double kMinSquareReachPx = 8.0;
 
 // The reach of inner corner (r, c) of the rows x cols corners `found` (row-major; above).
 double SquareReachPx(const std::vector<Eigen::Vector2d>& found, int rows, int cols, int r, int c) {
@@ -92,8 +91,7 @@ bool FindCheckerboard(const cv::Mat& gray, const CalibrationTarget& t, LensFamil
           continue;
         }
         XJunctionOptions options;
-        options.radius_px = std::clamp(0.5 * reach, kMinJunctionRadiusPx, options.radius_px);
-        options.max_move_px = std::min(options.max_move_px, 0.5 * reach);
+        options.radius_px = std::min(0.5 * reach, options.radius_px);
         const XJunctionSummary s = RefineXJunction(image, &*camera, options, &pixel);
         if (!s.converged) {
           if (failed++ == 0) first_reason = s.message;
@@ -343,7 +341,7 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
   used_index->clear();
   ImageDetectionCache* cache = options.detection_cache;
   const bool through_lens = aprilgrid && detectors[0]->FindingUsesCamera();
-  std::string source = dir + "\n" + TargetYamlText(target);
+  std::string source = dir + "\n" + TargetYamlText(target) + "\nlens " + ToString(options.lens);
   for (const std::string& name : names) source += "\n" + name;
   const bool reuse = cache && cache->filled && cache->source == source &&
                      cache->per_image.size() == files.size() &&

@@ -256,11 +256,12 @@ Consistency CheckAgainstTruth(const WideTruth& truth, const RefineResult& r) {
 // within 2 reported std of the truth: eucm 160's alpha and beta at 2.88 and 2.48 (nearly
 // collinear: one error direction; its Mahalanobis d2 11.9 for 6 dof). A 95% interval expects 2.5
 // of 50 beyond. (Before decoded tags refused from AprilTag 3's corners were fitted again from
-// their neighbours: 47 of 50, unified 190's v0 at 2.08, the eucm pair at 3.45 and 2.94.) The Mahalanobis distance is chi-square-like for most truths
-// (6-21 for 6-9 dof) but 104 for pinhole-equi 160 deg, whose k1..k4 are so correlated that tiny
-// corner biases fall in directions the covariance calls very tight: printed, not asserted.
-// With a single pass (the corners fitted once through the first, homography-based estimate, f.ku
-// 3 px off on unified 190) up to 4.6 std: the passes matter.
+// their neighbours: 47 of 50, unified 190's v0 at 2.08, the eucm pair at 3.45 and 2.94.) The
+// Mahalanobis distance is chi-square-like for most truths (6-21 for 6-9 dof) but 111.5 for
+// pinhole-equi 160 deg, whose k1..k4 are so correlated that tiny corner biases fall in directions
+// the covariance calls very tight: printed, not asserted. With a single pass (the corners fitted
+// once through the first, homography-based estimate, f.ku 3 px off on unified 190) up to 4.6 std:
+// the passes matter.
 //
 // Tolerances: kStdUnits, the "within 2 reported std", bounds every parameter but
 // kMaxBeyond2Std per truth (2: one correlated pair leaves together, as measured); kMaxAbsZ bounds

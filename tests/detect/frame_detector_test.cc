@@ -199,5 +199,69 @@ TEST(FrameDetector, PredictsMissedTagsAndRefusesTagsThePixelsDoNotShow) {
             1);  // Tag 1, refused from its thrown-off corner.
 }
 
+// Through a lens that distorts, a predicted tag is not placed farther off the axis than the fitted
+// tags reach; a decoded tag whose fit failed from a thrown-off corner is, since AprilTag 3 decoded
+// it there: the grid's tag farthest off the axis, its corner put 3 px off, comes back within
+// kCornerTolPx of its projection, counted as refitted.
+TEST(FrameDetector, RefitsADecodedTagBeyondTheFittedTagsThroughALens) {
+  const auto family = TagFamily::Create("tag36h11", 1, nullptr);
+  ASSERT_NE(family, nullptr);
+  AprilGrid grid;
+  grid.tag_rows = 3, grid.tag_cols = 4, grid.tag_size_m = 0.05;
+  const CameraIntrinsics camera{500, 500, 90, 319.5, 239.5, -0.15, 0.02};
+  const Eigen::Matrix3d yawed =
+      Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+      Eigen::Vector3d(1, -1, -1).asDiagonal();
+  const BoardView board{grid, family, {yawed, {-0.05, 0.06, 0.7}}};
+  RenderOptions render;
+  render.width = 640, render.height = 480;
+  std::string why;
+  GrayImage image;
+  ASSERT_TRUE(RenderFrame(camera, {board}, render, nullptr, &image, &why)) << why;
+  const std::vector<Eigen::Vector3d> corners = grid.CornersInBoard();
+  auto exact = [&](int point) {
+    Eigen::Vector2d pixel;
+    EXPECT_TRUE(ProjectPoint(camera, board.cam_from_board * corners[point], &pixel));
+    return pixel;
+  };
+  auto off_axis = [&](int point) {
+    const Eigen::Vector3d p = board.cam_from_board * corners[point];
+    return std::acos(p.normalized().z());
+  };
+  int farthest = 0;  // The tag with the corner farthest off the axis.
+  for (int point = 0; point < 4 * grid.NumTags(); ++point) {
+    if (off_axis(point) > off_axis(4 * farthest) && off_axis(point) > off_axis(4 * farthest + 1) &&
+        off_axis(point) > off_axis(4 * farthest + 2) &&
+        off_axis(point) > off_axis(4 * farthest + 3))
+      farthest = point / 4;
+  }
+  FrameDetectorOptions options;
+  options.camera = camera;
+  const auto detector = FrameDetector::Create({grid}, options, &why);
+  ASSERT_NE(detector, nullptr) << why;
+  const GrayImageView view(image);
+  FoundTags found = detector->FindTags(view);
+  ASSERT_EQ(found.tags.size(), 12u);
+  for (TagDetection& tag : found.tags) {
+    if (tag.id != farthest) continue;
+    // Its corner farthest off the axis, 3 px farther out.
+    int k = 0;
+    for (int c = 1; c < 4; ++c) {
+      if (off_axis(4 * farthest + c) > off_axis(4 * farthest + k)) k = c;
+    }
+    const Eigen::Vector2d out = (tag.corners[k] - Eigen::Vector2d(319.5, 239.5)).normalized();
+    tag.corners[k] += 3.0 * out;
+  }
+  DetectionCounts counts;
+  const std::vector<Observation> observations = detector->RefineTags(view, found, &camera, &counts);
+  EXPECT_EQ(counts.tags, 12);
+  EXPECT_EQ(counts.refitted_tags, 1) << "tag " << farthest;
+  EXPECT_EQ(counts.RefusedTags(), 0);
+  ASSERT_EQ(observations.size(), 12u * 4);
+  for (const Observation& o : observations) {
+    EXPECT_LT((o.pixel - exact(o.point_id)).norm(), kCornerTolPx) << "point " << o.point_id;
+  }
+}
+
 }  // namespace
 }  // namespace calibench
