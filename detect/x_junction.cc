@@ -1,15 +1,20 @@
 #include "detect/x_junction.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
 
 #include "detect/tangent_plane.h"
+#include "sim/image_filters.h"
 
 namespace calibench {
 namespace {
+
+// The reach of GaussianBlur's kernel for `sigma` px (3 sigma, whole pixels); 0 without blur.
+int KernelReach(double sigma) { return sigma > 0 ? static_cast<int>(std::ceil(3 * sigma)) : 0; }
 
 // Below this ratio of the smallest to the largest eigenvalue of sum w g g^T the gradients span
 // one direction only (an edge, not a junction): q is then undetermined along the edge.
@@ -46,64 +51,51 @@ struct LocalPlane {
     if (normalized) return ProjectPoint(*camera, Eigen::Vector3d(t.x(), t.y(), 1), p);
     return plane.ToPixel(*camera, t, p);
   }
+  // dt/dp at pixel p by central differences over +-1 px; false where a point has no ray.
+  bool JacobianAt(const Eigen::Vector2d& p, Eigen::Matrix2d* dt_dp) const {
+    Eigen::Vector2d tx0, tx1, ty0, ty1;
+    if (!FromPixel(p - Eigen::Vector2d(1, 0), &tx0) ||
+        !FromPixel(p + Eigen::Vector2d(1, 0), &tx1) ||
+        !FromPixel(p - Eigen::Vector2d(0, 1), &ty0) ||
+        !FromPixel(p + Eigen::Vector2d(0, 1), &ty1)) {
+      return false;
+    }
+    *dt_dp << (tx1 - tx0) / 2, (ty1 - ty0) / 2;
+    return true;
+  }
 };
 
 // How far pixel -> plane departs from an affine map over a window of radius r about q: the
 // change of its Jacobian (central differences) across the window along x and along y, relative
 // to the Jacobian at q (Frobenius norms); infinite where a point has no ray.
 double Nonlinearity(const LocalPlane& local, const Eigen::Vector2d& q, double r) {
-  auto jacobian = [&](const Eigen::Vector2d& p, Eigen::Matrix2d* j) {
-    Eigen::Vector2d tx0, tx1, ty0, ty1;
-    if (!local.FromPixel(p - Eigen::Vector2d(1, 0), &tx0) ||
-        !local.FromPixel(p + Eigen::Vector2d(1, 0), &tx1) ||
-        !local.FromPixel(p - Eigen::Vector2d(0, 1), &ty0) ||
-        !local.FromPixel(p + Eigen::Vector2d(0, 1), &ty1)) {
-      return false;
-    }
-    *j << (tx1 - tx0) / 2, (ty1 - ty0) / 2;
-    return true;
-  };
   Eigen::Matrix2d at_q, a, b, c, d;
-  if (!jacobian(q, &at_q) || !jacobian(q - Eigen::Vector2d(r, 0), &a) ||
-      !jacobian(q + Eigen::Vector2d(r, 0), &b) || !jacobian(q - Eigen::Vector2d(0, r), &c) ||
-      !jacobian(q + Eigen::Vector2d(0, r), &d) || !(at_q.norm() > 0)) {
+  if (!local.JacobianAt(q, &at_q) || !local.JacobianAt(q - Eigen::Vector2d(r, 0), &a) ||
+      !local.JacobianAt(q + Eigen::Vector2d(r, 0), &b) ||
+      !local.JacobianAt(q - Eigen::Vector2d(0, r), &c) ||
+      !local.JacobianAt(q + Eigen::Vector2d(0, r), &d) || !(at_q.norm() > 0)) {
     return std::numeric_limits<double>::infinity();
   }
   return ((b - a).norm() + (d - c).norm()) / at_q.norm();
 }
 
-// The normalised Gaussian of `sigma` px sampled at whole pixels to 3 sigma; {1} for sigma 0.
-std::vector<double> GaussianKernel(double sigma) {
-  if (!(sigma > 0)) return {1.0};
-  const int k = static_cast<int>(std::ceil(3 * sigma));
-  std::vector<double> kernel(2 * k + 1);
-  double sum = 0;
-  for (int i = -k; i <= k; ++i) sum += kernel[i + k] = std::exp(-0.5 * i * i / (sigma * sigma));
-  for (double& v : kernel) v /= sum;
-  return kernel;
-}
-
-// *patch = the w x h pixels from (x0, y0) of `image` convolved with kernel x kernel (separable;
-// the caller keeps the kernel's reach inside the image).
-void SmoothPatch(const GrayImageView& image, const std::vector<double>& kernel, int x0, int y0,
-                 int w, int h, std::vector<double>* patch) {
-  const int k = static_cast<int>(kernel.size()) / 2;
-  std::vector<double> rows(static_cast<size_t>(w) * (h + 2 * k));  // Smoothed along x.
-  for (int j = 0; j < h + 2 * k; ++j) {
-    for (int i = 0; i < w; ++i) {
-      double sum = 0;
-      for (int d = -k; d <= k; ++d) sum += kernel[d + k] * image.at(x0 + i + d, y0 + j - k);
-      rows[static_cast<size_t>(j) * w + i] = sum;
-    }
+// *patch = the w x h pixels from (x0, y0) of `image` blurred by a Gaussian of `sigma` px
+// (GaussianBlur, sim/image_filters.h; none for sigma 0), read from a patch grown by the kernel's
+// reach, which the caller keeps inside the image.
+void SmoothPatch(const GrayImageView& image, double sigma, int x0, int y0, int w, int h,
+                 std::vector<float>* patch) {
+  const int k = KernelReach(sigma);
+  const int gw = w + 2 * k, gh = h + 2 * k;
+  std::vector<float> grown(static_cast<size_t>(gw) * gh);
+  for (int j = 0; j < gh; ++j) {
+    for (int i = 0; i < gw; ++i)
+      grown[static_cast<size_t>(j) * gw + i] = image.at(x0 - k + i, y0 - k + j);
   }
-  patch->assign(static_cast<size_t>(w) * h, 0.0);
+  if (sigma > 0) GaussianBlur(sigma, gw, gh, {k, k + w, k, k + h}, &grown);
+  patch->resize(static_cast<size_t>(w) * h);
   for (int j = 0; j < h; ++j) {
-    for (int i = 0; i < w; ++i) {
-      double sum = 0;
-      for (int d = -k; d <= k; ++d)
-        sum += kernel[d + k] * rows[static_cast<size_t>(j + k + d) * w + i];
-      (*patch)[static_cast<size_t>(j) * w + i] = sum;
-    }
+    std::copy_n(grown.begin() + static_cast<ptrdiff_t>(j + k) * gw + k, w,
+                patch->begin() + static_cast<ptrdiff_t>(j) * w);
   }
 }
 
@@ -135,41 +127,31 @@ XJunctionSummary RefineXJunction(const GrayImageView& image, const CameraIntrins
   const double r = options.radius_px;
   LocalPlane local;
   local.camera = camera;
+  if (!local.About(start)) {
+    summary.message = "the estimate has no ray through the lens";
+    return summary;
+  }
   if (camera) {
     // The plane in which the image is nearest an affine map over the window (header comment).
     LocalPlane normalized = local;
     normalized.normalized = true;
-    if (!local.About(start)) {
-      summary.message = "the estimate has no ray through the lens";
-      return summary;
-    }
-    if (normalized.About(start) &&
-        Nonlinearity(normalized, start, r) < Nonlinearity(local, start, r)) {
-      local = normalized;
-    }
+    if (Nonlinearity(normalized, start, r) < Nonlinearity(local, start, r)) local = normalized;
   }
   // Pixels per plane unit at the start (the weights' scale: any fixed matrix keeps the window
-  // point-symmetric), from the plane points around it.
+  // point-symmetric).
   Eigen::Matrix2d dt_dp_at_start;
-  {
-    Eigen::Vector2d tx0, tx1, ty0, ty1;
-    if (!local.About(start) || !local.FromPixel(start - Eigen::Vector2d(1, 0), &tx0) ||
-        !local.FromPixel(start + Eigen::Vector2d(1, 0), &tx1) ||
-        !local.FromPixel(start - Eigen::Vector2d(0, 1), &ty0) ||
-        !local.FromPixel(start + Eigen::Vector2d(0, 1), &ty1)) {
-      summary.message = "a pixel of the window has no ray through the lens";
-      return summary;
-    }
-    dt_dp_at_start << (tx1 - tx0) / 2, (ty1 - ty0) / 2;
+  if (!local.JacobianAt(start, &dt_dp_at_start)) {
+    summary.message = "a pixel of the window has no ray through the lens";
+    return summary;
   }
   const Eigen::Matrix2d px_per_t = dt_dp_at_start.inverse();
   const double area_at_start = std::abs(dt_dp_at_start.determinant());
   Eigen::Vector2d q = start;
   // The window's grid (plane points, smoothed pixels), kept while its bounds do not change.
   std::vector<Eigen::Vector2d> t;
-  std::vector<double> smooth;
+  std::vector<float> smooth;
   std::array<int, 4> grid_bounds = {0, -1, 0, -1};
-  const std::vector<double> kernel = GaussianKernel(options.gradient_sigma_px);
+  const int k = KernelReach(options.gradient_sigma_px);
   for (summary.iterations = 1; summary.iterations <= options.max_iterations; ++summary.iterations) {
     Eigen::Vector2d q_t;  // q in the plane.
     if (!local.FromPixel(q, &q_t)) {
@@ -183,7 +165,6 @@ XJunctionSummary RefineXJunction(const GrayImageView& image, const CameraIntrins
               x1 = static_cast<int>(std::floor(q.x() + r));
     const int y0 = static_cast<int>(std::ceil(q.y() - r)),
               y1 = static_cast<int>(std::floor(q.y() + r));
-    const int k = static_cast<int>(kernel.size()) / 2;
     if (x0 < 1 + k || y0 < 1 + k || x1 > image.width - 2 - k || y1 > image.height - 2 - k) {
       summary.message = "the window leaves the image";
       return summary;
@@ -191,7 +172,7 @@ XJunctionSummary RefineXJunction(const GrayImageView& image, const CameraIntrins
     const int gw = x1 - x0 + 3, gh = y1 - y0 + 3;
     if (grid_bounds != std::array<int, 4>{x0, x1, y0, y1}) {
       grid_bounds = {x0, x1, y0, y1};
-      SmoothPatch(image, kernel, x0 - 1, y0 - 1, gw, gh, &smooth);
+      SmoothPatch(image, options.gradient_sigma_px, x0 - 1, y0 - 1, gw, gh, &smooth);
       t.assign(static_cast<size_t>(gw) * gh, Eigen::Vector2d::Zero());
       for (int j = 0; j < gh; ++j) {
         for (int i = 0; i < gw; ++i) {

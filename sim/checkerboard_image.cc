@@ -11,7 +11,6 @@
 namespace calibench {
 namespace {
 
-constexpr int kMaxBlurGrid = 8;  // As the frame renderer's.
 constexpr int kBackground = -1, kMargin = -2, kNoRay = -3;
 
 // Where the rays of one camera meet the board: a square's key (>= 0), the margin or background.
@@ -168,7 +167,7 @@ bool RenderCheckerboard(const CameraIntrinsics& camera, const Rigid3& cam_from_b
   std::vector<float> values;
   PixelBox box{};
   if (options.blur_sigma_px > 0) {
-    const int m = std::min(kMaxBlurGrid, static_cast<int>(std::ceil(3 / options.blur_sigma_px)));
+    const int m = AutoBlurGrid(options.blur_sigma_px);
     // Sub-pixels m times finer need m times fewer samples a side for the same resolution.
     CheckerboardImageOptions fine_options = options;
     fine_options.supersample = std::max(2, (options.supersample + m - 1) / m);

@@ -115,9 +115,7 @@ std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& int
   r->options_ = options;
   const int w = options.width, h = options.height;
   if (options.blur_sigma_px > 0) {
-    int m = options.blur_grid > 0
-                ? options.blur_grid
-                : std::min(kMaxBlurGrid, static_cast<int>(std::ceil(3 / options.blur_sigma_px)));
+    int m = options.blur_grid > 0 ? options.blur_grid : AutoBlurGrid(options.blur_sigma_px);
     // The finer grid's ray table and buffers take ~30 bytes a sub-pixel: at most kMaxFinePixels.
     while (m > 1 && static_cast<double>(w) * m * h * m > kMaxFinePixels) --m;
     if (m > 1) {
@@ -432,6 +430,10 @@ bool FrameRenderer::SampleRay(const Eigen::Matrix3d& a_inv, double u, double v,
   if (!UndistortNormalized(intrinsics_, Eigen::Vector2d(xy), &xy)) return false;
   *ray = LiftRay(RaySpace::kPlane, xy);
   return true;
+}
+
+int AutoBlurGrid(double blur_sigma_px) {
+  return std::min(kMaxBlurGrid, static_cast<int>(std::ceil(3 / blur_sigma_px)));
 }
 
 CameraIntrinsics FinerCamera(const CameraIntrinsics& camera, int m) {

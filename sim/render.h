@@ -142,6 +142,10 @@ class FrameRenderer {
 bool RenderFrame(const CameraIntrinsics& intrinsics, const std::vector<BoardView>& boards,
                  const RenderOptions& options, Rng* noise_rng, GrayImage* image, std::string* why);
 
+// The sub-pixels per pixel side of the automatic blur grid for a PSF of `blur_sigma_px` (> 0):
+// m = ceil(3 / sigma), at most 8 (edge shift < 5e-4 px; header comment).
+int AutoBlurGrid(double blur_sigma_px);
+
 // The camera of a grid m times finer than `camera`'s pixels (pixel-centre convention kept: fine
 // pixel (i, j) of pixel (I, J) is centred at (m I + a, m J + b), a, b in 0..m-1).
 CameraIntrinsics FinerCamera(const CameraIntrinsics& camera, int m);

@@ -343,8 +343,8 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
   const bool through_lens = aprilgrid && detectors[0]->FindingUsesCamera();
   std::string source = dir + "\n" + TargetYamlText(target) + "\nlens " + ToString(options.lens);
   for (const std::string& name : names) source += "\n" + name;
+  // The same source holds the same files, one slot each.
   const bool reuse = cache && cache->filled && cache->source == source &&
-                     cache->per_image.size() == files.size() &&
                      (cache->found_through_lens || !through_lens);
   if (cache && !reuse) {
     *cache = ImageDetectionCache();
