@@ -3,18 +3,13 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
 #include "batch/board_pose.h"
+#include "util/opencv_threads.h"
 
 namespace calibench {
-
-void UseSequentialOpenCv() {
-  static std::once_flag once;
-  std::call_once(once, [] { cv::setNumThreads(0); });
-}
 
 bool ZhangOptions::Check(std::string* why) const {
   std::string msg;

@@ -37,10 +37,4 @@ ZhangResult CalibrateZhang(const std::vector<View>& planar_views, const ZhangOpt
 // ZhangResult: its status, intrinsics, poses, used views and RMS; no standard deviations (NaN).
 ZhangResult FromWideStart(const WideInitResult& wide);
 
-// OpenCV's own thread pool (TBB) splits calibrateCamera's sums differently from run to run;
-// calibench parallelises over trials instead. Call this once, before starting worker threads
-// (CalibrateZhang calls it too). It removes that source of run-to-run differences, not all: the
-// results still depend on the heap's history in the last digits (README, reproducibility).
-void UseSequentialOpenCv();
-
 }  // namespace calibench

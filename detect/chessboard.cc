@@ -3,6 +3,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "util/opencv_threads.h"
+
 namespace calibench {
 
 bool ChessboardOptions::Check(std::string* why) const {
@@ -15,6 +17,7 @@ bool FindChessboardCorners(const GrayImageView& gray, const ChessboardOptions& o
                            std::vector<Eigen::Vector2d>* corners, std::string* how) {
   corners->clear();
   if (!options.Check(how)) return false;
+  UseSequentialOpenCv();  // Over images in parallel instead (util/opencv_threads.h).
   // A view, not a copy: OpenCV only reads it.
   const cv::Mat image(gray.height, gray.width, CV_8UC1, const_cast<uint8_t*>(gray.data),
                       static_cast<size_t>(gray.stride));

@@ -22,6 +22,7 @@
 #include "methods/method.h"
 #include "methods/online.h"
 #include "methods/options.h"
+#include "util/opencv_threads.h"
 
 namespace calibench {
 namespace {
@@ -180,7 +181,7 @@ class ZhangBase : public Method {
  public:
   // OpenCV's own thread pool splits calibrateCamera's sums differently from run to run; the
   // harness parallelises over trials instead. Instances are made while a configuration is read,
-  // before any worker thread starts (batch/zhang.h UseSequentialOpenCv).
+  // before any worker thread starts (util/opencv_threads.h).
   ZhangBase() { UseSequentialOpenCv(); }
   void VisitOptions(OptionVisitor* v) override { settings_.Visit(v); }
   bool Check(std::string* why) const override { return settings_.Check(why); }

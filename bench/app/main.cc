@@ -25,6 +25,7 @@
 #include "bench/run/run_dir.h"
 #include "bench/run/runner.h"
 #include "bench/run/table.h"
+#include "util/opencv_threads.h"
 
 namespace {
 
@@ -456,6 +457,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   CLI::App app{"calibench: adaptive vs batch camera calibration, on identical data"};
   app.require_subcommand(1);
   calibench::ConfigureSolverLogging(argv[0], false);
+  calibench::UseSequentialOpenCv();  // calibench parallelises over trials and images itself.
   bool verbose = false;
   app.add_flag("--verbose", verbose,
                "Show the solvers' log: Ceres's per-iteration lines and its step warnings");

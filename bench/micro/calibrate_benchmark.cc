@@ -28,6 +28,7 @@
 #include "batch/zhang.h"
 #include "bench/app/calibrate.h"
 #include "sim/synthetic.h"
+#include "util/opencv_threads.h"
 #include "util/random.h"
 
 namespace calibench {
