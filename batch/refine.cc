@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -367,6 +368,40 @@ bool FillCovariance(ceres::Problem* problem, Parameters* params, const RefineOpt
   return true;
 }
 
+// The view a failed solve is traced to (RefineResult::failed_view), and why, at the start.
+int TraceFailure(const std::vector<View>& views, const CameraIntrinsics& initial,
+                 const std::vector<Rigid3>& initial_poses, const RefineOptions& options,
+                 std::string* why) {
+  int worst = -1;
+  double worst_rms = 0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const Rigid3& cam_from_object = initial_poses[options.shared_pose ? 0 : v];
+    int unprojectable = 0;
+    double sum_sq = 0;
+    for (size_t i = 0; i < views[v].points.size(); ++i) {
+      Eigen::Vector2d pixel;
+      if (!ProjectPoint(initial, cam_from_object * views[v].points[i], &pixel)) {
+        ++unprojectable;
+      } else {
+        sum_sq += (pixel - views[v].pixels[i]).squaredNorm();
+      }
+    }
+    if (unprojectable > 0) {
+      *why = std::to_string(unprojectable) + " of " + std::to_string(views[v].points.size()) +
+             " points do not project at the start (behind the camera or outside the lens's "
+             "region)";
+      return static_cast<int>(v);
+    }
+    const double rms = std::sqrt(sum_sq / std::max<size_t>(1, views[v].points.size()));
+    if (rms > worst_rms) worst_rms = rms, worst = static_cast<int>(v);
+  }
+  if (worst < 0) return -1;
+  char line[96];
+  std::snprintf(line, sizeof(line), "the farthest from the start (RMS %.3g px)", worst_rms);
+  *why = line;
+  return worst;
+}
+
 }  // namespace
 
 RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntrinsics& initial,
@@ -393,7 +428,14 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
   result.iterations = solved.iterations;
   if (!solved.summary.IsSolutionUsable() ||
       solved.summary.termination_type == ceres::NO_CONVERGENCE) {
-    return finish(MethodStatus::kFailed, "ceres: " + solved.summary.message);
+    std::string traced;
+    result.failed_view = TraceFailure(views, initial, initial_poses, options, &traced);
+    if (result.failed_view >= 0) {
+      traced = "; view " + std::to_string(result.failed_view) + ": " + traced;
+    }
+    std::string what = solved.summary.message;
+    if (!traced.empty() && !what.empty() && what.back() == '.') what.pop_back();
+    return finish(MethodStatus::kFailed, "ceres: " + what + traced);
   }
   if (!FillSolution(views, params, effective, &result)) {
     return finish(MethodStatus::kFailed, "fewer residuals than free parameters");

@@ -93,6 +93,11 @@ struct RefineResult : MethodSummary {
   std::vector<double> view_rms_px;
   double sigma_hat_px = 0.0;  // Residual-based noise estimate (per coordinate).
   int num_points = 0;
+  // When the solve fails: the view (index into `views`) the failure is traced to, named in
+  // `message` as "view N": the first whose points do not all project at the start (behind the
+  // camera or outside the lens's region: Ceres cannot evaluate them), else the one farthest from
+  // the start (largest RMS). -1 when the solve succeeded or no view stands out.
+  int failed_view = -1;
 };
 
 // `initial_poses` holds one pose per view, or one pose when options.shared_pose. Intrinsics the

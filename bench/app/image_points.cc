@@ -294,6 +294,7 @@ cv::Size CollectOutcomes(const CalibrationTarget& target, std::vector<ImageOutco
     }
     if (r.used) {
       data->views.push_back(std::move(out.view));
+      data->view_names.push_back(r.file);
       used_index->push_back(static_cast<int>(report->images.size()));
       ++report->used;
     }

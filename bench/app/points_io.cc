@@ -63,6 +63,7 @@ bool LoadZhang(const std::string& dir, PointData* data, std::string* why) {
       view.pixels.emplace_back(pixels[i], pixels[i + 1]);
     }
     data->views.push_back(std::move(view));
+    data->view_names.push_back(file.filename().string());
   }
   if (data->views.empty()) {
     if (why) *why = dir + ": no data1.txt (Zhang's format needs Model.txt and data1.txt, ...)";

@@ -21,6 +21,9 @@ namespace calibench {
 struct PointData {
   std::string format;  // "zhang" or "opencv-calib"
   std::vector<View> views;
+  // What each view is called in messages (its file: "data3.txt", "view07.png"; "view 3" of an
+  // OpenCV .dat file); empty: "view <index>".
+  std::vector<std::string> view_names;
   int image_width = 640;
   int image_height = 480;
   std::optional<CameraIntrinsics> reference;  // Carried by the file (OpenCV format).

@@ -12,7 +12,7 @@ void ConfigureSolverLogging(const char* program, bool verbose) {
     FLAGS_logtostderr = true;  // No log files in /tmp.
     google::InitGoogleLogging(program);
   });
-  FLAGS_minloglevel = verbose ? google::GLOG_INFO : google::GLOG_ERROR;
+  FLAGS_minloglevel = verbose ? google::GLOG_INFO : google::GLOG_FATAL;
   FLAGS_v = verbose ? 1 : 0;  // Ceres's per-iteration lines are VLOG(1).
 }
 

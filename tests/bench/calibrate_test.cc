@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "tests/common/test_data.h"
+#include "util/random.h"
 
 namespace calibench {
 namespace {
@@ -50,6 +51,28 @@ TEST(CalibrateFromPoints, ZhangDataMatchesPublishedResults) {
   EXPECT_TRUE(std::isfinite(report.ceres.intrinsics_std[0]));
   // Mutation checked: data.views[2].pixels[100].x() += 0.5 moves f*ku by 0.013 px, f*kv by 0.013,
   // k1 by 2e-4: fails here (the RMS check and the old 1e-3 relative bound both pass it).
+}
+
+// One view of Zhang's points replaced by pixels that belong to no board (a wrong file in the
+// folder): the start goes wrong (zhang's f comes out ~0.6 px) and Ceres cannot evaluate the
+// start. The failure is one line that names the view's file and the reason.
+TEST(CalibrateFromPoints, AFailureNamesTheViewItIsTracedTo) {
+  PointData data;
+  std::string why;
+  ASSERT_TRUE(LoadPointData(BundledData("zhang"), &data, &why)) << why;
+  ASSERT_EQ(data.view_names.size(), data.views.size());
+  EXPECT_EQ(data.view_names[2], "data3.txt");
+  Rng rng(7);
+  for (Eigen::Vector2d& pixel : data.views[2].pixels) {
+    pixel = Eigen::Vector2d(rng.Uniform(0, 640), rng.Uniform(0, 480));
+  }
+  CalibrateOptions options;
+  options.model = LensModel::kPinholeK2;
+  const CalibrateReport report = CalibrateFromPoints(data, options);
+  ASSERT_FALSE(report.IsUsable());
+  EXPECT_EQ(report.ceres.failed_view, 2);
+  EXPECT_NE(report.ceres.message.find("data3.txt: "), std::string::npos) << report.ceres.message;
+  EXPECT_EQ(report.ceres.message.find('\n'), std::string::npos) << report.ceres.message;
 }
 
 // OpenCV's regression file carries Bouguet's toolbox results (k1 k2 p1 p2 model).

@@ -1,5 +1,6 @@
 // The solvers' log (bench/app/solver_logging.h): a trust-region step that fails to evaluate makes
-// Ceres log a WARNING; quiet by default it does not reach stderr, with verbose it does. The solve
+// Ceres log a WARNING, a start it cannot evaluate an ERROR ("Terminating: ..."); quiet by default
+// neither reaches stderr (calibench reports the failure itself), with verbose both do. The solve
 // itself is unchanged (the step is retried either way).
 #include "bench/app/solver_logging.h"
 
@@ -21,9 +22,9 @@ struct BoundedResidual : ceres::SizedCostFunction<1, 1> {
   }
 };
 
-// Stderr of one solve from x = 0, and its final x.
-std::string SolveAndCaptureStderr(double* x) {
-  *x = 0;
+// Stderr of one solve from x = `start`, and its final x.
+std::string SolveAndCaptureStderr(double* x, double start = 0) {
+  *x = start;
   ceres::Problem problem;
   problem.AddResidualBlock(new BoundedResidual, nullptr, x);
   ceres::Solver::Options options;
@@ -47,6 +48,17 @@ TEST(SolverLogging, StepWarningsOnlyWhenVerbose) {
   // The solver reaches the boundary's side of the minimum either way (x -> 2 from below).
   EXPECT_NEAR(quiet_x, verbose_x, 1e-12);
   EXPECT_LE(quiet_x, 2.0);
+}
+
+TEST(SolverLogging, ASolverErrorOnlyWhenVerbose) {
+  double quiet_x = 0, verbose_x = 0;
+  ConfigureSolverLogging("calibench_test", false);
+  const std::string quiet = SolveAndCaptureStderr(&quiet_x, 3.0);  // Not evaluable: x > 2.
+  ConfigureSolverLogging("calibench_test", true);
+  const std::string verbose = SolveAndCaptureStderr(&verbose_x, 3.0);
+  ConfigureSolverLogging("calibench_test", false);
+  EXPECT_EQ(quiet, "");
+  EXPECT_NE(verbose.find("Residual and Jacobian evaluation failed"), std::string::npos) << verbose;
 }
 
 }  // namespace
