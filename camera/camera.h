@@ -357,7 +357,8 @@ bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& poi
 
 // The unit ray P / |P| of the points that project to `pixel`, for every family (the inverse of
 // ProjectPoint up to depth; Z <= 0 for an omnidirectional lens past 90 deg). radtan: fixed-point
-// iteration to 1e-12 (unified's radtan too); equidistant: Newton on theta; the others closed form
+// iteration to 1e-12, damped Newton where that stops contracting (unified's radtan too, out to
+// the sphere's edge); equidistant: Newton on theta; the others closed form
 // (header comment). False where no ray projects there (past the valid region or a fold-over) or
 // an iteration does not converge; never a ray outside the region.
 bool UnprojectToRay(const CameraIntrinsics& intrinsics, const Eigen::Vector2d& pixel,
