@@ -371,8 +371,13 @@ WideInitResult InitializeWideCamera(const std::vector<View>& views, const WideIn
   Posed start;
   if (family == LensFamily::kDoubleSphere) {
     if (!DoubleSphereStart(views, posed, profile, cone, &result.intrinsics, &start)) {
-      return fail("no double sphere fits the unified profile (xi " + std::to_string(profile.xi) +
-                  ")");
+      char line[160];
+      std::snprintf(line, sizeof(line),
+                    "no double sphere fits the unified profile (xi %.3f, f %.1f px, RMS %.3g px "
+                    "over %zu views; best scan: ",
+                    profile.xi, profile.fku_px / (1 + profile.xi), result.profile_rms_px,
+                    posed.used.size());
+      return fail(line + Describe(best, result.scan_views) + ")");
     }
   } else {
     result.intrinsics = FromProfile(family, profile, cone);

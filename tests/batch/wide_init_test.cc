@@ -183,5 +183,41 @@ TEST(WideInit, StartsFrom120To220DegreesWithPartialBoards) {
   }
 }
 
+// The failure paths: each refusal says why, and a start that finds no lens gives the best RMS it
+// reached (the "when it fails, the error says so, with the best RMS it found").
+TEST(WideInit, FailuresSayWhyWithTheBestRmsFound) {
+  const CameraIntrinsics truth = Lens(Shapes()[0], 190);
+  const SyntheticBoardViews good = WideViews(truth, 190, 41, 8);
+  WideInitOptions o;
+  o.model = LensModel::kDoubleSphere;
+  o.image_width = o.image_height = kImageSide;
+
+  const WideInitResult one = InitializeWideCamera({good.views[0]}, o);
+  EXPECT_FALSE(one.IsUsable());
+  EXPECT_NE(one.message.find("at least 2 views"), std::string::npos) << one.message;
+
+  std::vector<View> bent = good.views;
+  bent[3].points[5].z() = 0.01;
+  const WideInitResult not_planar = InitializeWideCamera(bent, o);
+  EXPECT_FALSE(not_planar.IsUsable());
+  EXPECT_NE(not_planar.message.find("view 3 is not planar"), std::string::npos)
+      << not_planar.message;
+
+  // Pixels that belong to no board through any lens: uniform over the image.
+  std::vector<View> noise = good.views;
+  Rng rng(5);
+  for (View& v : noise) {
+    for (Eigen::Vector2d& pixel : v.pixels) {
+      pixel = Eigen::Vector2d(rng.Uniform(0, kImageSide), rng.Uniform(0, kImageSide));
+    }
+  }
+  const WideInitResult none = InitializeWideCamera(noise, o);
+  EXPECT_FALSE(none.IsUsable());
+  EXPECT_NE(none.message.find("RMS"), std::string::npos) << none.message;
+  // The best RMS it found is that of the scan, far above any fit (a right start: < 1 px).
+  EXPECT_GT(none.scan_rms_px, 10.0) << none.message;
+  std::printf("[ measured ] no lens: %s\n", none.message.c_str());
+}
+
 }  // namespace
 }  // namespace calibench
