@@ -191,7 +191,7 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
   if (!detector) return false;
   DetectionStatsAccumulator acc;
   std::string errors_csv =
-      CsvLine({"frame", "point", "u_px", "v_px", "du_px", "dv_px", "radial_px", "tangent_px"});
+      CsvLine({"frame", "point_id", "u_px", "v_px", "du_px", "dv_px", "radial_px", "tangent_px"});
   for (const auto& [frame, expected] : truth) {
     cv::Mat gray;
     if (!ReadFrame(frames_dir + "/" + FrameName(frame), s, &gray, why)) return false;
