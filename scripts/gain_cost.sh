@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The cost of the method-only gain sweep (issue #5), apart from the default benchmark (it needs the
+# The cost of the method-only gain sweep, apart from the default benchmark (it needs the
 # gain sweep run twice over): configs/sweeps/gain.yaml (N gains) against configs/sweeps/gain1.yaml
 # (one gain) plus the other gains' adaptive solves from gain's timings.csv
 # (tools/gain_cost.py). Writes OUT/gain/gain_cost.txt, which `calibench report` shows.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# CI (issue #15 item 6): scripts/slurm_sweep.sbatch on a real single-node Slurm cluster.
+# CI: scripts/slurm_sweep.sbatch on a real single-node Slurm cluster.
 #
 # As root on Debian 12: installs slurm-wlm and munge if missing, starts a private munged,
 # slurmctld and slurmd on this host (configuration, state, spool, logs and pid files all under one

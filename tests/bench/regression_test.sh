@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Behaviour preserved across the method registry (issue #12): runs tests/bench/regression/all.yaml
+# Behaviour preserved across the method registry: runs tests/bench/regression/all.yaml
 # and compares runs.csv and summary.csv with the rows the commit before the registry (d9fc413)
 # wrote for the same file (regression/reference/, gzipped). Every field must be identical, new
 # columns may only be appended, and only the rows of cv::calibrateCamera (zhang, zhang_handeye, and
-# ceres started from zhang in the sweeps) may differ in their last digits (README, "Reproducibility
-# of zhang"): 1e-5 relative, since zhang solves its normal equations by LU (issue #14:
-# calibrateCamera's solution moves by <= 2e-8 relative).
+# ceres started from zhang in the sweeps) may differ in their last digits (docs/reliability.md,
+# "Reproducibility of zhang"): 1e-5 relative, since zhang solves its normal equations by LU
+# (calibrateCamera's solution moves by <= 2e-8 relative).
 # One exception (--except), for a bug fixed since the reference: zhang_handeye's extrinsic. Tsai's
 # rotation step (cv::calibrateHandEye) was singular at a half-turn mount, the thesis rig's R_C, and
 # returned rotations off by 1-160 deg (median 8.8) on these rows; the hand-eye solve now has no

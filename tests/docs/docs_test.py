@@ -11,7 +11,9 @@ Checks, from the sources (regular expressions, no compilation):
   (c) every CSV column (the metric table's quantities and their err_/std_/crlb_/est_/true_
       columns, metrics/metric_table.cc; the column declarations of bench/run/*.cc; the CSV headers
       written by bench/app/*.cc) appears in docs/outputs.md;
-  (d) no issue references ("issue #14", "(#15)") and no development history in README.md or docs/;
+  (d) no issue references ("issue #14", "(#15)") and no development history in README.md, docs/
+      and the READMEs a user reads beside the files they describe (data/, configs/,
+      tests/fixtures/);
   (e) README.md has at most 220 lines;
   (f) every relative link of README.md and docs/**/*.md points to an existing file inside the
       repository.
@@ -194,6 +196,10 @@ def markdown_files():
     return sorted(set(files))
 
 
+# The READMEs beside the files they describe, read by users as the documentation is.
+USER_READMES = ["data/README.md", "configs/README.md", "tests/fixtures/README.md"]
+
+
 # ---------------------------------------------------------------------------------------------
 
 class DocsTest(unittest.TestCase):
@@ -232,7 +238,7 @@ class DocsTest(unittest.TestCase):
     def test_d_no_issue_references_or_history(self):
         history = ["code not kept", "tried, measured", "not landed", "(was "]
         problems = []
-        for path in markdown_files():
+        for path in markdown_files() + USER_READMES:
             for n, line in enumerate(read(path).splitlines(), 1):
                 if re.search(r"issue\s*#\s*\d+", line, flags=re.I) or \
                         re.search(r"(?<![\w/&#])#\d+\b", line):
@@ -240,7 +246,8 @@ class DocsTest(unittest.TestCase):
                 for phrase in history:
                     if phrase in line.lower():
                         problems.append(f"{path}:{n}: history ({phrase!r}): {line.strip()}")
-        self.assertEqual(problems, [], "README.md and docs/ must not cite issues or history")
+        self.assertEqual(problems, [], "README.md, docs/ and " + ", ".join(USER_READMES) +
+                         " must not cite issues or history")
 
     def test_e_readme_is_short(self):
         lines = read("README.md").count("\n")

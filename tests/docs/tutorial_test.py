@@ -4,8 +4,8 @@ scenario) and 3 (calibrate your camera from images), in a fresh directory that s
 repository's configs/ and data/, with calibench on the PATH.
 
 The user's own images (my_images/, new_images/) and target (board.yaml) are the bundled
-opencv-left chessboard set and its target file. Section 1 (./scripts/bench, about ten minutes)
-and section 4 (Slurm: scripts/slurm_ci.sh) are steps of CI's .ci/run.
+opencv-left chessboard set and its target file. Section 1 (./scripts/bench, about six minutes on
+2 cores) and section 4 (Slurm: scripts/slurm_ci.sh) are steps of CI's .ci/run.
 
 Usage: tutorial_test.py SOURCE_DIR CALIBENCH
 """
