@@ -34,7 +34,7 @@
 //
 // Predicted tags (predict_missing_tags, with kPhotometric). AprilTag 3 misses tags that are small
 // or oblique at quad_decimate 2 (measured on the default rig, `calibench detect
-// configs/sweeps/rig.yaml --max-frames 100`: 2800 of 3730 tags in view decoded, most misses on its
+// configs/rig.yaml --max-frames 100`: 2800 of 3730 tags in view decoded, most misses on its
 // 45-degree grid at the sway's oblique phases; with the predictions 3608, their corners unbiased
 // and at 1.3x their Cramer-Rao std as the decoded ones are). Once the decoded tags are fitted, each
 // missing tag of a grid with a fitted tag within two tags of it (one for a fisheye without a

@@ -3,7 +3,7 @@
 // double-sphere lens (stereographic rays); raw AprilTag 3 detection of that frame through the
 // wrapper and through the C API.
 // The rendered pipeline of the default sweeps per frame (BM_RigPipeline: render + detect + refine
-// + match, configs/sweeps/rig.yaml's options, frames cycling through the trial's 240 poses; /0
+// + match, configs/rig.yaml's options, frames cycling through the trial's 240 poses; /0
 // without the prediction of missed tags, frame_detector.h) against the raw C API call on the same
 // frames at quad_decimate 1 (BM_RigDetectCApi/1) and 2 (/2): the target is BM_RigPipeline <= 1.5 x
 // BM_RigDetectCApi/1 (docs/results/detection.md, "Cost of the rendered pipeline").
@@ -127,7 +127,7 @@ struct Rig {
       Rig r;
       RunConfig config;
       std::string why;
-      if (!LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/sweeps/rig.yaml", &config,
+      if (!LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/rig.yaml", &config,
                          &why)) {
         std::fprintf(stderr, "rig.yaml: %s\n", why.c_str());
         std::abort();
