@@ -194,7 +194,10 @@ class Reader {
     if (std::find(choices.begin(), choices.end(), value) != choices.end()) return value;
     std::string list;
     for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
-    Fail(node, field, "'" + value + "' is not one of: " + list);
+    const std::string best = ClosestName(value, choices);
+    Fail(node, field,
+         "'" + value + "' is not one of: " + list +
+             (best.empty() ? "" : " (did you mean '" + best + "'?)"));
   }
   Eigen::Vector3d Vector3(const YAML::Node& node, const std::string& field) const {
     if (!node.IsSequence() || node.size() != 3) Fail(node, field, "expected a list of 3 numbers");

@@ -217,7 +217,7 @@ INSTANTIATE_TEST_SUITE_P(
         ConfigCase{"sweep_unknown_field",
                    Scenario() + "sweep:\n  - field: noise.pixel_sigmaa\n    values: [1]\n",
                    {"noise.pixel_sigmaa", "unknown key"}},
-        // Method instances (issue #12).
+        // Method instances.
         ConfigCase{"unknown_method_type",
                    Scenario("  methods:\n    - {name: x, type: bundle_adjust}\n"),
                    {"FILE:5:", "scenario.methods[0].type", "unknown method type 'bundle_adjust'",
@@ -249,7 +249,7 @@ INSTANTIATE_TEST_SUITE_P(
                             "[0, 3, 0], rpy_deg: [90, 0, 0]}]}"),
                    {"FILE:4:", "scenario.image_size", "[100000, 100000] px is larger than",
                     "16384 px per side", "MiB"}},
-        // Dynamic calibration (issue #13).
+        // Dynamic calibration.
         ConfigCase{
             "change_after_the_run",
             Scenario("", "",
@@ -267,6 +267,12 @@ INSTANTIATE_TEST_SUITE_P(
                               "      - {kind: ramp, from_s: 5, to_s: 9, fku_px: 1}\n"),
             {"scenario.truth.changes", "changes[0] and changes[1] both ramp fku_px",
              "overlapping intervals [1, 6] and [5, 9] s"}},
+        ConfigCase{
+            "misspelt_change_kind",
+            Scenario("", "",
+                     kTruth + "    changes: [{kind: stpe, at_s: 5, rpy_deg: [0, 0.5, 0]}]\n"),
+            {"FILE:8:", "scenario.truth.changes[0].kind", "'stpe' is not one of: step, ramp",
+             "did you mean 'step'"}},
         ConfigCase{
             "nan_delta",
             Scenario("", "",
