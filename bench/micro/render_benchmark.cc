@@ -127,8 +127,7 @@ struct Rig {
       Rig r;
       RunConfig config;
       std::string why;
-      if (!LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/rig.yaml", &config,
-                         &why)) {
+      if (!LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/rig.yaml", &config, &why)) {
         std::fprintf(stderr, "rig.yaml: %s\n", why.c_str());
         std::abort();
       }

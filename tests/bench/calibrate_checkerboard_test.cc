@@ -55,10 +55,7 @@ TEST(CalibrateCheckerboard, DistortedViewsAreCalibratedThroughTheLens) {
   CheckerboardPattern pattern;
   CalibrationTarget target;
   std::string why;
-  ASSERT_TRUE(LoadTargetYaml(WriteTarget("checkerboard.yaml",
-                                         "target_type: checkerboard\ntargetCols: 9\n"
-                                         "targetRows: 6\nrowSpacingMeters: 0.03\n"
-                                         "colSpacingMeters: 0.03\n"),
+  ASSERT_TRUE(LoadTargetYaml(WriteTarget("checkerboard.yaml", CheckerboardTargetYaml(9, 6, 0.03)),
                              &target, &why))
       << why;
   for (const LensCase& c : cases) {

@@ -29,11 +29,9 @@ namespace {
 // the focal lengths and 0.1 px on the centre (a tenth of a standard deviation), 0.002 on k1.
 TEST(CalibrateImages, OpenCvLeftMatchesOpenCvsPublishedResult) {
   ImageFolderReport images;
-  const CalibrateReport r = CalibrateFolder(BundledData("opencv-left"),
-                                            "target_type: 'checkerboard'\ntargetCols: 9\n"
-                                            "targetRows: 6\nrowSpacingMeters: 0.025\n"
-                                            "colSpacingMeters: 0.025\n",
-                                            LensModel::kPinholeRadTan5, &images);
+  const CalibrateReport r =
+      CalibrateFolder(BundledData("opencv-left"), CheckerboardTargetYaml(9, 6, 0.025),
+                      LensModel::kPinholeRadTan5, &images);
   ASSERT_TRUE(r.IsUsable()) << r.ceres.message;
   EXPECT_EQ(images.used, 13);
   const CameraIntrinsics& k = r.ceres.intrinsics;
@@ -55,10 +53,7 @@ TEST(CalibrateImages, OpenCvLeftMatchesOpenCvsPublishedResult) {
 constexpr double kRefitMoveStd = 0.35;
 TEST(CalibrateImages, OpenCvLeftThroughTheLensStaysAtOpenCvsResult) {
   const FolderCalibration fit = CalibrateFolderThroughTheLens(
-      BundledData("opencv-left"),
-      "target_type: 'checkerboard'\ntargetCols: 9\ntargetRows: 6\nrowSpacingMeters: 0.025\n"
-      "colSpacingMeters: 0.025\n",
-      LensModel::kPinholeRadTan5);
+      BundledData("opencv-left"), CheckerboardTargetYaml(9, 6, 0.025), LensModel::kPinholeRadTan5);
   const CalibrateReport &first = fit.first, &r = fit.last.report;
   std::printf("%s", fit.log.c_str());
   ASSERT_TRUE(r.IsUsable()) << r.ceres.message;
@@ -256,11 +251,8 @@ TEST(CalibrateImages, BadFoldersAndTargetsGiveClearErrors) {
   const std::string empty = testing::TempDir() + "/empty_images";
   std::filesystem::remove_all(empty);
   std::filesystem::create_directories(empty);
-  ASSERT_TRUE(LoadTargetYaml(WriteTarget("ok.yaml",
-                                         "target_type: checkerboard\ntargetCols: 9\n"
-                                         "targetRows: 6\nrowSpacingMeters: 0.02\n"
-                                         "colSpacingMeters: 0.02\n"),
-                             &target, &why))
+  ASSERT_TRUE(
+      LoadTargetYaml(WriteTarget("ok.yaml", CheckerboardTargetYaml(9, 6, 0.02)), &target, &why))
       << why;
   PointData data;
   ImageFolderReport report;

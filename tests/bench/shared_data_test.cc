@@ -21,11 +21,9 @@ namespace {
 TEST(CalibrateImages, BouguetExampleMatchesPublishedAndOpenCvResults) {
   REQUIRE_SHARED_DATA("bouguet-calib-example");
   ImageFolderReport images;
-  const CalibrateReport r = CalibrateFolder(kSharedDataDir + "/bouguet-calib-example",
-                                            "target_type: 'checkerboard'\ntargetCols: 13\n"
-                                            "targetRows: 12\nrowSpacingMeters: 0.03\n"
-                                            "colSpacingMeters: 0.03\n",
-                                            LensModel::kPinholeRadTan4, &images);
+  const CalibrateReport r =
+      CalibrateFolder(kSharedDataDir + "/bouguet-calib-example",
+                      CheckerboardTargetYaml(13, 12, 0.03), LensModel::kPinholeRadTan4, &images);
   ASSERT_TRUE(r.IsUsable()) << r.ceres.message;
   EXPECT_GE(images.used, 19);  // Image18 shows a partial board (SOURCE.md).
   const CameraIntrinsics& k = r.ceres.intrinsics;
@@ -53,9 +51,7 @@ TEST(CalibrateImages, BouguetExampleMatchesPublishedAndOpenCvResults) {
 TEST(CalibrateImages, BouguetExampleThroughTheLensNearsThePublishedResult) {
   REQUIRE_SHARED_DATA("bouguet-calib-example");
   const FolderCalibration fit = CalibrateFolderThroughTheLens(
-      kSharedDataDir + "/bouguet-calib-example",
-      "target_type: 'checkerboard'\ntargetCols: 13\ntargetRows: 12\nrowSpacingMeters: 0.03\n"
-      "colSpacingMeters: 0.03\n",
+      kSharedDataDir + "/bouguet-calib-example", CheckerboardTargetYaml(13, 12, 0.03),
       LensModel::kPinholeRadTan4);
   const CalibrateReport &first = fit.first, &r = fit.last.report;
   std::printf("%s", fit.log.c_str());

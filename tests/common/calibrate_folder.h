@@ -23,6 +23,14 @@ inline std::string WriteTarget(const std::string& name, const std::string& yaml)
   return path;
 }
 
+// A Kalibr checkerboard target file's text: `cols` x `rows` inner corners, square side `square_m`.
+inline std::string CheckerboardTargetYaml(int cols, int rows, double square_m) {
+  std::ostringstream yaml;
+  yaml << "target_type: 'checkerboard'\ntargetCols: " << cols << "\ntargetRows: " << rows
+       << "\nrowSpacingMeters: " << square_m << "\ncolSpacingMeters: " << square_m << "\n";
+  return yaml.str();
+}
+
 // Detects `target_yaml`'s target in every image of `dir` and calibrates `model` (zhang, then
 // ceres).
 inline CalibrateReport CalibrateFolder(const std::string& dir, const std::string& target_yaml,

@@ -19,6 +19,17 @@
 namespace calibench {
 namespace {
 
+// A 3 x 4 grid of 5 cm tag36h11 tags facing the camera, turned `yaw_deg` about its y axis, its
+// origin at `origin_in_cam` (m).
+BoardView YawedGrid(double yaw_deg, const Eigen::Vector3d& origin_in_cam) {
+  AprilGrid grid;
+  grid.tag_rows = 3, grid.tag_cols = 4, grid.tag_size_m = 0.05;
+  const Eigen::Matrix3d yawed =
+      Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+      Eigen::Vector3d(1, -1, -1).asDiagonal();
+  return {grid, TagFamily::Create("tag36h11", 1, nullptr), {yawed, origin_in_cam}};
+}
+
 // Corner error of the photometric fit on a sharp, noise-free 30 px tag (measured ~0.005 px): a
 // point id mapped to the wrong corner would be 30 px off.
 constexpr double kCornerTolPx = 0.05;
@@ -113,15 +124,10 @@ TEST(FrameDetector, CountsEveryRuleAndMatchesPointIds) {
 // corner AprilTag 3 put 3 px off (beyond the fit's max_correction_px of 1.5) is refused from
 // there and fitted again where its neighbours put it.
 TEST(FrameDetector, PredictsMissedTagsAndRefusesTagsThePixelsDoNotShow) {
-  const auto family = TagFamily::Create("tag36h11", 1, nullptr);
-  ASSERT_NE(family, nullptr);
-  AprilGrid grid;
-  grid.tag_rows = 3, grid.tag_cols = 4, grid.tag_size_m = 0.05;
+  const BoardView board = YawedGrid(30, {-0.12, 0.1, 0.8});
+  ASSERT_NE(board.family, nullptr);
+  const AprilGrid& grid = board.grid;
   const CameraIntrinsics camera{500, 500, 90, 319.5, 239.5};
-  const Eigen::Matrix3d yawed =
-      Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix() *
-      Eigen::Vector3d(1, -1, -1).asDiagonal();
-  const BoardView board{grid, family, {yawed, {-0.12, 0.1, 0.8}}};
   RenderOptions render;
   render.width = 640, render.height = 480;
   render.noise_sigma_gray = 2;
@@ -204,15 +210,10 @@ TEST(FrameDetector, PredictsMissedTagsAndRefusesTagsThePixelsDoNotShow) {
 // it there: the grid's tag farthest off the axis, its corner put 3 px off, comes back within
 // kCornerTolPx of its projection, counted as refitted.
 TEST(FrameDetector, RefitsADecodedTagBeyondTheFittedTagsThroughALens) {
-  const auto family = TagFamily::Create("tag36h11", 1, nullptr);
-  ASSERT_NE(family, nullptr);
-  AprilGrid grid;
-  grid.tag_rows = 3, grid.tag_cols = 4, grid.tag_size_m = 0.05;
+  const BoardView board = YawedGrid(20, {-0.05, 0.06, 0.7});
+  ASSERT_NE(board.family, nullptr);
+  const AprilGrid& grid = board.grid;
   const CameraIntrinsics camera{500, 500, 90, 319.5, 239.5, -0.15, 0.02};
-  const Eigen::Matrix3d yawed =
-      Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix() *
-      Eigen::Vector3d(1, -1, -1).asDiagonal();
-  const BoardView board{grid, family, {yawed, {-0.05, 0.06, 0.7}}};
   RenderOptions render;
   render.width = 640, render.height = 480;
   std::string why;
