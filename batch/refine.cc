@@ -419,6 +419,9 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
   if (views.empty() || initial_poses.size() != expected_poses) {
     return finish(MethodStatus::kFailed, "need one initial pose per view (or one if shared)");
   }
+  if (!options.view_names.empty() && options.view_names.size() != views.size()) {
+    return finish(MethodStatus::kFailed, "view_names must name every view");
+  }
   if (!initial.Check(&why)) return finish(MethodStatus::kFailed, "initial intrinsics: " + why);
   Parameters params = StartParameters(initial, initial_poses, options);
   RefineOptions effective;  // With an active bound held.
@@ -431,7 +434,10 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
     std::string traced;
     result.failed_view = TraceFailure(views, initial, initial_poses, options, &traced);
     if (result.failed_view >= 0) {
-      traced = "; view " + std::to_string(result.failed_view) + ": " + traced;
+      const std::string name = options.view_names.empty()
+                                   ? "view " + std::to_string(result.failed_view)
+                                   : options.view_names[result.failed_view];
+      traced = "; " + name + ": " + traced;
     }
     std::string what = solved.summary.message;
     if (!traced.empty() && !what.empty() && what.back() == '.') what.pop_back();

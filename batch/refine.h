@@ -60,6 +60,8 @@ struct RefineOptions {
   // Raw indices (0..9) kept at their initial value besides those the model fixes (a staged fit,
   // e.g. the wide start's focal length and centre before the lens terms: batch/wide_init.h).
   std::vector<int> extra_fixed_intrinsics;
+  // The views' names in messages (e.g. their files); empty: "view <index>".
+  std::vector<std::string> view_names;
   bool Check(std::string* why) const;
 };
 
@@ -94,9 +96,9 @@ struct RefineResult : MethodSummary {
   double sigma_hat_px = 0.0;  // Residual-based noise estimate (per coordinate).
   int num_points = 0;
   // When the solve fails: the view (index into `views`) the failure is traced to, named in
-  // `message` as "view N": the first whose points do not all project at the start (behind the
-  // camera or outside the lens's region: Ceres cannot evaluate them), else the one farthest from
-  // the start (largest RMS). -1 when the solve succeeded or no view stands out.
+  // `message` (options.view_names, else "view N"): the first whose points do not all project at the
+  // start (behind the camera or outside the lens's region: Ceres cannot evaluate them), else the
+  // one farthest from the start (largest RMS). -1 when the solve succeeded or no view stands out.
   int failed_view = -1;
 };
 

@@ -270,17 +270,23 @@ bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& poi
 
 namespace {
 
-// radtan (k1, k2, p1, p2, k3) of (x, y), and its Jacobian.
-Eigen::Vector2d ApplyRadTanAt(double k1, double k2, double p1, double p2, double k3,
-                              const Eigen::Vector2d& p, Eigen::Matrix2d* jacobian) {
+// ApplyRadTan of p (camera.h) minus `target`, and the distortion's Jacobian at p.
+struct RadTanAt {
+  Eigen::Vector2d residual;
+  Eigen::Matrix2d jacobian;
+};
+RadTanAt EvaluateRadTan(double k1, double k2, double p1, double p2, double k3,
+                        const Eigen::Vector2d& p, const Eigen::Vector2d& target) {
+  RadTanAt at;
+  ApplyRadTan(k1, k2, p1, p2, k3, p.x(), p.y(), &at.residual.x(), &at.residual.y());
+  at.residual -= target;
   const double x = p.x(), y = p.y(), r2 = x * x + y * y;
   const double d = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
   const double dd = k1 + r2 * (2 * k2 + 3 * r2 * k3);  // d(d) / d(r2).
-  *jacobian << d + 2 * x * x * dd + 2 * p1 * y + 6 * p2 * x,
-      2 * x * y * dd + 2 * p1 * x + 2 * p2 * y, 2 * x * y * dd + 2 * p1 * x + 2 * p2 * y,
+  const double off = 2 * x * y * dd + 2 * p1 * x + 2 * p2 * y;
+  at.jacobian << d + 2 * x * x * dd + 2 * p1 * y + 6 * p2 * x, off, off,
       d + 2 * y * y * dd + 6 * p1 * y + 2 * p2 * x;
-  return Eigen::Vector2d(x * d + 2 * p1 * x * y + p2 * (r2 + 2 * x * x),
-                         y * d + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y);
+  return at;
 }
 
 // radtan^-1: the (x, y) whose radtan (k1, k2, p1, p2, k3) is `distorted`. Fixed-point iteration to
@@ -305,27 +311,22 @@ bool InvertRadTan(double k1, double k2, double p1, double p2, double k3,
     }
   }
   const double tolerance = 1e-12 * std::max(1.0, distorted.norm());
-  Eigen::Matrix2d jacobian;
   p = distorted;
-  double error = (ApplyRadTanAt(k1, k2, p1, p2, k3, p, &jacobian) - distorted).norm();
+  RadTanAt at = EvaluateRadTan(k1, k2, p1, p2, k3, p, distorted);
   for (int it = 0; it < 100; ++it) {
-    if (!(jacobian.determinant() > 0)) return false;  // A fold on the way (or at p).
-    const Eigen::Vector2d step =
-        jacobian.inverse() * (distorted - ApplyRadTanAt(k1, k2, p1, p2, k3, p, &jacobian));
+    if (!(at.jacobian.determinant() > 0)) return false;  // A fold on the way (or at p).
+    const Eigen::Vector2d step = -at.jacobian.inverse() * at.residual;
     double scale = 1.0;
-    Eigen::Matrix2d next_jacobian;
-    double next_error = 0;
+    RadTanAt next;
     for (;; scale *= 0.5) {
       if (scale < 1e-6) return false;
-      next_error =
-          (ApplyRadTanAt(k1, k2, p1, p2, k3, p + scale * step, &next_jacobian) - distorted).norm();
-      if (next_error < error || next_error <= tolerance) break;
+      next = EvaluateRadTan(k1, k2, p1, p2, k3, p + scale * step, distorted);
+      if (next.residual.norm() < at.residual.norm() || next.residual.norm() <= tolerance) break;
     }
     p += scale * step;
-    jacobian = next_jacobian;
-    error = next_error;
-    if (error <= tolerance && scale * step.norm() < 1e-12 * std::max(1.0, p.norm())) {
-      if (!(jacobian.determinant() > 0)) return false;
+    at = next;
+    if (at.residual.norm() <= tolerance && scale * step.norm() < 1e-12 * std::max(1.0, p.norm())) {
+      if (!(at.jacobian.determinant() > 0)) return false;
       *undistorted = p;
       return true;
     }

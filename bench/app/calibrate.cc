@@ -93,21 +93,6 @@ ZhangResult StartFromScratch(const PointData& data, LensModel model, std::string
   return start;
 }
 
-// A failed refinement's view (RefineResult::failed_view, an index into the views it was given,
-// `used` of the data's) re-indexed into data.views and named in the message by its file.
-void NameFailedView(const PointData& data, const std::vector<int>& used, RefineResult* ceres) {
-  if (ceres->failed_view < 0 || ceres->failed_view >= static_cast<int>(used.size())) return;
-  const int view = used[ceres->failed_view];
-  const std::string token = "; view " + std::to_string(ceres->failed_view) + ": ";
-  const size_t at = ceres->message.rfind(token);
-  ceres->failed_view = view;
-  if (at == std::string::npos) return;
-  const std::string name = view < static_cast<int>(data.view_names.size())
-                               ? data.view_names[view]
-                               : "view " + std::to_string(view);
-  ceres->message.replace(at, token.size(), "; " + name + ": ");
-}
-
 // The views the initialisation kept, in its order (that of ceres' poses).
 std::vector<View> UsedViews(const PointData& data, const ZhangResult& start) {
   std::vector<View> used;
@@ -136,9 +121,11 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
   refine.estimate_skew = options.estimate_skew;
   refine.fix_intrinsics = options.init && options.evaluate_only;
   report.evaluated = refine.fix_intrinsics;
+  if (!data.view_names.empty()) {
+    for (int v : report.zhang.used_views) refine.view_names.push_back(data.view_names[v]);
+  }
   report.ceres =
       RefineCalibration(used, report.zhang.intrinsics, report.zhang.cam_from_board, refine);
-  NameFailedView(data, report.zhang.used_views, &report.ceres);
   CameraFile& c = report.camera;
   c.intrinsics = report.ceres.intrinsics;
   c.intrinsics_std = report.ceres.intrinsics_std;

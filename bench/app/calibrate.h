@@ -47,7 +47,7 @@ struct CalibrateReport {
   ZhangResult zhang;
   std::string initial_name = "zhang (OpenCV)";
   bool evaluated = false;  // The given camera was kept fixed (evaluate_only).
-  RefineResult ceres;  // Its failed_view indexes data.views; its message names that view's file.
+  RefineResult ceres;      // A failure's message names the view's file (PointData::view_names).
   // The leave-one-view-out std of ceres' intrinsics (AddJackknife), when computed.
   std::optional<JackknifeResult> jackknife;
   CameraFile camera;  // What camera.yaml holds (the ceres result).

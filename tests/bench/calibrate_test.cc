@@ -70,6 +70,7 @@ TEST(CalibrateFromPoints, AFailureNamesTheViewItIsTracedTo) {
   options.model = LensModel::kPinholeK2;
   const CalibrateReport report = CalibrateFromPoints(data, options);
   ASSERT_FALSE(report.IsUsable());
+  ASSERT_EQ(report.zhang.used_views.size(), 5u);  // So ceres' view 2 is the data's view 2.
   EXPECT_EQ(report.ceres.failed_view, 2);
   EXPECT_NE(report.ceres.message.find("data3.txt: "), std::string::npos) << report.ceres.message;
   EXPECT_EQ(report.ceres.message.find('\n'), std::string::npos) << report.ceres.message;
