@@ -44,10 +44,14 @@ JackknifeResult JackknifeIntrinsics(const std::vector<View>& views, const Refine
   for (int left_out = 0; left_out < n; ++left_out) {
     kept.clear();
     kept_poses.clear();
+    refine.view_names.clear();
     for (int v = 0; v < n; ++v) {
       if (v == left_out) continue;
       kept.push_back(views[v]);
       kept_poses.push_back(full.cam_from_object[v]);
+      // Failures name the input's view.
+      refine.view_names.push_back(
+          "view " + std::to_string(options.view_ids.empty() ? v : options.view_ids[v]));
     }
     const RefineResult refit = RefineCalibration(kept, full.intrinsics, kept_poses, refine);
     result.iterations += refit.iterations;

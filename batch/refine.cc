@@ -368,36 +368,28 @@ bool FillCovariance(ceres::Problem* problem, Parameters* params, const RefineOpt
   return true;
 }
 
-// The view a failed solve is traced to (RefineResult::failed_view), and why, at the start.
-int TraceFailure(const std::vector<View>& views, const CameraIntrinsics& initial,
-                 const std::vector<Rigid3>& initial_poses, const RefineOptions& options,
+// The view a failed solve is traced to (RefineResult::failed_view), and why, from where the solve
+// started (`start`, the parameters before Solve): the first view with a point that does not
+// project, else the one farthest from the start. -1 without views.
+int TraceFailure(const std::vector<View>& views, const Parameters& start, LensFamily family,
                  std::string* why) {
+  const CameraIntrinsics camera = CameraIntrinsics::FromParams(start.intrinsics.data(), family);
   int worst = -1;
-  double worst_rms = 0;
+  double worst_rms = -1;
   for (size_t v = 0; v < views.size(); ++v) {
-    const Rigid3& cam_from_object = initial_poses[options.shared_pose ? 0 : v];
-    int unprojectable = 0;
     double sum_sq = 0;
-    for (size_t i = 0; i < views[v].points.size(); ++i) {
-      Eigen::Vector2d pixel;
-      if (!ProjectPoint(initial, cam_from_object * views[v].points[i], &pixel)) {
-        ++unprojectable;
-      } else {
-        sum_sq += (pixel - views[v].pixels[i]).squaredNorm();
-      }
-    }
-    if (unprojectable > 0) {
-      *why = std::to_string(unprojectable) + " of " + std::to_string(views[v].points.size()) +
-             " points do not project at the start (behind the camera or outside the lens's "
-             "region)";
+    if (!ViewSquaredErrorPx2(views[v], camera, start.Pose(start.rotations.size() == 1 ? 0 : v),
+                             &sum_sq)) {
+      *why =
+          "a point does not project at the start (behind the camera or outside the lens's "
+          "region)";
       return static_cast<int>(v);
     }
     const double rms = std::sqrt(sum_sq / std::max<size_t>(1, views[v].points.size()));
     if (rms > worst_rms) worst_rms = rms, worst = static_cast<int>(v);
   }
-  if (worst < 0) return -1;
   char line[96];
-  std::snprintf(line, sizeof(line), "the farthest from the start (RMS %.3g px)", worst_rms);
+  std::snprintf(line, sizeof(line), "the view farthest from the start (RMS %.3g px)", worst_rms);
   *why = line;
   return worst;
 }
@@ -424,6 +416,7 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
   }
   if (!initial.Check(&why)) return finish(MethodStatus::kFailed, "initial intrinsics: " + why);
   Parameters params = StartParameters(initial, initial_poses, options);
+  const Parameters start = params;
   RefineOptions effective;  // With an active bound held.
   std::string note;
   const Solved solved = SolveRespectingBounds(views, options, &params, &effective, &note);
@@ -432,16 +425,14 @@ RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntri
   if (!solved.summary.IsSolutionUsable() ||
       solved.summary.termination_type == ceres::NO_CONVERGENCE) {
     std::string traced;
-    result.failed_view = TraceFailure(views, initial, initial_poses, options, &traced);
+    result.failed_view = TraceFailure(views, start, FamilyOf(options.model), &traced);
     if (result.failed_view >= 0) {
-      const std::string name = options.view_names.empty()
-                                   ? "view " + std::to_string(result.failed_view)
-                                   : options.view_names[result.failed_view];
-      traced = "; " + name + ": " + traced;
+      traced = " Traced to " +
+               (options.view_names.empty() ? "view " + std::to_string(result.failed_view)
+                                           : options.view_names[result.failed_view]) +
+               ": " + traced;
     }
-    std::string what = solved.summary.message;
-    if (!traced.empty() && !what.empty() && what.back() == '.') what.pop_back();
-    return finish(MethodStatus::kFailed, "ceres: " + what + traced);
+    return finish(MethodStatus::kFailed, "ceres: " + solved.summary.message + traced);
   }
   if (!FillSolution(views, params, effective, &result)) {
     return finish(MethodStatus::kFailed, "fewer residuals than free parameters");

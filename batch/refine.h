@@ -96,9 +96,9 @@ struct RefineResult : MethodSummary {
   double sigma_hat_px = 0.0;  // Residual-based noise estimate (per coordinate).
   int num_points = 0;
   // When the solve fails: the view (index into `views`) the failure is traced to, named in
-  // `message` (options.view_names, else "view N"): the first whose points do not all project at the
-  // start (behind the camera or outside the lens's region: Ceres cannot evaluate them), else the
-  // one farthest from the start (largest RMS). -1 when the solve succeeded or no view stands out.
+  // `message` (options.view_names, else "view N"): the first with a point that does not project
+  // at the start (behind the camera or outside the lens's region: Ceres cannot evaluate it), else
+  // the one farthest from the start (largest RMS). -1 when the solve succeeded.
   int failed_view = -1;
 };
 

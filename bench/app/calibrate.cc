@@ -121,8 +121,10 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
   refine.estimate_skew = options.estimate_skew;
   refine.fix_intrinsics = options.init && options.evaluate_only;
   report.evaluated = refine.fix_intrinsics;
-  if (!data.view_names.empty()) {
-    for (int v : report.zhang.used_views) refine.view_names.push_back(data.view_names[v]);
+  for (int v : report.zhang.used_views) {  // Failures name the input's view.
+    refine.view_names.push_back(v < static_cast<int>(data.view_names.size())
+                                    ? data.view_names[v]
+                                    : "view " + std::to_string(v));
   }
   report.ceres =
       RefineCalibration(used, report.zhang.intrinsics, report.zhang.cam_from_board, refine);

@@ -21,8 +21,8 @@ namespace calibench {
 struct PointData {
   std::string format;  // "zhang" or "opencv-calib"
   std::vector<View> views;
-  // What each view is called in messages (its file: "data3.txt", "view07.png"; "view 3" of an
-  // OpenCV .dat file); empty: "view <index>".
+  // What each view is called in messages: its file ("data3.txt", "view07.png"); empty (an OpenCV
+  // .dat file, one file for every view): "view <index>".
   std::vector<std::string> view_names;
   int image_width = 640;
   int image_height = 480;
