@@ -342,7 +342,11 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
   used_index->clear();
   ImageDetectionCache* cache = options.detection_cache;
   const bool through_lens = aprilgrid && detectors[0]->FindingUsesCamera();
-  std::string source = dir + "\n" + TargetYamlText(target) + "\nlens " + ToString(options.lens);
+  // What the detection depends on: AprilTag 3 finds tags without the lens; a checkerboard's
+  // detector order follows it (FindCheckerboard).
+  const bool sector_based_first = !aprilgrid && options.lens != LensFamily::kRadTan;
+  std::string source =
+      dir + "\n" + TargetYamlText(target) + (sector_based_first ? "\nsector-based first" : "");
   for (const std::string& name : names) source += "\n" + name;
   // The same source holds the same files, one slot each.
   const bool reuse = cache && cache->filled && cache->source == source &&

@@ -31,8 +31,9 @@ namespace calibench {
 // again.
 struct ImageDetectionCache {
   bool filled = false;
-  // What it was filled from: the folder, its files, the target (its YAML text) and the lens
-  // family the images are detected for; reused only for the same.
+  // What it was filled from: the folder, its files, the target (its YAML text) and, for a
+  // checkerboard, whether the sector-based detector went first (a wide lens); reused only for the
+  // same.
   std::string source;
   // FindTags painted corner squares out through a distorting camera (FrameDetector::
   // FindingUsesCamera): it then finds more tags than without one, and is not reused by a pass
