@@ -54,6 +54,21 @@ inline RaySpace RaySpaceOf(LensFamily family) {
 }
 inline bool IsPlaneFamily(LensFamily family) { return RaySpaceOf(family) == RaySpace::kPlane; }
 
+// The pixel of `point_in_cam` for an image bound: false where it does not project (radtan and
+// equidistant: z <= 0) or where the distortion folds over (d r_d / d r <= 0), so that a bound
+// from projected outline points holds the whole shape between them.
+inline bool ProjectUnfolded(const CameraIntrinsics& k, const Eigen::Vector3d& point_in_cam,
+                            Eigen::Vector2d* pixel) {
+  const Eigen::Vector3d& p = point_in_cam;
+  if (IsPlaneFamily(k.family)) {
+    if (!(p.z() > 1e-9)) return false;
+    if (!k.DistortionIsMonotoneAt((p.x() * p.x() + p.y() * p.y()) / (p.z() * p.z()))) return false;
+  } else if (!k.DistortionIsMonotoneAlong(p)) {
+    return false;
+  }
+  return ProjectPoint(k, p, pixel) && pixel->allFinite();
+}
+
 // The homogeneous ray (a positive multiple of the unit ray) of table coordinates q: (x, y, 1), or
 // the inverse stereographic projection (2x, 2y, 1 - x^2 - y^2) = (2 / (1 + Z)) P for a unit P.
 inline Eigen::Vector3d LiftRay(RaySpace space, const Eigen::Vector2d& q) {
@@ -347,16 +362,8 @@ class BoardShader {
         const Eigen::Vector3d point_in_board =
             e < 2 ? Eigen::Vector3d(xs[0] + f * (xs[1] - xs[0]), ys[e], 0)
                   : Eigen::Vector3d(xs[e - 2], ys[0] + f * (ys[1] - ys[0]), 0);
-        const Eigen::Vector3d p = cam_from_board * point_in_board;
-        if (plane) {
-          if (!(p.z() > 1e-9)) return;
-          const double r2 = (p.x() * p.x() + p.y() * p.y()) / (p.z() * p.z());
-          if (!k.DistortionIsMonotoneAt(r2)) return;
-        } else if (!k.DistortionIsMonotoneAlong(p)) {
-          return;
-        }
         Eigen::Vector2d pixel;
-        if (!ProjectPoint(k, p, &pixel)) return;
+        if (!ProjectUnfolded(k, cam_from_board * point_in_board, &pixel)) return;
         u_min = std::min(u_min, pixel.x()), u_max = std::max(u_max, pixel.x());
         v_min = std::min(v_min, pixel.y()), v_max = std::max(v_max, pixel.y());
       }

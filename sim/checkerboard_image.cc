@@ -55,20 +55,34 @@ class BoardHits {
 };
 
 // The pixel box [x0, x1) x [y0, y1) holding the board and its margin: its outline projected at 64
-// points a side, grown by 2 px; the whole image when a point of it does not project.
+// points a side, grown by 2 px; the whole image when a point of it does not project or the lens
+// folds there (ProjectUnfolded), or the board holds an omnidirectional lens's backward axis.
 PixelBox BoardBox(const CameraIntrinsics& camera, const Rigid3& cam_from_board,
                   const CheckerboardPattern& p, int width, int height) {
   const double s = p.square_m;
   const Eigen::Vector2d lo(-2 * s, -2 * s), hi((p.cols + 1) * s, (p.rows + 1) * s);
   const Eigen::Vector2d outline[5] = {lo, {hi.x(), lo.y()}, hi, {lo.x(), hi.y()}, lo};
+  if (!render_internal::IsPlaneFamily(
+          camera.family)) {  // The backward axis, -z, meets the board inside it?
+    const Eigen::Vector3d normal = cam_from_board.rotation.col(2);
+    const Eigen::Vector3d backward(0, 0, -1);
+    const double along = normal.dot(cam_from_board.translation) / normal.dot(backward);
+    if (along > 0) {
+      const Eigen::Vector3d b =
+          cam_from_board.rotation.transpose() * (along * backward - cam_from_board.translation);
+      if (b.x() > lo.x() && b.x() < hi.x() && b.y() > lo.y() && b.y() < hi.y()) {
+        return {0, width, 0, height};
+      }
+    }
+  }
   Eigen::Vector2d min(1e300, 1e300), max(-1e300, -1e300);
   constexpr int kPerSide = 64;
   for (int side = 0; side < 4; ++side) {
     for (int k = 0; k < kPerSide; ++k) {
       const Eigen::Vector2d b = outline[side] + (outline[side + 1] - outline[side]) * k / kPerSide;
       Eigen::Vector2d pixel;
-      if (!ProjectPoint(camera, cam_from_board * Eigen::Vector3d(b.x(), b.y(), 0), &pixel) ||
-          !pixel.allFinite()) {
+      if (!render_internal::ProjectUnfolded(
+              camera, cam_from_board * Eigen::Vector3d(b.x(), b.y(), 0), &pixel)) {
         return {0, width, 0, height};
       }
       min = min.cwiseMin(pixel);
@@ -167,7 +181,7 @@ bool RenderCheckerboard(const CameraIntrinsics& camera, const Rigid3& cam_from_b
   std::vector<float> values;
   PixelBox box{};
   if (options.blur_sigma_px > 0) {
-    const int m = AutoBlurGrid(options.blur_sigma_px);
+    const int m = CapBlurGrid(AutoBlurGrid(options.blur_sigma_px), w, h);
     // Sub-pixels m times finer need m times fewer samples a side for the same resolution.
     CheckerboardImageOptions fine_options = options;
     fine_options.supersample = std::max(2, (options.supersample + m - 1) / m);

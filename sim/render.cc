@@ -115,9 +115,8 @@ std::unique_ptr<FrameRenderer> FrameRenderer::Create(const CameraIntrinsics& int
   r->options_ = options;
   const int w = options.width, h = options.height;
   if (options.blur_sigma_px > 0) {
-    int m = options.blur_grid > 0 ? options.blur_grid : AutoBlurGrid(options.blur_sigma_px);
-    // The finer grid's ray table and buffers take ~30 bytes a sub-pixel: at most kMaxFinePixels.
-    while (m > 1 && static_cast<double>(w) * m * h * m > kMaxFinePixels) --m;
+    const int m = CapBlurGrid(
+        options.blur_grid > 0 ? options.blur_grid : AutoBlurGrid(options.blur_sigma_px), w, h);
     if (m > 1) {
       RenderOptions fine = options;
       fine.width = w * m;
@@ -434,6 +433,11 @@ bool FrameRenderer::SampleRay(const Eigen::Matrix3d& a_inv, double u, double v,
 
 int AutoBlurGrid(double blur_sigma_px) {
   return std::min(kMaxBlurGrid, static_cast<int>(std::ceil(3 / blur_sigma_px)));
+}
+
+int CapBlurGrid(int m, int width, int height) {
+  while (m > 1 && static_cast<double>(width) * m * height * m > kMaxFinePixels) --m;
+  return m;
 }
 
 CameraIntrinsics FinerCamera(const CameraIntrinsics& camera, int m) {

@@ -145,6 +145,9 @@ bool RenderFrame(const CameraIntrinsics& intrinsics, const std::vector<BoardView
 // The sub-pixels per pixel side of the automatic blur grid for a PSF of `blur_sigma_px` (> 0):
 // m = ceil(3 / sigma), at most 8 (edge shift < 5e-4 px; header comment).
 int AutoBlurGrid(double blur_sigma_px);
+// `m` lowered until a width x height image's grid m times finer has at most 16e6 sub-pixels (its
+// ray table and buffers take ~30 bytes a sub-pixel): the memory bound of every blur grid.
+int CapBlurGrid(int m, int width, int height);
 
 // The camera of a grid m times finer than `camera`'s pixels (pixel-centre convention kept: fine
 // pixel (i, j) of pixel (I, J) is centred at (m I + a, m J + b), a, b in 0..m-1).
