@@ -21,10 +21,7 @@ void RadTan(const double* k, double x, double y, bool jacobians, RadTanStep* out
   out->xd = d * x + 2.0 * p1 * xy + p2 * (r2 + 2.0 * x * x);
   out->yd = d * y + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * xy;
   if (!jacobians) return;
-  const double dd_dr2 = k1 + r2 * (2.0 * k2 + 3.0 * k3 * r2);
-  const double cross = 2.0 * xy * dd_dr2 + 2.0 * p1 * x + 2.0 * p2 * y;
-  out->d_n << d + 2.0 * x * x * dd_dr2 + 2.0 * p1 * y + 6.0 * p2 * x, cross,  //
-      cross, d + 2.0 * y * y * dd_dr2 + 6.0 * p1 * y + 2.0 * p2 * x;
+  out->d_n = RadTanJacobian(k1, k2, p1, p2, k3, x, y);
   const double r4 = r2 * r2;
   out->d_k << x * r2, x * r4, 2.0 * xy, r2 + 2.0 * x * x, x * r4 * r2,  //
       y * r2, y * r4, r2 + 2.0 * y * y, 2.0 * xy, y * r4 * r2;

@@ -280,12 +280,7 @@ RadTanAt EvaluateRadTan(double k1, double k2, double p1, double p2, double k3,
   RadTanAt at;
   ApplyRadTan(k1, k2, p1, p2, k3, p.x(), p.y(), &at.residual.x(), &at.residual.y());
   at.residual -= target;
-  const double x = p.x(), y = p.y(), r2 = x * x + y * y;
-  const double d = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
-  const double dd = k1 + r2 * (2 * k2 + 3 * r2 * k3);  // d(d) / d(r2).
-  const double off = 2 * x * y * dd + 2 * p1 * x + 2 * p2 * y;
-  at.jacobian << d + 2 * x * x * dd + 2 * p1 * y + 6 * p2 * x, off, off,
-      d + 2 * y * y * dd + 6 * p1 * y + 2 * p2 * x;
+  at.jacobian = RadTanJacobian(k1, k2, p1, p2, k3, p.x(), p.y());
   return at;
 }
 

@@ -201,6 +201,20 @@ void ApplyRadTan(const T& k1, const T& k2, const T& p1, const T& p2, const T& k3
   *yd = d * y + p1 * (r2 + T(2) * y * y) + T(2) * p2 * xy;
 }
 
+// d(xd, yd) / d(x, y) of ApplyRadTan: the inverse's Newton step (camera.cc) and the refinement's
+// analytic Jacobians (batch/projection_jacobian.cc).
+inline Eigen::Matrix2d RadTanJacobian(double k1, double k2, double p1, double p2, double k3,
+                                      double x, double y) {
+  const double r2 = x * x + y * y;
+  const double d = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
+  const double dd_dr2 = k1 + r2 * (2.0 * k2 + 3.0 * k3 * r2);
+  const double cross = 2.0 * x * y * dd_dr2 + 2.0 * p1 * x + 2.0 * p2 * y;
+  Eigen::Matrix2d j;
+  j << d + 2.0 * x * x * dd_dr2 + 2.0 * p1 * y + 6.0 * p2 * x, cross,  //
+      cross, d + 2.0 * y * y * dd_dr2 + 6.0 * p1 * y + 2.0 * p2 * x;
+  return j;
+}
+
 struct PinholeSkewCamera {
   static constexpr int kNumParams = 10;
   static constexpr const char* kName = "pinhole-skew-radtan5";
