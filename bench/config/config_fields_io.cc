@@ -169,14 +169,7 @@ void FieldReader::Field(const FieldSpec& f, std::string* v, const Choices& choic
         return;
       }
     }
-    std::string list;
-    for (const std::string& c : choices.names) list += (list.empty() ? "" : ", ") + c;
-    const std::string best = ClosestName(value, choices.names);
-    std::string reason = *choices.noun ? "unknown " + std::string(choices.noun) + " '" + value +
-                                             "' (one of: " + list + ")"
-                                       : "'" + value + "' is not one of: " + list;
-    if (!best.empty()) reason += " (did you mean '" + best + "'?)";
-    r_.Fail(n, g, reason);
+    r_.Fail(n, g, NotOneOf(value, choices.names, choices.noun));
   });
 }
 void FieldReader::Field(const FieldSpec& f, Eigen::Vector3d* v) {

@@ -100,6 +100,19 @@ inline std::string ClosestName(const std::string& value, const std::vector<std::
   return best;
 }
 
+// The refusal of `value` outside the closed set `names`: "'x' is not one of: a, b", or with a
+// `noun` "unknown <noun> 'x' (one of: a, b)"; then the "did you mean" of ClosestName.
+inline std::string NotOneOf(const std::string& value, const std::vector<std::string>& names,
+                            const std::string& noun = "") {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  std::string reason = noun.empty() ? "'" + value + "' is not one of: " + list
+                                    : "unknown " + noun + " '" + value + "' (one of: " + list + ")";
+  const std::string best = ClosestName(value, names);
+  if (!best.empty()) reason += " (did you mean '" + best + "'?)";
+  return reason;
+}
+
 // Parses one file's nodes, naming the file and the dotted field path in every error.
 class Reader {
  public:
@@ -192,12 +205,7 @@ class Reader {
                      const std::vector<std::string>& choices) const {
     std::string value = String(node, field);
     if (std::find(choices.begin(), choices.end(), value) != choices.end()) return value;
-    std::string list;
-    for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
-    const std::string best = ClosestName(value, choices);
-    Fail(node, field,
-         "'" + value + "' is not one of: " + list +
-             (best.empty() ? "" : " (did you mean '" + best + "'?)"));
+    Fail(node, field, NotOneOf(value, choices));
   }
   Eigen::Vector3d Vector3(const YAML::Node& node, const std::string& field) const {
     if (!node.IsSequence() || node.size() != 3) Fail(node, field, "expected a list of 3 numbers");
