@@ -205,8 +205,7 @@ std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
       const PhotometricFitResult fit = FitTagPhotometric(view, patterns_[PointId(tag.id, 0) / 4],
                                                          tag.corners, options_.photometric, camera);
       if (!fit.ok()) {
-        ++local.refused_tags[static_cast<int>(fit.failure)];
-        refused[tag.id] = fit.failure;
+        refused[tag.id] = fit.failure;  // Counted below, unless fitted again from its neighbours.
         continue;
       }
       tag.corners = fit.corners;
@@ -232,6 +231,11 @@ std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
     std::set<int> tried;
     for (const FittedTag& tag : fitted) tried.insert(tag.id);
     PredictMissingTags(view, camera, std::move(tried), refused, &fitted, &local);
+  }
+  std::set<int> fitted_ids;
+  for (const FittedTag& tag : fitted) fitted_ids.insert(tag.id);
+  for (const auto& [id, failure] : refused) {
+    if (fitted_ids.count(id) == 0) ++local.refused_tags[static_cast<int>(failure)];
   }
   std::vector<Observation> observations;
   for (const FittedTag& tag : fitted) {
@@ -309,16 +313,14 @@ void FrameDetector::PredictMissingTags(const GrayImageView& view, const CameraIn
         tried.insert(id);
         const PhotometricFitResult fit = FitTagPhotometric(view, patterns_[PointId(id, 0) / 4],
                                                            corners, options_.photometric, camera);
-        const auto was_refused = refused.find(id);
         if (!fit.ok() || !(fit.residual_rms_gray <= max_residual_gray)) {
-          // A decoded tag refused again stays counted once, in refused_tags.
-          if (was_refused == refused.end()) ++counts->refused_predictions;
+          // A decoded tag refused again is counted once, in refused_tags (RefineTags).
+          if (decoded == refused.end()) ++counts->refused_predictions;
           continue;
         }
         fitted->push_back({id, fit.corners, fit.crlb_px, fit.residual_rms_gray});
         ++counts->tags;
-        if (was_refused != refused.end()) {
-          --counts->refused_tags[static_cast<int>(was_refused->second)];
+        if (decoded != refused.end()) {
           ++counts->refitted_tags;
         } else {
           ++counts->predicted_tags;

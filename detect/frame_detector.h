@@ -207,8 +207,8 @@ class FrameDetector {
   };
   // Fits the grid tags missing from *fitted where their fitted neighbours put them (header
   // comment); `tried`: ids not to predict (fitted). `refused`: decoded ids whose fit was refused,
-  // with its reason (counted in counts->refused_tags until a prediction keeps them). Appends the
-  // kept ones, counts in *counts.
+  // with its reason (RefineTags counts those not fitted again in counts->refused_tags). Appends
+  // the kept ones, counts in *counts.
   void PredictMissingTags(const GrayImageView& view, const CameraIntrinsics* camera,
                           std::set<int> tried, const std::map<int, FitFailure>& refused,
                           std::vector<FittedTag>* fitted, DetectionCounts* counts) const;
