@@ -147,9 +147,11 @@ XJunctionSummary RefineXJunction(const GrayImageView& image, const CameraIntrins
   const Eigen::Matrix2d px_per_t = dt_dp_at_start.inverse();
   const double area_at_start = std::abs(dt_dp_at_start.determinant());
   Eigen::Vector2d q = start;
-  // The window's grid (plane points, smoothed pixels), kept while its bounds do not change.
-  std::vector<Eigen::Vector2d> t;
+  // The window's grid (plane points, smoothed pixels) and, per window pixel, the image gradient in
+  // the plane and the pixel's plane area, kept while the window's bounds do not change.
+  std::vector<Eigen::Vector2d> t, gradient_t;
   std::vector<float> smooth;
+  std::vector<double> area;
   std::array<int, 4> grid_bounds = {0, -1, 0, -1};
   const int k = KernelReach(options.gradient_sigma_px);
   for (summary.iterations = 1; summary.iterations <= options.max_iterations; ++summary.iterations) {
@@ -172,6 +174,7 @@ XJunctionSummary RefineXJunction(const GrayImageView& image, const CameraIntrins
     const int gw = x1 - x0 + 3, gh = y1 - y0 + 3;
     if (grid_bounds != std::array<int, 4>{x0, x1, y0, y1}) {
       grid_bounds = {x0, x1, y0, y1};
+      gradient_t.clear();  // Computed again below, for the new window.
       SmoothPatch(image, options.gradient_sigma_px, x0 - 1, y0 - 1, gw, gh, &smooth);
       t.assign(static_cast<size_t>(gw) * gh, Eigen::Vector2d::Zero());
       for (int j = 0; j < gh; ++j) {
@@ -186,9 +189,26 @@ XJunctionSummary RefineXJunction(const GrayImageView& image, const CameraIntrins
     auto t_at = [&](int x, int y) -> const Eigen::Vector2d& {
       return t[static_cast<size_t>(y - y0 + 1) * gw + (x - x0 + 1)];
     };
-    auto smooth_at = [&](int x, int y) {
-      return smooth[static_cast<size_t>(y - y0 + 1) * gw + (x - x0 + 1)];
-    };
+    const int ww = x1 - x0 + 1;  // Window pixel (x, y) is slot (y - y0) ww + (x - x0).
+    if (gradient_t.empty()) {
+      auto smooth_at = [&](int x, int y) {
+        return smooth[static_cast<size_t>(y - y0 + 1) * gw + (x - x0 + 1)];
+      };
+      gradient_t.resize(static_cast<size_t>(ww) * (y1 - y0 + 1));
+      area.resize(gradient_t.size());
+      for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+          Eigen::Matrix2d dt_dp;
+          dt_dp << (t_at(x + 1, y) - t_at(x - 1, y)) / 2, (t_at(x, y + 1) - t_at(x, y - 1)) / 2;
+          const Eigen::Vector2d g_px(0.5 * (smooth_at(x + 1, y) - smooth_at(x - 1, y)),
+                                     0.5 * (smooth_at(x, y + 1) - smooth_at(x, y - 1)));
+          // dI/dt = (dp/dt)^T dI/dp = (dt/dp)^-T dI/dp.
+          const size_t slot = static_cast<size_t>(y - y0) * ww + (x - x0);
+          gradient_t[slot] = dt_dp.transpose().partialPivLu().solve(g_px);
+          area[slot] = std::abs(dt_dp.determinant());
+        }
+      }
+    }
     Eigen::Matrix2d a = Eigen::Matrix2d::Zero();
     Eigen::Vector2d b = Eigen::Vector2d::Zero();
     for (int y = y0; y <= y1; ++y) {
@@ -196,13 +216,9 @@ XJunctionSummary RefineXJunction(const GrayImageView& image, const CameraIntrins
         const Eigen::Vector2d& tp = t_at(x, y);
         const double d2 = (px_per_t * (tp - q_t)).squaredNorm() / (r * r);
         if (d2 >= 1) continue;
-        Eigen::Matrix2d dt_dp;
-        dt_dp << (t_at(x + 1, y) - t_at(x - 1, y)) / 2, (t_at(x, y + 1) - t_at(x, y - 1)) / 2;
-        const Eigen::Vector2d g_px(0.5 * (smooth_at(x + 1, y) - smooth_at(x - 1, y)),
-                                   0.5 * (smooth_at(x, y + 1) - smooth_at(x, y - 1)));
-        // dI/dt = (dp/dt)^T dI/dp = (dt/dp)^-T dI/dp.
-        const Eigen::Vector2d g = dt_dp.transpose().partialPivLu().solve(g_px);
-        const double w = (1 - d2) * (1 - d2) * std::abs(dt_dp.determinant()) / area_at_start;
+        const size_t slot = static_cast<size_t>(y - y0) * ww + (x - x0);
+        const Eigen::Vector2d& g = gradient_t[slot];
+        const double w = (1 - d2) * (1 - d2) * area[slot] / area_at_start;
         const Eigen::Matrix2d ggt = w * g * g.transpose();
         a += ggt;
         b += ggt * tp;
