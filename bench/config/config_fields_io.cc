@@ -82,9 +82,6 @@ class FieldWriter final : public FieldVisitor {
   void Field(const FieldSpec& f, std::vector<MethodInstance>*) override {
     if (Key(f, false)) EmitMethods(out_, *context_);
   }
-  void Field(const FieldSpec& f, std::vector<CalibrationChange>* v) override {
-    if (Key(f, v->empty())) EmitChanges(out_, *v);
-  }
 
  private:
   // Writes the key of a field that is written; false when it is not.
@@ -204,13 +201,17 @@ void FieldReader::Section(const FieldSpec& f, const SectionOps& ops) {
 }
 void FieldReader::List(const FieldSpec& f, const ListOps& ops) {
   At(f, [&](const YAML::Node& n, const std::string& g) {
-    if (!n.IsSequence() || n.size() == 0) r_.Fail(n, g, "expected a non-empty list");
+    if (!n.IsSequence() || (n.size() == 0 && !ops.allow_empty)) {
+      r_.Fail(n, g, "expected a non-empty list");
+    }
     ops.resize(0);
     ops.resize(n.size());
     for (size_t i = 0; i < n.size(); ++i) {
+      const std::string item = g + "[" + std::to_string(i) + "]";
+      r_.ExpectMap(n[i], item);
       ReadFields(
-          r_, n[i], g + "[" + std::to_string(i) + "]", [&](FieldVisitor& w) { ops.visit(i, w); },
-          context_);
+          r_, n[i], item, [&](FieldVisitor& w) { ops.visit(i, w); }, context_);
+      if (ops.located) ops.located(i, r_.Where(n[i]));
     }
   });
 }
@@ -219,9 +220,6 @@ void FieldReader::Field(const FieldSpec& f, PointsConfig* v) {
 }
 void FieldReader::Field(const FieldSpec& f, std::vector<MethodInstance>*) {
   At(f, [&](const YAML::Node& n, const std::string& g) { ParseMethods(r_, n, g, context_); });
-}
-void FieldReader::Field(const FieldSpec& f, std::vector<CalibrationChange>*) {
-  At(f, [&](const YAML::Node& n, const std::string& g) { ParseChanges(r_, n, g, context_); });
 }
 void FieldReader::Check(const char* key, const std::function<bool(std::string*)>& ok) {
   std::string why;

@@ -85,53 +85,7 @@ void ParsePointsSection(const Reader& r, const YAML::Node& node, const std::stri
   p->count = static_cast<int>(p->xyz.size());
 }
 
-// truth.changes: [{kind: step, at_s, ...} | {kind: ramp, from_s, to_s, ...}] (sim/scene.h).
 }  // namespace
-
-void config_internal::ParseChanges(const Reader& r, const YAML::Node& node,
-                                   const std::string& field, ScenarioConfig* s) {
-  if (!node.IsSequence()) r.Fail(node, field, "expected a list of {kind: step | ramp, ...}");
-  s->truth_changes.clear();
-  s->truth_change_marks.clear();
-  for (size_t i = 0; i < node.size(); ++i) {
-    const YAML::Node e = node[i];
-    const std::string f = field + "[" + std::to_string(i) + "]";
-    r.ExpectMap(e, f);
-    if (!e["kind"].IsDefined()) r.Fail(e, f + ".kind", "missing: step or ramp");
-    CalibrationChange c;
-    const bool step = r.Choice(e["kind"], f + ".kind", {"step", "ramp"}) == "step";
-    c.kind = step ? CalibrationChange::Kind::kStep : CalibrationChange::Kind::kRamp;
-    std::vector<std::string> keys = {"kind",   "rpy_deg", "x_m",   "fku_px",
-                                     "fkv_px", "u0_px",   "v0_px", "phi_deg"};
-    const std::vector<std::string> times =
-        step ? std::vector<std::string>{"at_s"} : std::vector<std::string>{"from_s", "to_s"};
-    keys.insert(keys.end(), times.begin(), times.end());
-    r.CheckKeys(e, f, keys);
-    for (const std::string& t : times) {
-      if (!e[t].IsDefined()) r.Fail(e, f + "." + t, "missing");
-    }
-    if (step) {
-      c.from_s = c.to_s = r.Double(e["at_s"], f + ".at_s");
-    } else {
-      c.from_s = r.Double(e["from_s"], f + ".from_s");
-      c.to_s = r.Double(e["to_s"], f + ".to_s");
-    }
-    r.Set(e, "rpy_deg", f, &c.rpy_deg);
-    r.Set(e, "x_m", f, &c.x_m);
-    r.Set(e, "fku_px", f, &c.fku_px);
-    r.Set(e, "fkv_px", f, &c.fkv_px);
-    r.Set(e, "u0_px", f, &c.u0_px);
-    r.Set(e, "v0_px", f, &c.v0_px);
-    r.Set(e, "phi_deg", f, &c.phi_deg);
-    std::string why;
-    // The times are checked against the scenario's duration once it is known (Finish).
-    if (!c.Check(std::numeric_limits<double>::infinity(), &why)) r.Fail(e, f, why);
-    s->truth_changes.push_back(c);
-    std::ostringstream mark;
-    mark << r.file() << ":" << e.Mark().line + 1 << ":" << e.Mark().column + 1;
-    s->truth_change_marks.push_back(mark.str());
-  }
-}
 
 // Applies the scenario mapping `node` onto *s (fields absent from `node` keep their values).
 void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& field,

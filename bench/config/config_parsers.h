@@ -21,7 +21,7 @@ std::vector<std::string> DeclaredKeys(const std::function<void(FieldVisitor&)>& 
 
 // Reads the fields `visit` declares from the mapping `node` (unknown keys are errors naming the
 // closest declared one); fields whose key is absent keep their values. `context` is the scenario
-// the custom sections (methods, truth.changes) are read into; null outside a scenario.
+// the custom section (methods) is read into; null outside a scenario.
 void ReadFields(const Reader& r, const YAML::Node& node, const std::string& field,
                 const std::function<void(FieldVisitor&)>& visit, ScenarioConfig* context);
 
@@ -49,7 +49,6 @@ class FieldReader final : public FieldVisitor {
   void List(const FieldSpec& f, const ListOps& ops) override;
   void Field(const FieldSpec& f, PointsConfig* v) override;
   void Field(const FieldSpec& f, std::vector<MethodInstance>* v) override;
-  void Field(const FieldSpec& f, std::vector<CalibrationChange>* v) override;
   void Check(const char* key, const std::function<bool(std::string*)>& ok) override;
   void Exclusive(const char* key, const std::vector<const char*>& others,
                  const char* reason) override;
@@ -57,6 +56,9 @@ class FieldReader final : public FieldVisitor {
  private:
   template <typename F>
   void At(const FieldSpec& f, F read) {
+    if ((f.flags & kRequired) && !node_[f.key].IsDefined()) {
+      r_.Fail(node_, Reader::Join(field_, f.key), "missing");
+    }
     r_.If(node_, f.key, field_, read);
   }
   void Checked(const FieldSpec& f, const YAML::Node& n, const std::string& field, double value);
@@ -76,10 +78,6 @@ void EmitCamera(YAML::Emitter& out, const CameraSpec& c);
 void ParsePoints(const Reader& r, const YAML::Node& node, const std::string& field,
                  PointsConfig* p);
 void EmitPoints(YAML::Emitter& out, const PointsConfig& p);
-// truth.changes (config_io.cc): [{kind: step, at_s, ...} | {kind: ramp, from_s, to_s, ...}].
-void ParseChanges(const Reader& r, const YAML::Node& node, const std::string& field,
-                  ScenarioConfig* s);
-void EmitChanges(YAML::Emitter& out, const std::vector<CalibrationChange>& changes);
 
 // `methods:` (config_methods.cc): a list of instances, or the map form applied onto s->methods.
 void ParseMethods(const Reader& r, const YAML::Node& node, const std::string& field,

@@ -98,9 +98,6 @@ class DocVisitor final : public FieldVisitor {
   void Field(const FieldSpec& f, std::vector<MethodInstance>*) override {
     Add(f, "list or mapping", "one instance per type; `adaptive` enabled");
   }
-  void Field(const FieldSpec& f, std::vector<CalibrationChange>*) override {
-    Add(f, "list", "none");
-  }
   void Exclusive(const char* key, const std::vector<const char*>&, const char* reason) override {
     notes_.push_back("With `" + std::string(key) + "`: " + reason + ".");
   }
@@ -121,7 +118,8 @@ class DocVisitor final : public FieldVisitor {
  private:
   void Add(const FieldSpec& f, const std::string& type, const std::string& default_value) {
     const std::string constrained = *f.constraint ? type + " " + f.constraint : type;
-    rows_.push_back({f.key, constrained, default_value, f.unit, f.doc});
+    rows_.push_back(
+        {f.key, constrained, (f.flags & kRequired) ? "required" : default_value, f.unit, f.doc});
     docs_.emplace_back(f.key, f.doc);
   }
   void Nested(const std::string& key, const std::function<void(FieldVisitor&)>& visit) {

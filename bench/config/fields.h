@@ -24,6 +24,7 @@ enum FieldFlag : unsigned {
   kNotWritten = 1u << 1,    // Read only (how a value was written, e.g. a preset's name).
   kNotCompared = 1u << 2,   // Not part of equality (a preset's name: its values are compared).
   kNotSweepable = 1u << 3,  // Not a sweep axis (top-level scenario fields only).
+  kRequired = 1u << 4,      // Readers refuse a mapping without it (items of a list).
 };
 
 struct FieldSpec {
@@ -59,6 +60,9 @@ struct ListOps {
   std::function<void(size_t)> resize;
   std::function<void(size_t, class FieldVisitor&)> visit;
   bool flow_items = true;
+  bool allow_empty = false;  // `[]` is a value (e.g. clears a base's list), not an error.
+  // Readers call it with item i's place in its file ("file:line:col"), for checks made later.
+  std::function<void(size_t, const std::string& where)> located;
 };
 
 class FieldVisitor {
@@ -82,7 +86,6 @@ class FieldVisitor {
   // Sections with their own grammar (config I/O reads and writes them by hand).
   virtual void Field(const FieldSpec& f, PointsConfig* v) = 0;
   virtual void Field(const FieldSpec& f, std::vector<MethodInstance>* v) = 0;
-  virtual void Field(const FieldSpec& f, std::vector<CalibrationChange>* v) = 0;
   // Readers run `ok` after the fields above it; false fails naming `key` (nullptr: the section).
   virtual void Check(const char* /*key*/, const std::function<bool(std::string*)>& /*ok*/) {}
   // `key` may not be given together with any of `others`.
@@ -111,7 +114,6 @@ class SpecVisitor : public FieldVisitor {
   void List(const FieldSpec& f, const ListOps&) override { Spec(f); }
   void Field(const FieldSpec& f, PointsConfig*) override { Spec(f); }
   void Field(const FieldSpec& f, std::vector<MethodInstance>*) override { Spec(f); }
-  void Field(const FieldSpec& f, std::vector<CalibrationChange>*) override { Spec(f); }
 };
 
 // An enum class through its name table (YAML spelling, in declaration order).

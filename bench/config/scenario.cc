@@ -305,10 +305,9 @@ bool SameValue(double a, double b) { return a == b || (std::isnan(a) && std::isn
 // Every declared field's value, in declaration order (equality of two configurations).
 class Flatten final : public FieldVisitor {
  public:
-  using Value =
-      std::variant<double, long, uint64_t, bool, std::string, Eigen::Vector3d, Eigen::Matrix3d,
-                   std::vector<Eigen::Vector3d>, const PointsConfig*,
-                   const std::vector<MethodInstance>*, const std::vector<CalibrationChange>*>;
+  using Value = std::variant<double, long, uint64_t, bool, std::string, Eigen::Vector3d,
+                             Eigen::Matrix3d, std::vector<Eigen::Vector3d>, const PointsConfig*,
+                             const std::vector<MethodInstance>*>;
   std::vector<Value> values;
 
   void Field(const FieldSpec& f, double* v) override { Add(f, *v); }
@@ -334,7 +333,6 @@ class Flatten final : public FieldVisitor {
   }
   void Field(const FieldSpec& f, PointsConfig* v) override { Add(f, v); }
   void Field(const FieldSpec& f, std::vector<MethodInstance>* v) override { Add(f, v); }
-  void Field(const FieldSpec& f, std::vector<CalibrationChange>* v) override { Add(f, v); }
 
   static bool Same(const Value& a, const Value& b) {
     if (a.index() != b.index()) return false;
@@ -350,9 +348,6 @@ class Flatten final : public FieldVisitor {
     }
     if (const auto* x = std::get_if<const std::vector<MethodInstance>*>(&a)) {
       return **x == *std::get<const std::vector<MethodInstance>*>(b);
-    }
-    if (const auto* x = std::get_if<const std::vector<CalibrationChange>*>(&a)) {
-      return **x == *std::get<const std::vector<CalibrationChange>*>(b);
     }
     return a == b;
   }

@@ -193,6 +193,7 @@ bool operator==(const ScenarioConfig& a, const ScenarioConfig& b);
 void Visit(FieldVisitor& v, ScenarioConfig& s);
 void Visit(FieldVisitor& v, CameraSpec& c);
 void Visit(FieldVisitor& v, CameraIntrinsics& k);
+void Visit(FieldVisitor& v, CalibrationChange& c);
 void Visit(FieldVisitor& v, TrackingConfig& t);
 void Visit(FieldVisitor& v, Reference& r);
 void Visit(FieldVisitor& v, ReportConfig& r);

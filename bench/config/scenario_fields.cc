@@ -2,6 +2,7 @@
 // member's initializer), unit, doc and check. The parser, the writer, equality, the key lists of
 // "did you mean", the sweepable keys and docs/configuration.md are derived from these functions.
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -137,12 +138,29 @@ void VisitMeasurements(FieldVisitor& v, ScenarioConfig& s) {
   });
 }
 
+const EnumNames<CalibrationChange::Kind>& ChangeKindNames() {
+  static const EnumNames<CalibrationChange::Kind> names{
+      {{CalibrationChange::Kind::kStep, "step"}, {CalibrationChange::Kind::kRamp, "ramp"}}};
+  return names;
+}
+
 void VisitTruth(FieldVisitor& v, ScenarioConfig& s) {
   Visit(v, s.truth);
-  v.Field({"changes", "",
-           "Changes of the calibration over time: steps and ramps (hand-written table below).", "",
-           nullptr, kOmitUnset},
-          &s.truth_changes);
+  ListOps changes;
+  changes.size = s.truth_changes.size();
+  changes.resize = [&s](size_t n) {
+    s.truth_changes.resize(n);
+    s.truth_change_marks.resize(n);
+  };
+  changes.visit = [&s](size_t i, FieldVisitor& w) { Visit(w, s.truth_changes[i]); };
+  changes.allow_empty = true;  // `changes: []` clears a base's.
+  changes.located = [&s](size_t i, const std::string& where) { s.truth_change_marks[i] = where; };
+  v.List({"changes", "",
+          "Changes of the calibration over time, steps and ramps; their deltas add to the truth "
+          "in list order. A change that changes nothing, non-finite deltas and times outside the "
+          "run are refused.",
+          "", nullptr, kOmitUnset},
+         changes);
 }
 
 void VisitTolerance(FieldVisitor& v, TrackingOptions& t) {
@@ -333,6 +351,58 @@ void Visit(FieldVisitor& v, CameraIntrinsics& k) {
            k.family == LensFamily::kEucm ? 0u : kNotWritten},
           &k.beta);
   v.Check(nullptr, [&k](std::string* why) { return k.Check(why); });
+}
+
+void Visit(FieldVisitor& v, CalibrationChange& c) {
+  VisitEnum(v,
+            {"kind", "", "A step at `at_s`, or a ramp reached linearly from `from_s` to `to_s`.",
+             "", nullptr, kRequired},
+            &c.kind, ChangeKindNames());
+  // A step is written with at_s, a ramp with from_s and to_s (CalibrationChange holds both times).
+  const bool step = c.kind == CalibrationChange::Kind::kStep;
+  const double unset = std::numeric_limits<double>::quiet_NaN();
+  double at_s = v.Reads() || !step ? unset : c.from_s;
+  double from_s = v.Reads() || step ? unset : c.from_s;
+  double to_s = v.Reads() || step ? unset : c.to_s;
+  v.Field({"at_s", "s", "A step's time, inside [0, duration_s] (a step needs it).", "", nullptr,
+           kOmitUnset},
+          &at_s);
+  v.Field({"from_s", "s", "A ramp's start, inside [0, duration_s] (a ramp needs it).", "", nullptr,
+           kOmitUnset},
+          &from_s);
+  v.Field(
+      {"to_s", "s", "A ramp's end (a ramp needs it). Two ramps of one quantity may not overlap.",
+       "", nullptr, kOmitUnset},
+      &to_s);
+  v.Exclusive("at_s", {"from_s", "to_s"},
+              "a step has `at_s`, a ramp (`kind: ramp`) `from_s` and `to_s`");
+  const auto given = [](double t) {
+    return [t](std::string* why) { return !std::isnan(t) || (*why = "missing", false); };
+  };
+  if (step) {
+    v.Check("at_s", given(at_s));
+  } else {
+    v.Check("from_s", given(from_s));
+    v.Check("to_s", given(to_s));
+  }
+  if (v.Reads()) {
+    c.from_s = step ? at_s : from_s;
+    c.to_s = step ? at_s : to_s;
+  }
+  v.Field({"rpy_deg", "deg",
+           "Mount rotation: parent_from_cam ← R(rpy)·parent_from_cam, about the parent's z, y, x "
+           "axes ([roll, pitch, yaw])."},
+          &c.rpy_deg);
+  v.Field({"x_m", "m", "Shift of x_C in the parent frame."}, &c.x_m);
+  v.Field({"fku_px", "px", "Added to f·ku."}, &c.fku_px);
+  v.Field({"fkv_px", "px", "Added to f·kv."}, &c.fkv_px);
+  v.Field({"u0_px", "px", "Added to u0."}, &c.u0_px);
+  v.Field({"v0_px", "px", "Added to v0."}, &c.v0_px);
+  v.Field({"phi_deg", "deg", "Added to φ."}, &c.phi_deg);
+  // Changing nothing and non-finite values are refused here; the times against the scenario's
+  // duration once it is known (the configuration's loader).
+  v.Check(nullptr,
+          [&c](std::string* why) { return c.Check(std::numeric_limits<double>::infinity(), why); });
 }
 
 void Visit(FieldVisitor& v, TrackingConfig& t) {

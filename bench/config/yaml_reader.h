@@ -119,15 +119,19 @@ class Reader {
   explicit Reader(std::string file) : file_(std::move(file)) {}
   const std::string& file() const { return file_; }
 
+  // "file:line:col" of `node` (1-based), or the file alone for a node built in memory.
+  std::string Where(const YAML::Node& node) const {
+    std::ostringstream where;
+    where << file_;
+    if (node.IsDefined() && node.Mark().line >= 0) {
+      where << ":" << node.Mark().line + 1 << ":" << node.Mark().column + 1;
+    }
+    return where.str();
+  }
+
   [[noreturn]] void Fail(const YAML::Node& node, const std::string& field,
                          const std::string& reason) const {
-    std::ostringstream msg;
-    msg << file_;
-    if (node.IsDefined() && node.Mark().line >= 0) {
-      msg << ":" << node.Mark().line + 1 << ":" << node.Mark().column + 1;
-    }
-    msg << ": " << field << ": " << reason;
-    throw ConfigError(msg.str());
+    throw ConfigError(Where(node) + ": " + field + ": " + reason);
   }
 
   void ExpectMap(const YAML::Node& node, const std::string& field) const {

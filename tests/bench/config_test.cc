@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 
 #include "bench/config/config_io.h"
 #include "methods/options.h"
@@ -293,6 +294,69 @@ TEST(Config, EveryMethodTypeRoundTripsThroughTheResolvedYaml) {
     EXPECT_EQ(OptionsKey(*again.scenarios[0].methods[i].method), OptionsKey(*s.methods[i].method))
         << s.methods[i].type;
   }
+}
+
+TEST(Config, TruthChangesAreReadWrittenAndRefusedFromTheirDeclaration) {
+  const std::string changes =
+      "    changes:\n"
+      "      - {kind: step, at_s: 2, rpy_deg: [0, 0.5, 0]}\n"
+      "      - {kind: ramp, from_s: 3, to_s: 7, fku_px: 4, x_m: [0.01, 0, 0]}\n";
+  const std::string truth = "    R_C: [[-1, 0, 0], [0, 0, 1], [0, 1, 0]]\n    x_C: [0, -2, 0.5]\n";
+  RunConfig config, again;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfigFromString(Scenario("", truth + changes), "c.yaml", &config, &why))
+      << why;
+  const std::vector<CalibrationChange>& read = config.scenarios.at(0).truth_changes;
+  ASSERT_EQ(read.size(), 2u);
+  EXPECT_EQ(read[0].kind, CalibrationChange::Kind::kStep);
+  EXPECT_EQ(read[0].from_s, 2.0);  // A step holds its time in both.
+  EXPECT_EQ(read[0].to_s, 2.0);
+  EXPECT_EQ(read[0].rpy_deg, Eigen::Vector3d(0, 0.5, 0));
+  EXPECT_EQ(read[1].kind, CalibrationChange::Kind::kRamp);
+  EXPECT_EQ(read[1].from_s, 3.0);
+  EXPECT_EQ(read[1].to_s, 7.0);
+  EXPECT_EQ(read[1].fku_px, 4.0);
+  EXPECT_EQ(read[1].x_m, Eigen::Vector3d(0.01, 0, 0));
+  // Written as read: a step with at_s alone, a ramp with from_s and to_s.
+  const std::string resolved = ResolvedYaml(config);
+  EXPECT_NE(resolved.find("{kind: step, at_s: 2,"), std::string::npos) << resolved;
+  EXPECT_NE(resolved.find("{kind: ramp, from_s: 3, to_s: 7,"), std::string::npos) << resolved;
+  ASSERT_TRUE(LoadRunConfigFromString(resolved, "r.yaml", &again, &why)) << why;
+  EXPECT_TRUE(again.scenarios.at(0) == config.scenarios.at(0));
+
+  const auto error = [&](const std::string& entry) {
+    return LoadError(Scenario("", truth + "    changes: [" + entry + "]\n"));
+  };
+  std::string e = error("{at_s: 2, fku_px: 1}");
+  EXPECT_NE(e.find("test.yaml:8:"), std::string::npos) << e;
+  EXPECT_NE(e.find("scenario.truth.changes[0].kind: missing"), std::string::npos) << e;
+  e = error("{kind: step, fku_px: 1}");
+  EXPECT_NE(e.find("scenario.truth.changes[0].at_s: missing"), std::string::npos) << e;
+  e = error("{kind: ramp, from_s: 1, fku_px: 1}");
+  EXPECT_NE(e.find("scenario.truth.changes[0].to_s: missing"), std::string::npos) << e;
+  e = error("{kind: step, at_s: 1, to_s: 3, fku_px: 1}");
+  EXPECT_NE(e.find("scenario.truth.changes[0].to_s: a step has `at_s`"), std::string::npos) << e;
+  e = error("{kind: step, at_s: 1}");
+  EXPECT_NE(e.find("scenario.truth.changes[0]: changes nothing"), std::string::npos) << e;
+  e = error("{kind: step, at_s: 1, fku_pz: 2}");
+  EXPECT_NE(e.find("scenario.truth.changes[0].fku_pz: unknown key (did you mean 'fku_px'?)"),
+            std::string::npos)
+      << e;
+  e = error("5");
+  EXPECT_NE(e.find("scenario.truth.changes[0]: expected a mapping"), std::string::npos) << e;
+
+  // `changes: []` is a value: it clears the changes a base gave.
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "calibench_config_test_changes";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream(dir / "base.yaml") << Scenario("", truth + changes);
+    std::ofstream(dir / "still.yaml")
+        << "base: base.yaml\nscenario:\n  name: still\n  truth:\n    changes: []\n";
+  }
+  ASSERT_TRUE(LoadRunConfig((dir / "still.yaml").string(), &config, &why)) << why;
+  EXPECT_TRUE(config.scenarios.at(0).truth_changes.empty());
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Config, DuplicateScenarioNamesAreRefused) {
