@@ -177,6 +177,32 @@ void Finish(const Reader& r, const YAML::Node& at, const std::string& field, Sce
     r.Fail(at, field + "." + why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
 }
 
+// Where the value of `spec` that a failing field (dotted, e.g. "noise.pixel_sigma_px") comes from
+// is written: the axis sharing the most leading components with it; with one axis, that axis;
+// else the file alone.
+std::string WhereSweptValueIs(const config_internal::SweepPointSpec& spec,
+                              const std::string& failing, const std::string& file) {
+  const auto components = [](const std::string& dotted) {
+    std::vector<std::string> parts;
+    std::stringstream in(dotted);
+    for (std::string part; std::getline(in, part, '.');) parts.push_back(part);
+    return parts;
+  };
+  const std::vector<std::string> failing_parts = components(failing);
+  std::string where = spec.value_where.size() == 1 ? spec.value_where[0].second : file;
+  size_t best = 0;
+  for (const auto& [axis_field, axis_where] : spec.value_where) {
+    const std::vector<std::string> axis_parts = components(axis_field);
+    size_t common = 0;
+    while (common < axis_parts.size() && common < failing_parts.size() &&
+           axis_parts[common] == failing_parts[common]) {
+      ++common;
+    }
+    if (common > best) best = common, where = axis_where;
+  }
+  return where;
+}
+
 // One scenario per point of the file's `sweep:`, each the swept scenario plus its override.
 void ExpandSweptScenario(const Reader& r, const YAML::Node& root, const std::string& path,
                          const ScenarioConfig& swept, RunConfig* config) {
@@ -210,12 +236,17 @@ void ExpandSweptScenario(const Reader& r, const YAML::Node& root, const std::str
       s.sweep_point = spec.point;
       Finish(r, spec.override_node, field, &s);
     } catch (const ConfigError& e) {
-      // The override is built in memory: its line and column say nothing, the field does.
-      std::string what = e.what();
+      // The override is built in memory: the error is placed at the swept value it names.
+      const std::string what = e.what();
       const size_t at = what.find(field);
-      throw ConfigError(path + ": " + (at == std::string::npos ? what : what.substr(at)));
+      if (at == std::string::npos) throw;
+      const std::string rest = what.substr(at + field.size());  // ".noise: reason"
+      const std::string failing = rest.substr(
+          rest.empty() || rest[0] != '.' ? 0 : 1,
+          rest.find(": ") == std::string::npos ? std::string::npos : rest.find(": ") - 1);
+      throw ConfigError(WhereSweptValueIs(spec, failing, path) + ": " + what.substr(at));
     } catch (const YAML::Exception& e) {
-      throw ConfigError(path + ": " + field + ": " + e.what());
+      throw ConfigError(WhereSweptValueIs(spec, "", path) + ": " + field + ": " + e.what());
     }
     config->scenarios.push_back(std::move(s));
   }

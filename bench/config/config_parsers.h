@@ -94,6 +94,8 @@ struct SweepAxis {
   YAML::Node field_node;          // Where the axis names its field (for messages).
   std::vector<std::string> path;  // field split at the dots; numeric parts index lists.
   std::vector<YAML::Node> values;
+  // "file:line:col" of each value as written (a range's values: the range), for messages.
+  std::vector<std::string> where;
   // False: the axis changes the data (a new measurement point); true: only methods' options.
   bool methods_only = false;
 };
@@ -104,6 +106,9 @@ struct SweepPointSpec {
   std::string name;          // sweep_name[field=value,...]
   YAML::Node override_node;  // A scenario mapping to apply on top of the swept scenario.
   SweepPoint point;
+  // Per axis: its field and where the point's value is written (the override is built in
+  // memory, so its nodes have no line; an error in it is placed at the value that caused it).
+  std::vector<std::pair<std::string, std::string>> value_where;
 };
 // The cartesian product of the axes, measurement axes outermost and method axes fastest.
 // `wholesale_section(key)` gives the points / motion / reference section in force (these replace

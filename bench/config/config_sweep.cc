@@ -156,9 +156,13 @@ std::vector<SweepAxis> ParseSweep(const Reader& r, const YAML::Node& node) {
       if (!values.IsSequence() || values.size() == 0) {
         r.Fail(values, f + ".values", "expected a non-empty list");
       }
-      for (size_t k = 0; k < values.size(); ++k) axis.values.push_back(values[k]);
+      for (size_t k = 0; k < values.size(); ++k) {
+        axis.values.push_back(values[k]);
+        axis.where.push_back(r.Where(values[k]));
+      }
     } else {
       axis.values = RangeValues(r, item["range"], f + ".range");
+      axis.where.assign(axis.values.size(), r.Where(item["range"]));
     }
     axis.methods_only = axis.path[0] == "methods";
     axes.push_back(std::move(axis));
@@ -216,6 +220,7 @@ std::vector<SweepPointSpec> ExpandSweep(
           throw ConfigError("sweep field '" + axis.field + "': " + e.what());
         }
       }
+      spec.value_where.emplace_back(axis.field, axis.where[digit[a]]);
       const std::string pair = axis.field + "=" + ValueText(value);
       names += (names.empty() ? "" : ",") + pair;
       spec.point.params += (spec.point.params.empty() ? "" : ";") + pair;

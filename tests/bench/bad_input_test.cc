@@ -214,6 +214,16 @@ INSTANTIATE_TEST_SUITE_P(
         ConfigCase{"sweep_empty_values",
                    Scenario() + "sweep:\n  - field: noise.pixel_sigma_px\n    values: []\n",
                    {"FILE:11:", "sweep[0].values", "expected a non-empty list"}},
+        ConfigCase{
+            "sweep_bad_value",
+            Scenario() + "sweep:\n  - field: methods.adaptive.alpha\n    values: [10]\n"
+                         "  - field: noise.pixel_sigma_px\n    values: [0.5, -1]\n",
+            {"FILE:13:19: sweep point", "noise.pixel_sigma_px=-1", "pixel_sigma_px must be >= 0"}},
+        ConfigCase{
+            "sweep_bad_range_value",
+            Scenario() + "sweep:\n  - field: noise.pixel_sigma_px\n"
+                         "    range: {from: -1, to: 0, step: 1}\n",
+            {"FILE:11:12: sweep point", "noise.pixel_sigma_px=-1", "pixel_sigma_px must be >= 0"}},
         ConfigCase{"sweep_unknown_field",
                    Scenario() + "sweep:\n  - field: noise.pixel_sigmaa\n    values: [1]\n",
                    {"noise.pixel_sigmaa", "unknown key"}},
