@@ -252,6 +252,55 @@ void ExpandSweptScenario(const Reader& r, const YAML::Node& root, const std::str
   }
 }
 
+// `variants:` of an entry point: each scenario named in a variant's `of` (among those its
+// `scenarios:` loaded, from index `first` on) again, as NAME-SUFFIX with the variant's `scenario`
+// override applied (sections replace as over a base), its `note` appended to the description.
+// The variants follow the scenarios, in the order of the scenarios they vary.
+void AddVariants(const Reader& r, const YAML::Node& node, size_t first, RunConfig* config) {
+  if (!node.IsSequence() || node.size() == 0) {
+    r.Fail(node, "variants", "expected a non-empty list of {suffix, of, scenario, note}");
+  }
+  std::vector<std::pair<size_t, ScenarioConfig>> variants;  // (index of the varied, variant)
+  for (size_t v = 0; v < node.size(); ++v) {
+    const std::string field = "variants[" + std::to_string(v) + "]";
+    const YAML::Node item = node[v];
+    r.CheckKeys(item, field, {"suffix", "note", "of", "scenario"});
+    for (const char* key : {"suffix", "of", "scenario"}) {
+      if (!item[key].IsDefined()) r.Fail(item, Reader::Join(field, key), "missing");
+    }
+    const std::string suffix = r.String(item["suffix"], field + ".suffix");
+    const std::string note = item["note"] ? r.String(item["note"], field + ".note") : "";
+    const YAML::Node of = item["of"];
+    if (!of.IsSequence() || of.size() == 0) {
+      r.Fail(of, field + ".of", "expected a non-empty list of scenario names");
+    }
+    for (size_t k = 0; k < of.size(); ++k) {
+      const std::string of_field = field + ".of[" + std::to_string(k) + "]";
+      const std::string name = r.String(of[k], of_field);
+      std::vector<std::string> names;
+      size_t index = config->scenarios.size();
+      for (size_t i = first; i < config->scenarios.size(); ++i) {
+        names.push_back(config->scenarios[i].name);
+        if (names.back() == name) index = i;
+      }
+      if (index == config->scenarios.size()) {
+        r.Fail(of[k], of_field, config_internal::NotOneOf(name, names, "scenario"));
+      }
+      ScenarioConfig s = config->scenarios[index];
+      ParseScenario(r, item["scenario"], field + ".scenario", &s);
+      s.name += "-" + suffix;
+      s.sweep_point.sweep = s.name;
+      if (!note.empty()) s.description += ", " + note;
+      s.source_file = r.file();
+      Finish(r, item["scenario"], field + ".scenario", &s);
+      variants.emplace_back(index, std::move(s));
+    }
+  }
+  std::stable_sort(variants.begin(), variants.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& [index, s] : variants) config->scenarios.push_back(std::move(s));
+}
+
 void LoadNode(const YAML::Node& root, const std::string& path, int depth, RunConfig* config) {
   const Reader r(path);
   r.ExpectMap(root, "(top level)");
@@ -267,9 +316,10 @@ void LoadNode(const YAML::Node& root, const std::string& path, int depth, RunCon
     config->scenarios.push_back(std::move(s));
     return;
   }
-  r.CheckKeys(root, "", {"scenarios"});
+  r.CheckKeys(root, "", {"scenarios", "variants"});
   const YAML::Node list = root["scenarios"];
   if (!list.IsSequence()) r.Fail(list, "scenarios", "expected a list of files or scenarios");
+  const size_t first = config->scenarios.size();
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string field = "scenarios[" + std::to_string(i) + "]";
     if (list[i].IsScalar()) {
@@ -285,6 +335,7 @@ void LoadNode(const YAML::Node& root, const std::string& path, int depth, RunCon
       config->scenarios.push_back(std::move(s));
     }
   }
+  if (root["variants"].IsDefined()) AddVariants(r, root["variants"], first, config);
 }
 
 void CheckUniqueNames(const RunConfig& config) {

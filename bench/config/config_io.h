@@ -11,7 +11,9 @@
 //   base: ../common.yaml   # optional: load that scenario file first, then override it
 //   scenario: {...}        # the scenario's fields (declared in scenario_fields.cc)
 //   sweep: [{field, values: [...]} | {field, range: {from, to, step | log_step}}, ...]
-// or an entry point `scenarios: [path | {inline scenario}, ...]`. `points`, `motion` and
+// or an entry point `scenarios: [path | {inline scenario}, ...]`, optionally with
+//   variants: [{suffix, note, of: [scenario names], scenario: {override}}, ...]
+// (each named scenario again as NAME-SUFFIX with the override on top). `points`, `motion` and
 // `reference` replace a base's section as a whole; a `methods:` list replaces the instances, a map
 // updates them (config_methods.cc); a sweep axis `methods.NAME.field` changes one instance. Unknown
 // keys, wrong types and invalid values are errors of the form "FILE:LINE:COL: FIELD: REASON".

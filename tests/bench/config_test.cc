@@ -129,6 +129,45 @@ TEST(Config, ThesisEntryPointLoadsEverySimulationAndVariant) {
   EXPECT_NEAR(proper.truth.r_c.determinant(), 1, 1e-12);
   EXPECT_FALSE(proper.truth.allow_improper_rotation);
   EXPECT_EQ(proper.points.xyz.size(), 5u);  // Inherited through base:.
+  // A variant is its scenario with the override on top: the reference replaced as a whole (the
+  // printed figures do not apply to it), the rest equal.
+  EXPECT_EQ(proper.description, sim07.description + ", proper R_C");
+  EXPECT_TRUE(std::isnan(proper.reference.fku_px));
+  EXPECT_TRUE(std::isnan(proper.reference.theta_err_below));
+  EXPECT_EQ(config.scenarios[17 + 1].reference.theta_err_below, 1e-4);  // sim04-proper.
+  ScenarioConfig back = proper;
+  back.name = sim07.name;
+  back.sweep_point = sim07.sweep_point;
+  back.description = sim07.description;
+  back.truth = sim07.truth;
+  back.reference = sim07.reference;
+  back.source_file = sim07.source_file;
+  EXPECT_TRUE(back == sim07);
+}
+
+TEST(Config, VariantsNameTheirScenariosAndRefuseAnUnknownOne) {
+  const std::string two =
+      "scenarios:\n  - {name: alpha, points: {preset: thesis}}\n"
+      "  - {name: beta, points: {preset: thesis}, trials: 3}\n";
+  RunConfig config;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfigFromString(
+      two + "variants:\n  - {suffix: v, of: [beta, alpha], scenario: {seed: 9}}\n", "v.yaml",
+      &config, &why))
+      << why;
+  ASSERT_EQ(config.scenarios.size(), 4u);
+  EXPECT_EQ(config.scenarios[2].name, "alpha-v");  // In the order of the scenarios they vary.
+  EXPECT_EQ(config.scenarios[3].name, "beta-v");
+  EXPECT_EQ(config.scenarios[3].trials, 3);
+  EXPECT_EQ(config.scenarios[3].seed, 9u);
+  why = LoadError(two + "variants:\n  - {suffix: v, of: [gamma, betta], scenario: {}}\n");
+  EXPECT_NE(why.find("test.yaml:5:22: variants[0].of[0]: unknown scenario 'gamma'"),
+            std::string::npos)
+      << why;
+  why = LoadError(two + "variants:\n  - {suffix: v, of: [betta], scenario: {}}\n");
+  EXPECT_NE(why.find("did you mean 'beta'"), std::string::npos) << why;
+  why = LoadError(two + "variants:\n  - {suffix: v, of: [beta], scenario: {trials: 0}}\n");
+  EXPECT_NE(why.find("variants[0].scenario.trials: must be >= 1"), std::string::npos) << why;
 }
 
 // Every scenario config shipped in configs/ (each .yaml but the Kalibr target files of
