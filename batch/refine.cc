@@ -121,8 +121,14 @@ class BoundWatch final : public ceres::IterationCallback {
 };
 
 ceres::LossFunction* MakeLoss(const RefineOptions& o) {
-  if (o.loss == "huber") return new ceres::HuberLoss(o.loss_scale_px);
-  if (o.loss == "cauchy") return new ceres::CauchyLoss(o.loss_scale_px);
+  switch (o.loss) {
+    case RobustLoss::kHuber:
+      return new ceres::HuberLoss(o.loss_scale_px);
+    case RobustLoss::kCauchy:
+      return new ceres::CauchyLoss(o.loss_scale_px);
+    case RobustLoss::kNone:
+      break;
+  }
   return nullptr;
 }
 
@@ -132,7 +138,7 @@ int BuildProblem(const std::vector<View>& views, const RefineOptions& options, P
   int points = 0;
   // Per-view blocks for plain least squares (same cost, less overhead); per-point blocks for a
   // robust loss (it must act on each point) and for the autodiff reference.
-  const bool per_view = options.loss == "none" && AnalyticJacobians(options);
+  const bool per_view = options.loss == RobustLoss::kNone && AnalyticJacobians(options);
   const LensFamily family = FamilyOf(options.model);
   for (size_t v = 0; v < views.size(); ++v) {
     const size_t pose = options.shared_pose ? 0 : v;
@@ -270,6 +276,12 @@ Solved SolveRespectingBounds(const std::vector<View>& views, const RefineOptions
 
 }  // namespace
 
+const std::vector<std::pair<RobustLoss, const char*>>& RobustLossNames() {
+  static const std::vector<std::pair<RobustLoss, const char*>> names = {
+      {RobustLoss::kNone, "none"}, {RobustLoss::kHuber, "huber"}, {RobustLoss::kCauchy, "cauchy"}};
+  return names;
+}
+
 bool RefineOptions::Check(std::string* why) const {
   std::string msg;
   const bool extra_in_range =
@@ -277,8 +289,10 @@ bool RefineOptions::Check(std::string* why) const {
                   [](int i) { return i >= 0 && i < PinholeSkewCamera::kNumParams; });
   if (!extra_in_range) {
     msg = "extra_fixed_intrinsics must index the raw parameter array (0..9)";
-  } else if (loss != "none" && loss != "huber" && loss != "cauchy") {
-    msg = "loss must be none, huber or cauchy, got '" + loss + "'";
+  } else if (loss != RobustLoss::kNone && loss != RobustLoss::kHuber &&
+             loss != RobustLoss::kCauchy) {
+    msg = "loss must be none, huber or cauchy, got the value " +
+          std::to_string(static_cast<int>(loss));
   } else if (!(loss_scale_px > 0)) {
     msg = "loss_scale_px must be > 0";
   } else if (max_iterations < 1) {
@@ -459,7 +473,7 @@ bool IntrinsicsCovarianceAt(const std::vector<View>& views, const CameraIntrinsi
   ceres::Problem::Options problem_options;
   ceres::Problem problem(problem_options);
   RefineOptions plain = options;
-  plain.loss = "none";
+  plain.loss = RobustLoss::kNone;
   BuildProblem(views, plain, &params, &problem);
   return CovarianceOfIntrinsics(&problem, &params, pixel_sigma_px * pixel_sigma_px, covariance,
                                 why);

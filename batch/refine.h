@@ -36,11 +36,16 @@ namespace calibench {
 using IntrinsicsCovariance =
     Eigen::Matrix<double, PinholeSkewCamera::kNumParams, PinholeSkewCamera::kNumParams>;
 
+// The robust loss on each point's reprojection residual (ceres::HuberLoss, ceres::CauchyLoss).
+enum class RobustLoss { kNone, kHuber, kCauchy };
+// Each loss with its name in configs ("none", "huber", "cauchy"), in declaration order.
+const std::vector<std::pair<RobustLoss, const char*>>& RobustLossNames();
+
 struct RefineOptions {
   LensModel model = LensModel::kPinhole;
-  bool estimate_skew = true;   // Estimate phi; false fixes phi = 90 degrees.
-  bool shared_pose = false;    // One cam_from_object for every view (see header comment).
-  std::string loss = "none";   // none | huber | cauchy.
+  bool estimate_skew = true;  // Estimate phi; false fixes phi = 90 degrees.
+  bool shared_pose = false;   // One cam_from_object for every view (see header comment).
+  RobustLoss loss = RobustLoss::kNone;
   double loss_scale_px = 1.0;  // Scale of the robust loss.
   int max_iterations = 200;
   bool compute_covariance = true;

@@ -38,8 +38,8 @@ class CeresMethod final : public Method {
     v->Field({"model", "", "Lens model of the refinement."}, &options_.model);
     v->Field({"estimate_skew", "", "Estimate the skew angle φ; false fixes φ = 90°."},
              &options_.estimate_skew);
-    v->Field({"loss", "", "Robust loss on the reprojection residuals."}, &options_.loss,
-             {"none", "huber", "cauchy"});
+    EnumOption(v, {"loss", "", "Robust loss on the reprojection residuals."}, &options_.loss,
+               RobustLossNames());
     v->Field({"loss_scale_px", "px", "Scale of the robust loss."}, &options_.loss_scale_px);
     v->Field({"max_iterations", "", "Cap on the Ceres solver's iterations."},
              &options_.max_iterations);
@@ -47,10 +47,11 @@ class CeresMethod final : public Method {
               "Jacobians by ceres::Jet automatic differentiation (the reference) instead of the "
               "analytic ones."},
              &options_.autodiff);
-    v->Field({"views", "",
-              "frames: every frame, one shared pose; init: exactly the views its init used, one "
-              "pose per view (the twin of a planar-target calibration)."},
-             &views_, {"frames", "init"});
+    EnumOption(v,
+               {"views", "",
+                "frames: every frame, one shared pose; init: exactly the views its init used, one "
+                "pose per view (the twin of a planar-target calibration)."},
+               &views_, {{Views::kFrames, "frames"}, {Views::kInit, "init"}});
     online_.Visit(v);
   }
   bool Check(std::string* why) const override {
@@ -58,7 +59,7 @@ class CeresMethod final : public Method {
       if (why) *why = "init must name the method it starts from (dlt, zhang or an instance)";
       return false;
     }
-    if (views_ == "init" && online_.Online()) {
+    if (views_ == Views::kInit && online_.Online()) {
       if (why) *why = "views: init has no online mode (window_s must be 0)";
       return false;
     }
@@ -66,7 +67,7 @@ class CeresMethod final : public Method {
   }
   std::vector<std::string> Prerequisites() const override { return {init_}; }
   std::optional<Parametrisation> BoundParametrisation() const override {
-    if (views_ == "init") return std::nullopt;
+    if (views_ == Views::kInit) return std::nullopt;
     return ParametrisationOf(options_);
   }
 
@@ -89,7 +90,7 @@ class CeresMethod final : public Method {
         return result;
       }
       start = &init.estimate;
-      if (views_ == "init") return SolveOnInitViews(init);
+      if (views_ == Views::kInit) return SolveOnInitViews(init);
     }
     RefineOptions options = options_;
     options.compute_pose_covariance = online_.Online();
@@ -159,7 +160,9 @@ class CeresMethod final : public Method {
   }
 
   std::string init_ = "dlt";
-  std::string views_ = "frames";  // frames: every frame, one shared pose; init: the init's views.
+  // kFrames: every frame, one shared pose; kInit: the views its init used, a pose per view.
+  enum class Views { kFrames, kInit };
+  Views views_ = Views::kFrames;
   RefineOptions options_;
   OnlineOptions online_;
 };

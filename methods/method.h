@@ -73,6 +73,23 @@ class OptionVisitor {
   virtual void FieldOrAll(const OptionSpec& spec, double* seconds) = 0;
 };
 
+// An option over a closed set (an enum class): `names` spells each value in the configs, in
+// declaration order. The visitor sees a string with its choices; the value read is mapped back.
+template <typename E>
+void EnumOption(OptionVisitor* v, const OptionSpec& spec, E* value,
+                const std::vector<std::pair<E, const char*>>& names) {
+  std::string name = names.front().second;
+  std::vector<std::string> choices;
+  for (const auto& [e, n] : names) {
+    choices.push_back(n);
+    if (e == *value) name = n;
+  }
+  v->Field(spec, &name, choices);
+  for (const auto& [e, n] : names) {
+    if (name == n) *value = e;
+  }
+}
+
 // The frames of a trial's source as views of the parent frame (what batch methods pool).
 struct FrameSet {
   std::vector<View> views;                  // Per frame: x_bar (points in P) and measured pixels.

@@ -15,24 +15,28 @@ std::vector<Eigen::Vector3d> ThesisFeaturePoints(int count) {
   return points;
 }
 
-std::vector<std::string> ThesisMotionPresetNames() {
-  return {"none", "small", "large", "rotation", "small+rotation"};
+const std::vector<std::pair<ThesisMotion, const char*>>& ThesisMotionNames() {
+  static const std::vector<std::pair<ThesisMotion, const char*>> names = {
+      {ThesisMotion::kNone, "none"},
+      {ThesisMotion::kSmall, "small"},
+      {ThesisMotion::kLarge, "large"},
+      {ThesisMotion::kRotation, "rotation"},
+      {ThesisMotion::kSmallRotation, "small+rotation"}};
+  return names;
 }
 
-std::optional<TwistProfile> ThesisMotionPreset(const std::string& name, CalibrationCase c) {
+TwistProfile ThesisMotionPreset(ThesisMotion motion, CalibrationCase c) {
   TwistProfile p;  // The moving-camera body twist (v_c, w_c) first.
-  const bool small = name == "small" || name == "small+rotation";
-  const bool rotation = name == "rotation" || name == "small+rotation";
+  const bool small = motion == ThesisMotion::kSmall || motion == ThesisMotion::kSmallRotation;
+  const bool rotation = motion == ThesisMotion::kRotation || motion == ThesisMotion::kSmallRotation;
   if (small) {
     p.v_cos = Eigen::Vector3d(-0.05, 0, 0);
     p.v_const = Eigen::Vector3d(0, -0.003, 0);
     p.v_sin = Eigen::Vector3d(0, 0, -0.15);
-  } else if (name == "large") {
+  } else if (motion == ThesisMotion::kLarge) {
     p.v_cos = Eigen::Vector3d(-0.5, 0, 0);
     p.v_const = Eigen::Vector3d(0, -0.13, 0);
     p.v_sin = Eigen::Vector3d(0, 0, -0.65);
-  } else if (name != "none" && !rotation) {
-    return std::nullopt;
   }
   if (rotation) p.w_const = Eigen::Vector3d(0.1, 0.2, -0.1);
   p.frame = TwistProfile::Frame::kBody;
@@ -276,28 +280,29 @@ std::optional<ThesisSimulation> MakeThesisSimulation(int sim, bool proper) {
   struct Row {
     CalibrationCase calibration_case;
     int camera, points;
-    const char* motion;
+    ThesisMotion motion;
     double alpha, noise_variance;
   };
   constexpr CalibrationCase kFixed = CalibrationCase::kFixedCamera;
   constexpr CalibrationCase kMoving = CalibrationCase::kMovingCamera;
-  static const Row kRows[17] = {{kFixed, 1, 10, "small", 1000, 0},
-                                {kFixed, 2, 10, "small", 1000, 0},
-                                {kMoving, 1, 10, "small", 1000, 0},
-                                {kMoving, 2, 10, "small", 1000, 0},
-                                {kMoving, 3, 1, "small", 1000, 0},
-                                {kMoving, 3, 2, "small", 1000, 0},
-                                {kMoving, 3, 5, "small", 1000, 0},
-                                {kMoving, 3, 7, "small", 1000, 0},
-                                {kMoving, 3, 10, "small", 5, 0},
-                                {kMoving, 3, 10, "small", 50, 0},
-                                {kMoving, 3, 5, "large", 1000, 0},
-                                {kMoving, 3, 5, "rotation", 1000, 0},
-                                {kMoving, 3, 5, "small+rotation", 1000, 0},
-                                {kMoving, 3, 5, "none", 1000, 0},
-                                {kMoving, 3, 10, "large", 1000, 0.001},
-                                {kMoving, 3, 10, "large", 1000, 0.01},
-                                {kMoving, 3, 10, "large", 100, 0.01}};
+  constexpr ThesisMotion kSmall = ThesisMotion::kSmall, kLarge = ThesisMotion::kLarge;
+  static const Row kRows[17] = {{kFixed, 1, 10, kSmall, 1000, 0},
+                                {kFixed, 2, 10, kSmall, 1000, 0},
+                                {kMoving, 1, 10, kSmall, 1000, 0},
+                                {kMoving, 2, 10, kSmall, 1000, 0},
+                                {kMoving, 3, 1, kSmall, 1000, 0},
+                                {kMoving, 3, 2, kSmall, 1000, 0},
+                                {kMoving, 3, 5, kSmall, 1000, 0},
+                                {kMoving, 3, 7, kSmall, 1000, 0},
+                                {kMoving, 3, 10, kSmall, 5, 0},
+                                {kMoving, 3, 10, kSmall, 50, 0},
+                                {kMoving, 3, 5, kLarge, 1000, 0},
+                                {kMoving, 3, 5, ThesisMotion::kRotation, 1000, 0},
+                                {kMoving, 3, 5, ThesisMotion::kSmallRotation, 1000, 0},
+                                {kMoving, 3, 5, ThesisMotion::kNone, 1000, 0},
+                                {kMoving, 3, 10, kLarge, 1000, 0.001},
+                                {kMoving, 3, 10, kLarge, 1000, 0.01},
+                                {kMoving, 3, 10, kLarge, 100, 0.01}};
   if (sim < 1 || sim > 17) return std::nullopt;
   const Row& row = kRows[sim - 1];
   ThesisSimulation s;
@@ -313,7 +318,7 @@ std::optional<ThesisSimulation> MakeThesisSimulation(int sim, bool proper) {
   s.scene.duration_s = 240.0;
   Motion::Options motion_options;
   motion_options.duration_s = s.scene.duration_s;
-  s.scene.motion = Motion(*ThesisMotionPreset(row.motion, row.calibration_case), motion_options);
+  s.scene.motion = Motion(ThesisMotionPreset(row.motion, row.calibration_case), motion_options);
   s.measurements.noise.point_sigma_m = std::sqrt(row.noise_variance);
   s.measurements.noise.pixel_sigma_px = std::sqrt(row.noise_variance);
   s.measurements.noise.hold_s = 0.1;

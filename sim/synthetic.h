@@ -24,16 +24,17 @@ namespace calibench {
 // as the thesis drops the right-hand columns. count must be in [1, 10].
 std::vector<Eigen::Vector3d> ThesisFeaturePoints(int count);
 
-// Thesis motion presets (spec "Motions"), by name: "none", "small", "large", "rotation",
+// Thesis motion presets (spec "Motions"): "none", "small", "large", "rotation",
 // "small+rotation". A preset is defined by the moving-camera body twist the thesis prints,
 //   small: v_c = [-.05 cos t, -.003, -.15 sin t];  large: v_c = [-.5 cos t, -.13, -.65 sin t];
 //   rotation: w_c = [.1, .2, -.1]  (feature points then move as d/dt x = -v_c - w_c x x),
 // and resolved per case so that both cases see the same point motion: moving camera -> body
 // twist (v_c, w_c); fixed camera -> spatial twist (-v_c, -w_c) (d/dt x = v + w x x; for "small"
 // this is the thesis's fixed-camera body velocity v = [.05 cos t, .003, .15 sin t]).
-// Returns nullopt for an unknown name.
-std::optional<TwistProfile> ThesisMotionPreset(const std::string& name, CalibrationCase c);
-std::vector<std::string> ThesisMotionPresetNames();
+enum class ThesisMotion { kNone, kSmall, kLarge, kRotation, kSmallRotation };
+TwistProfile ThesisMotionPreset(ThesisMotion motion, CalibrationCase c);
+// Each preset with its name in configs, in declaration order.
+const std::vector<std::pair<ThesisMotion, const char*>>& ThesisMotionNames();
 
 // The thesis's cameras 1, 2, 3 (spec "Thesis experiments"). As printed, cameras 2 and 3 have an
 // improper R_C (det = -1; allow_improper_rotation is set); proper = true gives the physically

@@ -93,8 +93,8 @@ void ParseScenario(const Reader& r, const YAML::Node& node, const std::string& f
   config_internal::ReadFields(
       r, node, field, [s](FieldVisitor& v) { Visit(v, *s); }, s);
   // A preset motion inherited from a base follows the case.
-  if (node["case"].IsDefined() && !s->motion_preset.empty()) {
-    s->motion = *ThesisMotionPreset(s->motion_preset, s->calibration_case);
+  if (node["case"].IsDefined() && s->motion_preset) {
+    s->motion = ThesisMotionPreset(*s->motion_preset, s->calibration_case);
   }
 }
 

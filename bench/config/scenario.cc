@@ -367,9 +367,13 @@ std::vector<Flatten::Value> Values(const ScenarioConfig& s) {
 
 }  // namespace
 
-const std::vector<std::string>& ReportRoles() {
-  static const std::vector<std::string> roles = {"noise", "points", "gain", "dynamic"};
-  return roles;
+const EnumNames<ReportRole>& ReportRoleNames() {
+  static const EnumNames<ReportRole> names{{{ReportRole::kNone, "none"},
+                                            {ReportRole::kNoise, "noise"},
+                                            {ReportRole::kPoints, "points"},
+                                            {ReportRole::kGain, "gain"},
+                                            {ReportRole::kDynamic, "dynamic"}}};
+  return names;
 }
 
 bool operator==(const Reference& a, const Reference& b) {

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "metrics/tracking.h"
 #include "sim/measurements.h"
 #include "sim/scene.h"
+#include "sim/synthetic.h"
 #include "sim/target.h"
 
 namespace calibench {
@@ -71,12 +73,13 @@ struct TrackingConfig {
 
 // report: {role}: the question of the report a scenario's rows answer (the report finds each
 // sweep's role in schema.json instead of matching its name).
-struct ReportConfig {
-  std::string role;  // One of ReportRoles(), or empty: no question of its own.
-};
 // noise (error against pixel noise), points (against the number of points), gain (against an
-// adaptive gain), dynamic (a calibration that changes).
-const std::vector<std::string>& ReportRoles();
+// adaptive gain), dynamic (a calibration that changes); none: no question of its own.
+enum class ReportRole { kNone, kNoise, kPoints, kGain, kDynamic };
+struct ReportConfig {
+  ReportRole role = ReportRole::kNone;
+};
+const EnumNames<ReportRole>& ReportRoleNames();  // "none", "noise", "points", "gain", "dynamic".
 
 enum class Detections { kOracle, kRendered };
 enum class OutsideImage { kFail, kKeep };
@@ -131,8 +134,8 @@ struct ScenarioConfig {
   TrackingConfig tracking;
   int image_width = 640, image_height = 480;  // For zhang's initialisation.
   PointsConfig points;
-  std::string motion_preset;  // A ThesisMotionPreset name or empty (explicit twist).
-  TwistProfile motion;        // Frame already resolved from the case.
+  std::optional<ThesisMotion> motion_preset;  // motion.preset; none: the twist as written.
+  TwistProfile motion;                        // Frame already resolved from the case.
   // motion.random_phase: each trial's twist starts at its own phase of the profile's period
   // (drawn from the trial seed), so trials see different views, not only different noise.
   bool motion_random_phase = false;

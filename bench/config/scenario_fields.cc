@@ -72,11 +72,21 @@ const EnumNames<MotionFrame>& MotionFrameNames() {
 }
 
 void VisitMotion(FieldVisitor& v, ScenarioConfig& s) {
+  // The preset's name as written (read only: the twist it sets is what is written and compared).
+  Choices presets;
+  std::string preset;
+  for (const auto& [motion, name] : ThesisMotionNames()) {
+    presets.names.push_back(name);
+    if (s.motion_preset == motion) preset = name;
+  }
   v.Field({"preset", "",
            "A thesis motion (body twist for a moving camera; the equivalent spatial "
            "twist for a fixed one) instead of the components.",
            "", nullptr, kNotWritten | kNotCompared},
-          &s.motion_preset, Choices{ThesisMotionPresetNames()});
+          &preset, presets);
+  for (const auto& [motion, name] : ThesisMotionNames()) {
+    if (v.Reads() && preset == name) s.motion_preset = motion;
+  }
   TwistProfile& m = s.motion;
   v.Field({"v_const", "m/s", "Linear velocity: v(t) = v_const + v_cos cos(ft) + v_sin sin(ft)."},
           &m.v_const);
@@ -103,8 +113,8 @@ void VisitMotion(FieldVisitor& v, ScenarioConfig& s) {
       "give either a preset or the components");
   v.Check(nullptr, [&s, frame](std::string* why) {
     const bool fixed = s.calibration_case == CalibrationCase::kFixedCamera;
-    if (!s.motion_preset.empty()) {
-      s.motion = *ThesisMotionPreset(s.motion_preset, s.calibration_case);
+    if (s.motion_preset) {
+      s.motion = ThesisMotionPreset(*s.motion_preset, s.calibration_case);
       return true;
     }
     s.motion.frame = frame == MotionFrame::kWorld || (frame == MotionFrame::kAuto && fixed)
@@ -256,7 +266,7 @@ void Visit(FieldVisitor& v, ScenarioConfig& s) {
   motion.reset = [&s] {
     s.motion = TwistProfile();
     s.motion_random_phase = false;
-    s.motion_preset.clear();
+    s.motion_preset.reset();
   };
   v.Section({"motion", "",
              "The body (moving camera) or world (fixed camera) twist. Replaces a base's section as "
@@ -295,7 +305,7 @@ void Visit(FieldVisitor& v, ScenarioConfig& s) {
   VisitSection(
       v,
       {"report", "", "Which question of the report the rows answer.", "", nullptr, kNotSweepable},
-      &s.report, /*flow=*/true, /*written=*/!s.report.role.empty());
+      &s.report, /*flow=*/true, /*written=*/s.report.role != ReportRole::kNone);
   VisitSection(
       v,
       {"sweep_point", "", "Written by calibench into `config.resolved.yaml`; not for users.", "",
@@ -439,11 +449,12 @@ void Visit(FieldVisitor& v, Reference& r) {
 }
 
 void Visit(FieldVisitor& v, ReportConfig& r) {
-  v.Field({"role", "",
-           "The report question these rows answer (written to schema.json; the report never "
-           "matches sweep names).",
-           "", nullptr, kOmitUnset},
-          &r.role, Choices{ReportRoles()});
+  VisitEnum(v,
+            {"role", "",
+             "The report question these rows answer (written to schema.json; the report never "
+             "matches sweep names).",
+             "", nullptr, kOmitUnset},
+            &r.role, ReportRoleNames());
 }
 
 void Visit(FieldVisitor& v, SweepPoint& p) {

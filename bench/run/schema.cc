@@ -133,7 +133,7 @@ std::string SweepsJson(const RunConfig& config, const std::string& indent) {
     Sweep& w = it->second;
     if (fresh) {
       order.push_back(name);
-      w.role = s.report.role;
+      if (s.report.role != ReportRole::kNone) w.role = ReportRoleNames().Name(s.report.role);
       w.detections = ToString(s.detections);
       w.axes = AxisFields(s.sweep_point.params);
     }

@@ -142,7 +142,7 @@ TEST(Refine, BadInputFailsCleanly) {
   const SyntheticBoardViews data = MakeBoardViews(kTruth, {}, &rng);
   RefineOptions options;
   EXPECT_EQ(RefineCalibration(data.views, kTruth, {}, options).status, MethodStatus::kFailed);
-  options.loss = "tukey-ish";
+  options.loss = static_cast<RobustLoss>(7);  // Not a loss: refused by Check, no crash.
   EXPECT_EQ(RefineCalibration(data.views, kTruth, data.cam_from_board, options).status,
             MethodStatus::kFailed);
 }

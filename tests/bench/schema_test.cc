@@ -150,19 +150,22 @@ TEST(Config, ReportRoleIsReadWrittenAndChecked) {
   ASSERT_TRUE(LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/sweeps/noise.yaml",
                             &config, &why))
       << why;
-  for (const ScenarioConfig& s : config.scenarios) EXPECT_EQ(s.report.role, "noise") << s.name;
+  for (const ScenarioConfig& s : config.scenarios)
+    EXPECT_EQ(s.report.role, ReportRole::kNoise) << s.name;
   ASSERT_TRUE(
       LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/dynamic/all.yaml", &config, &why))
       << why;
-  for (const ScenarioConfig& s : config.scenarios) EXPECT_EQ(s.report.role, "dynamic") << s.name;
+  for (const ScenarioConfig& s : config.scenarios)
+    EXPECT_EQ(s.report.role, ReportRole::kDynamic) << s.name;
   EXPECT_NE(ResolvedYaml(config).find("report: {role: dynamic}"), std::string::npos);
   RunConfig bad;
   ScenarioYamlParts parts;
   parts.extra = "  report: {role: noisy}\n";
   EXPECT_FALSE(LoadRunConfigFromString(MinimalScenarioYaml(parts), "test.yaml", &bad, &why));
   EXPECT_NE(why.find("test.yaml:4:"), std::string::npos) << why;
-  EXPECT_NE(why.find("scenario.report.role: 'noisy' is not one of: noise, points, gain, dynamic"),
-            std::string::npos)
+  EXPECT_NE(
+      why.find("scenario.report.role: 'noisy' is not one of: none, noise, points, gain, dynamic"),
+      std::string::npos)
       << why;
   parts.extra = "  report: {rol: noise}\n";
   EXPECT_FALSE(LoadRunConfigFromString(MinimalScenarioYaml(parts), "test.yaml", &bad, &why));

@@ -121,7 +121,7 @@ TEST(Sweep, RangesAndWholeSectionFields) {
   ASSERT_EQ(c.scenarios.size(), 4u);
   EXPECT_EQ(c.scenarios[0].points.xyz.size(), 4u);
   EXPECT_EQ(c.scenarios[3].points.xyz.size(), 6u);
-  EXPECT_EQ(c.scenarios[1].motion_preset, "large");
+  EXPECT_EQ(c.scenarios[1].motion_preset, ThesisMotion::kLarge);
   // The resolved configuration reads back to the same sweep points.
   RunConfig again;
   std::string why;

@@ -19,7 +19,7 @@ SceneTruth ThesisCamera1Scene(CalibrationCase c) {
   scene.parent_from_cam.rotation << -1, 0, 0, 0, 0, 1, 0, 1, 0;
   scene.parent_from_cam.translation = {0.4, -2.3, 0.47};
   scene.points = ThesisFeaturePoints(10);
-  scene.motion = Motion(*ThesisMotionPreset("small", c), {});
+  scene.motion = Motion(ThesisMotionPreset(ThesisMotion::kSmall, c), {});
   return scene;
 }
 
