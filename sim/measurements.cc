@@ -27,6 +27,10 @@ bool NoiseOptions::Check(std::string* why) const {
     msg << "hold_s must be > 0, got " << hold_s;
   } else if (hold_frames < 0) {
     msg << "hold_frames must be >= 0 (0: one draw for the whole run), got " << hold_frames;
+  } else if (!(outlier_fraction >= 0 && outlier_fraction <= 1)) {
+    msg << "outlier_fraction must lie in [0, 1], got " << outlier_fraction;
+  } else if (!(outlier_sigma_px > 0 && std::isfinite(outlier_sigma_px))) {
+    msg << "outlier_sigma_px must be > 0, got " << outlier_sigma_px;
   }
   if (msg.str().empty()) return true;
   if (why) *why = msg.str();
@@ -121,6 +125,16 @@ std::unique_ptr<OracleSource> OracleSource::Create(const SceneTruth& scene,
       qn.resize(2 * n);
       for (int j = 0; j < 3 * n; ++j) pn[j] = options.noise.point_sigma_m * point_rng.Normal();
       for (int j = 0; j < 2 * n; ++j) qn[j] = options.noise.pixel_sigma_px * pixel_rng.Normal();
+    }
+    if (options.noise.outlier_fraction > 0) {
+      Rng outlier_rng(trial_seed, RngStream::kOutliers);
+      for (Eigen::VectorXd& qn : source->pixel_noise_) {
+        for (int i = 0; i < n; ++i) {
+          if (outlier_rng.Uniform() >= options.noise.outlier_fraction) continue;
+          qn[2 * i] += options.noise.outlier_sigma_px * outlier_rng.Normal();
+          qn[2 * i + 1] += options.noise.outlier_sigma_px * outlier_rng.Normal();
+        }
+      }
     }
   }
   return source;

@@ -65,8 +65,15 @@ struct NoiseOptions {
   double hold_s = 0.1;
   // Sampled sources: one draw per this many consecutive frames; 0: one draw for the whole run.
   int hold_frames = 1;
+  // Gross outliers (Huber's contamination model): each pixel measurement of a draw is, with
+  // probability outlier_fraction, displaced by a further Gaussian of std outlier_sigma_px per axis
+  // (a mismatched feature). Drawn from their own stream: the other noise does not change with them.
+  double outlier_fraction = 0.0;
+  double outlier_sigma_px = 20.0;
   bool Check(std::string* why) const;
-  bool Active() const { return point_sigma_m > 0 || pixel_sigma_px > 0; }  // Random noise.
+  bool Active() const {  // Random noise.
+    return point_sigma_m > 0 || pixel_sigma_px > 0 || outlier_fraction > 0;
+  }
 };
 
 struct OracleOptions {

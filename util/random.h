@@ -20,7 +20,13 @@ inline uint64_t TrialSeed(uint64_t config_seed, uint64_t trial) {
 }
 
 // Independent streams inside one trial (noise on points, noise on pixels, ...).
-enum class RngStream : uint64_t { kPointNoise = 1, kPixelNoise = 2, kScene = 3, kMotionPhase = 4 };
+enum class RngStream : uint64_t {
+  kPointNoise = 1,
+  kPixelNoise = 2,
+  kScene = 3,
+  kMotionPhase = 4,
+  kOutliers = 5,
+};
 
 class Rng {
  public:

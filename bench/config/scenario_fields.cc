@@ -474,6 +474,12 @@ void Visit(FieldVisitor& v, NoiseOptions& n) {
   v.Field({"hold_frames", "frames",
            "Sampled sources: one draw per this many frames; 0: one draw for the whole run.", "≥ 0"},
           &n.hold_frames);
+  v.Field({"outlier_fraction", "",
+           "Probability that a pixel measurement is a gross outlier (held like the noise).",
+           "in [0, 1]"},
+          &n.outlier_fraction);
+  v.Field({"outlier_sigma_px", "px", "Std of an outlier's further displacement, per axis.", "> 0"},
+          &n.outlier_sigma_px);
   v.Check(nullptr, [&n](std::string* why) { return n.Check(why); });
 }
 

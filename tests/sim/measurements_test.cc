@@ -93,6 +93,44 @@ TEST(OracleSource, NoiseIsDeterministicPerSeedAndHasTheRequestedSpread) {
   EXPECT_NEAR(std::sqrt(sum_sq_point / n), 0.1, 0.1 * 0.02);
 }
 
+// Gross outliers: a fraction of the measurements displaced by a wide Gaussian, on top of the
+// pixel noise, which they leave draw for draw as it was.
+TEST(OracleSource, OutliersAreTheRequestedFractionAndSpreadAndLeaveTheNoiseAlone) {
+  OracleOptions noisy;
+  noisy.noise.pixel_sigma_px = 0.5;
+  OracleOptions contaminated = noisy;
+  contaminated.noise.outlier_fraction = 0.2;
+  contaminated.noise.outlier_sigma_px = 30.0;
+  const SceneTruth scene = ThesisCamera1Scene(CalibrationCase::kMovingCamera);
+  const auto with = OracleSource::Create(scene, contaminated, 42, nullptr);
+  const auto without = OracleSource::Create(scene, noisy, 42, nullptr);
+  ASSERT_TRUE(with && without);
+  long outliers = 0, n = 0;
+  double sum_sq_outlier = 0;
+  Frame fw, fo;
+  for (int s = 0; s < 2400; ++s) {
+    const double t = with->Breakpoints()[s] + 0.05;
+    with->Measure(t, s, &fw);
+    without->Measure(t, s, &fo);
+    for (int i = 0; i < 10; ++i, ++n) {
+      const Eigen::Vector2d extra = fw.pixels[i] - fo.pixels[i];
+      if (extra.squaredNorm() == 0) continue;  // The same noise draw, bit for bit.
+      ++outliers;
+      sum_sq_outlier += extra.squaredNorm() / 2;
+    }
+  }
+  // 24000 measurements: the outlier count is binomial, std sqrt(24000 * 0.2 * 0.8) = 62 (0.26% of
+  // the fraction); 0.01 is four of them. ~4800 outliers: the std of their displacement has a
+  // relative standard error of 1/sqrt(2 * 9600) = 0.7%; 3% is four of them.
+  EXPECT_NEAR(static_cast<double>(outliers) / n, 0.2, 0.01);
+  EXPECT_NEAR(std::sqrt(sum_sq_outlier / outliers), 30.0, 30.0 * 0.03);
+
+  std::string why;
+  contaminated.noise.outlier_fraction = 1.5;
+  EXPECT_EQ(OracleSource::Create(scene, contaminated, 1, &why), nullptr);
+  EXPECT_NE(why.find("outlier_fraction must lie in [0, 1], got 1.5"), std::string::npos) << why;
+}
+
 TEST(OracleSource, RefusesPointsBehindTheCameraAndSaysWhich) {
   SceneTruth scene = ThesisCamera1Scene(CalibrationCase::kMovingCamera);
   scene.points.push_back({0, -30, 0});  // Behind camera 1 (its optical axis is +y).
