@@ -1,6 +1,7 @@
 #include "sim/render.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -79,24 +80,43 @@ std::vector<Eigen::Vector2d> RayTable(const CameraIntrinsics& intrinsics, int w,
   return table;
 }
 
-// The corner rays of a grid m times finer, interpolated bilinearly between the pixel corners'
-// (as the renderer's samples inside a pixel are: below 1e-3 px with |k1| <= 0.3), and computed
-// exactly (`finer`: the finer grid's camera) where a pixel corner has no valid ray. m^2 times
-// fewer inversions of the lens than a table built for the finer grid.
+// The weights of 4-point Lagrange interpolation at t in [0, 1) between nodes -1, 0, 1, 2.
+std::array<double, 4> CubicWeights(double t) {
+  return {-t * (t - 1) * (t - 2) / 6, (t + 1) * (t - 1) * (t - 2) / 2, -(t + 1) * t * (t - 2) / 2,
+          (t + 1) * t * (t - 1) / 6};
+}
+
+// The corner rays of a grid m times finer, interpolated between the pixel corners' by the
+// tensor-product cubic through the 4 x 4 nearest (exact for cubics: its error is of fourth order
+// in the pixel's size over the lens's scale, < 1e-6 px in a 160 deg fisheye's periphery where
+// bilinear interpolation moved edges inwards by 1e-3 to 7e-3 px), and computed exactly (`finer`:
+// the finer grid's camera) where the 4 x 4 corners are not all in the image or not all valid. m^2
+// times fewer inversions of the lens than a table built for the finer grid.
 std::vector<Eigen::Vector2d> FinerRayTable(const std::vector<Eigen::Vector2d>& coarse,
                                            const CameraIntrinsics& finer, int w, int h, int m) {
   const Eigen::Matrix3d a_inv = finer.Matrix().inverse();
   const size_t stride = static_cast<size_t>(w) * m + 1;
   std::vector<Eigen::Vector2d> table(stride * (static_cast<size_t>(h) * m + 1));
+  std::vector<std::array<double, 4>> weights(m);
+  for (int f = 0; f < m; ++f) weights[f] = CubicWeights(static_cast<double>(f) / m);
   for (int jj = 0; jj <= h * m; ++jj) {
     const int j = std::min(jj / m, h - 1);
-    const double fb = static_cast<double>(jj - j * m) / m;
+    const int fb = jj - j * m;
     for (int ii = 0; ii <= w * m; ++ii) {
       const int i = std::min(ii / m, w - 1);
-      const double fa = static_cast<double>(ii - i * m) / m;
-      const size_t k00 = static_cast<size_t>(j) * (w + 1) + i, k01 = k00 + w + 1;
-      const Eigen::Vector2d ray = (1 - fb) * ((1 - fa) * coarse[k00] + fa * coarse[k00 + 1]) +
-                                  fb * ((1 - fa) * coarse[k01] + fa * coarse[k01 + 1]);
+      const int fa = ii - i * m;
+      Eigen::Vector2d ray(std::numeric_limits<double>::quiet_NaN(), 0);
+      if (fa == 0 && fb == 0) {
+        ray = coarse[static_cast<size_t>(j) * (w + 1) + i];  // A pixel corner: its own ray.
+      } else if (i >= 1 && j >= 1 && i + 2 <= w && j + 2 <= h) {
+        ray.setZero();
+        for (int b = 0; b < 4; ++b) {
+          const Eigen::Vector2d* row = &coarse[static_cast<size_t>(j - 1 + b) * (w + 1) + i - 1];
+          const Eigen::Vector2d across = weights[fa][0] * row[0] + weights[fa][1] * row[1] +
+                                         weights[fa][2] * row[2] + weights[fa][3] * row[3];
+          ray += weights[fb][b] * across;
+        }
+      }
       table[static_cast<size_t>(jj) * stride + ii] =
           ray.allFinite() ? ray : TableRay(finer, a_inv, ii - 0.5, jj - 0.5);
     }

@@ -40,7 +40,11 @@
 // (every ray but the backward axis, which no family images). The rays of the samples inside a
 // pixel are interpolated bilinearly between its four corners' coordinates (exact without
 // distortion; with |k1| <= 0.3 the error is below 1e-3 px), unless a corner has no ray: then each
-// sample is unprojected.
+// sample is unprojected. The finer grid's corners (blur_grid m > 1) are interpolated by the cubic
+// through the 4 x 4 nearest pixel corners, not bilinearly: in a 160 deg fisheye's periphery
+// bilinear corners moved the blurred edges inwards by 1e-3 px at 60 deg to 7e-3 px at 85 deg off
+// the axis (against a reference rendered by point samples through the exact lens), and biased a
+// calibration's distortion terms by up to 4 std; the cubic leaves < 1e-6 px.
 #pragma once
 
 #include <array>
