@@ -215,7 +215,8 @@ void RefineXJunctions(const GrayImageView& image, double square_fraction, TagDet
 // that sees it (its outline is then free of squares, not re-inflated), and so does a tag of the
 // image itself that a square bent (below); an id seen twice in one image stays a duplicate
 // (dropped by Detect).
-void FrameDetector::FindTagsAmongSquares(const GrayImageView& view, std::vector<TagDetection>* tags,
+void FrameDetector::FindTagsAmongSquares(const GrayImageView& view, const SquareMapping& mapping,
+                                         std::vector<TagDetection>* tags,
                                          std::vector<bool>* from_copy) const {
   constexpr int kMaxPaintPasses = 3;
   // A tag of the image itself whose painted-pass corners are farther than this from its own was
@@ -256,7 +257,8 @@ void FrameDetector::FindTagsAmongSquares(const GrayImageView& view, std::vector<
     if (found.count(tag.id) == 0 && UndoErosion(&tag)) add(tag, true);
   }
   for (int pass = 0; pass < kMaxPaintPasses && !tags->empty(); ++pass) {
-    const std::vector<uint8_t> painted = PaintCornerSquares(view, SquaresNear(*tags), SquareLens());
+    const std::vector<uint8_t> painted =
+        PaintCornerSquares(view, SquaresNear(*tags, mapping), mapping.lens);
     const std::vector<TagDetection> seen =
         detector_->Detect(painted.data(), view.width, view.height, view.width);
     std::map<int, int> times_in_pass;
@@ -274,13 +276,14 @@ void FrameDetector::FindTagsAmongSquares(const GrayImageView& view, std::vector<
 // black square [0, 1]^2, q = g / s = tag_spacing). Each square within one tag of a found tag (two
 // through a known lens; Chebyshev distance in tags: 0 for the tag's own four) is mapped through
 // the nearest such tag: exact for its own squares, extrapolated for the next rings.
-std::vector<SquareToPaint> FrameDetector::SquaresNear(const std::vector<TagDetection>& tags) const {
+std::vector<SquareToPaint> FrameDetector::SquaresNear(const std::vector<TagDetection>& tags,
+                                                      const SquareMapping& mapping) const {
   // Through a fisheye's bent edges a homography in pixels extrapolates badly: its own squares
   // only. Through a known lens the board plane is mapped exactly, and squares up to two tags away
   // are painted (the detector's raw corners, pulled in by painted tips, make the mapping drift by
   // a fraction of a pixel a pitch; measured on the EuRoC-like Kalibr views of
   // calibrate_images_test: 846 -> 850 of 864 tags sharp, 839 -> 855 at 1 px blur).
-  const int reach = SquareLens() ? 3 : options_.refine.curved_edges ? 1 : 2;  // Distance + 1.
+  const int reach = mapping.lens ? 3 : mapping.curved_edges ? 1 : 2;  // Distance + 1.
   std::vector<SquareToPaint> squares;
   for (const GridIds& g : grids_) {
     std::map<int, const TagDetection*> found;  // Tag index on the grid -> detection.

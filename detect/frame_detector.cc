@@ -10,6 +10,7 @@
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <set>
 
 #include "detect/corner_squares.h"
 #include "detect/plane_to_image.h"
@@ -46,6 +47,10 @@ bool FrameDetectorOptions::Check(std::string* why) const {
     return false;
   }
   if (camera && !camera->Check(why)) return false;
+  if (perspective_views_below_tags < 0) {
+    if (why) *why = "perspective_views_below_tags must be >= 0";
+    return false;
+  }
   return detector.Check(why) && refine.Check(why) && photometric.Check(why);
 }
 
@@ -98,6 +103,11 @@ std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid
     d->num_points_ += 4 * ids.num_tags;
   }
   d->corner_squares_ = grids[0].corner_squares;
+  if (options.camera && options.perspective_views_below_tags > 0) {
+    const CameraIntrinsics& k = *options.camera;
+    d->views_ = PerspectiveViewsCovering(k, static_cast<int>(std::lround(2 * k.u0_px + 1)),
+                                         static_cast<int>(std::lround(2 * k.v0_px + 1)));
+  }
   d->family_ = TagFamily::Create(grids[0].family, grids[0].black_tag_border, why);
   if (!d->family_) return nullptr;
   d->options_.refine.width_at_border = d->family_->width_at_border();
@@ -154,7 +164,10 @@ FoundTags FrameDetector::FindTags(const GrayImageView& view) const {
   std::vector<TagDetection> tags =
       detector_->Detect(view.data, view.width, view.height, view.stride);
   std::vector<bool> from_copy(tags.size(), false);
-  if (corner_squares_) FindTagsAmongSquares(view, &tags, &from_copy);
+  if (corner_squares_) {
+    FindTagsAmongSquares(view, {SquareLens(), options_.refine.curved_edges}, &tags, &from_copy);
+  }
+  if (!views_.empty()) FindTagsInPerspectiveViews(view, &tags, &from_copy);
   std::map<int, int> times_seen;
   for (const TagDetection& tag : tags) ++times_seen[tag.id];
   for (size_t t = 0; t < tags.size(); ++t) {
@@ -175,6 +188,36 @@ FoundTags FrameDetector::FindTags(const GrayImageView& view) const {
     found.from_copy.push_back(from_copy[t]);
   }
   return found;
+}
+
+void FrameDetector::FindTagsInPerspectiveViews(const GrayImageView& view,
+                                               std::vector<TagDetection>* tags,
+                                               std::vector<bool>* from_copy) const {
+  std::set<int> found;
+  for (const TagDetection& tag : *tags) {
+    if (PointId(tag.id, 0) >= 0) found.insert(tag.id);
+  }
+  if (static_cast<int>(found.size()) >= options_.perspective_views_below_tags) return;
+  const CameraIntrinsics& camera = *options_.camera;
+  for (const PerspectiveView& pv : views_) {
+    const GrayImage resampled = ResampleView(view, camera, pv);
+    std::vector<TagDetection> seen = detector_->Detect(resampled);
+    std::vector<bool> seen_in_copy(seen.size(), false);
+    // A perspective view is a pinhole image: squares map by homographies in its pixels.
+    if (corner_squares_) FindTagsAmongSquares(resampled, {nullptr, false}, &seen, &seen_in_copy);
+    for (const TagDetection& in_view : seen) {
+      if (PointId(in_view.id, 0) < 0 || found.count(in_view.id) > 0) continue;
+      TagDetection tag = in_view;
+      bool maps = true;
+      for (int k = 0; k < 4 && maps; ++k) {
+        maps = ViewToImage(camera, pv, in_view.corners[k], &tag.corners[k]);
+      }
+      if (!maps) continue;
+      found.insert(tag.id);
+      tags->push_back(tag);
+      from_copy->push_back(true);
+    }
+  }
 }
 
 bool FrameDetector::NearBorder(const std::array<Eigen::Vector2d, 4>& corners,

@@ -51,6 +51,14 @@
 // on EuRoC-like rendered views, 3-6 of 864 tags) is predicted the same way, its id being known;
 // when its fit failed from a thrown-off corner (moved, not converged, diverged) it is not held to
 // the field the fitted tags reach (AprilTag 3 decoded it there).
+//
+// Perspective views (perspective_views_below_tags, with a wide `camera`). When AprilTag 3 decodes
+// fewer than that many grid tags in an image (a board near a fisheye's image circle, its quads
+// bent), the image is resampled into perspective views covering the lens's field
+// (detect/perspective_views.h: straight edges again) and AprilTag 3 runs on each; a tag not yet
+// found gets the image pixels of its corners through the views' rays, and is fitted from there as
+// a tag found in a modified copy is (no unrefined corners kept). Measured on 20-view rendered
+// 190 deg calibrations: the one view of 140 whose board AprilTag 3 missed is found.
 #pragma once
 
 #include <Eigen/Core>
@@ -65,6 +73,7 @@
 
 #include "detect/apriltag_detector.h"
 #include "detect/corner_refinement.h"
+#include "detect/perspective_views.h"
 #include "detect/photometric_fit.h"
 #include "sim/render.h"
 #include "sim/target.h"
@@ -103,6 +112,12 @@ struct FrameDetectorOptions {
   // A predicted tag is kept when its fit's residual RMS is at most this times the median of the
   // image's decoded tags' (the known pattern explains its pixels as well as theirs). >= 1.
   double max_predicted_residual_ratio = 2.0;
+  // With a wide `camera` (a half-field of kMinWideHalfFieldDeg or more): an image in which
+  // AprilTag 3 decodes fewer of the grids' tags than this is searched again in perspective views
+  // through the camera ("Perspective views" above); 0: never. A board near a 190 deg lens's
+  // image circle bends every tag's quad: none decodes, and without one decoded tag no tag is
+  // predicted either. >= 0.
+  int perspective_views_below_tags = 4;
   bool Check(std::string* why) const;
 };
 
@@ -178,7 +193,9 @@ class FrameDetector {
                                       DetectionCounts* counts) const;
   // Whether FindTags depends on options.camera: corner squares are painted out through a lens that
   // distorts.
-  bool FindingUsesCamera() const { return corner_squares_ && SquareLens() != nullptr; }
+  bool FindingUsesCamera() const {
+    return (corner_squares_ && SquareLens() != nullptr) || !views_.empty();
+  }
 
  private:
   FrameDetector() = default;
@@ -193,11 +210,22 @@ class FrameDetector {
   // The lens the corner squares are painted through: options_.camera when it distorts, else
   // nullptr (a homography in pixels).
   const CameraIntrinsics* SquareLens() const;
+  // How the squares next to a found tag are mapped into an image: through `lens` (the homography
+  // on the tangent plane about the tag's ray), else by a homography in pixels, which extrapolates
+  // badly when the image's edges are curved (a fisheye without a camera).
+  struct SquareMapping {
+    const CameraIntrinsics* lens = nullptr;
+    bool curved_edges = false;
+  };
   // Adds the tags that corner squares hide (header comment): *from_copy grows with *tags.
-  void FindTagsAmongSquares(const GrayImageView& view, std::vector<TagDetection>* tags,
-                            std::vector<bool>* from_copy) const;
+  void FindTagsAmongSquares(const GrayImageView& view, const SquareMapping& mapping,
+                            std::vector<TagDetection>* tags, std::vector<bool>* from_copy) const;
+  // Adds the grid tags found in perspective views_ (header comment) that *tags lacks.
+  void FindTagsInPerspectiveViews(const GrayImageView& view, std::vector<TagDetection>* tags,
+                                  std::vector<bool>* from_copy) const;
   // The corner squares to paint out next to the tags found (corner_squares.cc).
-  std::vector<SquareToPaint> SquaresNear(const std::vector<TagDetection>& tags) const;
+  std::vector<SquareToPaint> SquaresNear(const std::vector<TagDetection>& tags,
+                                         const SquareMapping& mapping) const;
   // A tag whose corners were fitted: decoded, or predicted.
   struct FittedTag {
     int id;
@@ -224,6 +252,9 @@ class FrameDetector {
   FrameDetectorOptions options_;
   std::shared_ptr<const TagFamily> family_;
   std::vector<TagPattern> patterns_;  // Per tag (point id / 4): the photometric fit's model.
+  // With a wide camera: the perspective views covering its field (an image of 2 u0 + 1 by
+  // 2 v0 + 1 px); empty otherwise.
+  std::vector<PerspectiveView> views_;
   std::unique_ptr<AprilTagDetector> detector_;
 };
 
