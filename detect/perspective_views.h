@@ -49,6 +49,12 @@ std::vector<PerspectiveView> PerspectiveViewsCovering(const CameraIntrinsics& ca
 GrayImage ResampleView(const GrayImageView& image, const CameraIntrinsics& camera,
                        const PerspectiveView& view);
 
+// The spread (5th to 95th percentile, gray levels) of `image` over the view's pixels on a grid of
+// `step` px (nearest samples): a cheap test of whether the view sees anything to detect.
+constexpr int kMinViewSpreadGray = 24;
+int ViewGraySpread(const GrayImageView& image, const CameraIntrinsics& camera,
+                   const PerspectiveView& view, int step = 8);
+
 // The image pixel that view pixel `view_pixel` sees; false when its ray does not project.
 bool ViewToImage(const CameraIntrinsics& camera, const PerspectiveView& view,
                  const Eigen::Vector2d& view_pixel, Eigen::Vector2d* image_pixel);
