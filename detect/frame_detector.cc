@@ -200,9 +200,8 @@ void FrameDetector::FindTagsInPerspectiveViews(const GrayImageView& view,
   if (static_cast<int>(found.size()) >= options_.perspective_views_below_tags) return;
   const CameraIntrinsics& camera = *options_.camera;
   for (const PerspectiveView& pv : views_) {
-    // A view over a flat part of the image (the background, no board) holds no tag: skipped
-    // (image noise of sigma 7 gray levels spreads 23 between the percentiles).
-    if (ViewGraySpread(view, camera, pv) < kMinViewSpreadGray) continue;
+    // A view over a flat part of the image (the background, no board) holds no tag.
+    if (ViewGrayRange(view, camera, pv) < kMinViewRangeGray) continue;
     const GrayImage resampled = ResampleView(view, camera, pv);
     std::vector<TagDetection> seen = detector_->Detect(resampled);
     std::vector<bool> seen_in_copy(seen.size(), false);
