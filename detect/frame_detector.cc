@@ -103,11 +103,6 @@ std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid
     d->num_points_ += 4 * ids.num_tags;
   }
   d->corner_squares_ = grids[0].corner_squares;
-  if (options.camera && options.perspective_views_below_tags > 0) {
-    const CameraIntrinsics& k = *options.camera;
-    d->views_ = PerspectiveViewsCovering(k, static_cast<int>(std::lround(2 * k.u0_px + 1)),
-                                         static_cast<int>(std::lround(2 * k.v0_px + 1)));
-  }
   d->family_ = TagFamily::Create(grids[0].family, grids[0].black_tag_border, why);
   if (!d->family_) return nullptr;
   d->options_.refine.width_at_border = d->family_->width_at_border();
@@ -167,7 +162,9 @@ FoundTags FrameDetector::FindTags(const GrayImageView& view) const {
   if (corner_squares_) {
     FindTagsAmongSquares(view, {SquareLens(), options_.refine.curved_edges}, &tags, &from_copy);
   }
-  if (!views_.empty()) FindTagsInPerspectiveViews(view, &tags, &from_copy);
+  if (options_.camera && options_.perspective_views_below_tags > 0) {
+    FindTagsInPerspectiveViews(view, &tags, &from_copy);
+  }
   std::map<int, int> times_seen;
   for (const TagDetection& tag : tags) ++times_seen[tag.id];
   for (size_t t = 0; t < tags.size(); ++t) {
@@ -193,12 +190,19 @@ FoundTags FrameDetector::FindTags(const GrayImageView& view) const {
 void FrameDetector::FindTagsInPerspectiveViews(const GrayImageView& view,
                                                std::vector<TagDetection>* tags,
                                                std::vector<bool>* from_copy) const {
-  std::set<int> found;
+  // The usable tags so far: grid ids decoded once, away from the border (as FindTags keeps them).
+  std::map<int, int> times_seen;
+  for (const TagDetection& tag : *tags) ++times_seen[tag.id];
+  int usable = 0;
   for (const TagDetection& tag : *tags) {
-    if (PointId(tag.id, 0) >= 0) found.insert(tag.id);
+    usable += PointId(tag.id, 0) >= 0 && times_seen[tag.id] == 1 && !NearBorder(tag.corners, view);
   }
-  if (static_cast<int>(found.size()) >= options_.perspective_views_below_tags) return;
+  if (usable >= options_.perspective_views_below_tags) return;
   const CameraIntrinsics& camera = *options_.camera;
+  if (views_size_ != std::array<int, 2>{view.width, view.height}) {
+    views_ = PerspectiveViewsCovering(camera, view.width, view.height);
+    views_size_ = {view.width, view.height};
+  }
   for (const PerspectiveView& pv : views_) {
     // A view over a flat part of the image (the background, no board) holds no tag.
     if (ViewGrayRange(view, camera, pv) < kMinViewRangeGray) continue;
@@ -207,15 +211,20 @@ void FrameDetector::FindTagsInPerspectiveViews(const GrayImageView& view,
     std::vector<bool> seen_in_copy(seen.size(), false);
     // A perspective view is a pinhole image: squares map by homographies in its pixels.
     if (corner_squares_) FindTagsAmongSquares(resampled, {nullptr, false}, &seen, &seen_in_copy);
+    std::map<int, int> times_in_view;  // An id decoded twice in a view: which one is it?
+    for (const TagDetection& tag : seen) ++times_in_view[tag.id];
     for (const TagDetection& in_view : seen) {
-      if (PointId(in_view.id, 0) < 0 || found.count(in_view.id) > 0) continue;
+      if (PointId(in_view.id, 0) < 0 || times_in_view[in_view.id] > 1 ||
+          times_seen.count(in_view.id) > 0) {
+        continue;
+      }
       TagDetection tag = in_view;
       bool maps = true;
       for (int k = 0; k < 4 && maps; ++k) {
         maps = ViewToImage(camera, pv, in_view.corners[k], &tag.corners[k]);
       }
       if (!maps) continue;
-      found.insert(tag.id);
+      times_seen[tag.id] = 1;
       tags->push_back(tag);
       from_copy->push_back(true);
     }

@@ -112,12 +112,13 @@ struct FrameDetectorOptions {
   // A predicted tag is kept when its fit's residual RMS is at most this times the median of the
   // image's decoded tags' (the known pattern explains its pixels as well as theirs). >= 1.
   double max_predicted_residual_ratio = 2.0;
-  // With a wide `camera` (a half-field of kMinWideHalfFieldDeg or more): an image in which
-  // AprilTag 3 decodes fewer of the grids' tags than this is searched again in perspective views
-  // through the camera ("Perspective views" above); 0: never. A board near a 190 deg lens's
-  // image circle bends every tag's quad: none decodes, and without one decoded tag no tag is
-  // predicted either. >= 0.
-  int perspective_views_below_tags = 4;
+  // With a wide `camera` (a half-field of kMinWideHalfFieldDeg or more over the image): an image
+  // in which AprilTag 3 decodes fewer usable grid tags than this is searched again in perspective
+  // views through the camera ("Perspective views" above); 0: never (the default: a detector of
+  // single-tag crops, or of frames whose boards are known to be whole, has no use for them). A
+  // board near a 190 deg lens's image circle bends every tag's quad: none decodes, and without
+  // one decoded tag no tag is predicted either. `calibrate --images` with a wide family uses 4.
+  int perspective_views_below_tags = 0;
   bool Check(std::string* why) const;
 };
 
@@ -192,9 +193,10 @@ class FrameDetector {
                                       const CameraIntrinsics* camera,
                                       DetectionCounts* counts) const;
   // Whether FindTags depends on options.camera: corner squares are painted out through a lens that
-  // distorts.
+  // distorts, or perspective views may be searched through it.
   bool FindingUsesCamera() const {
-    return (corner_squares_ && SquareLens() != nullptr) || !views_.empty();
+    return (corner_squares_ && SquareLens() != nullptr) ||
+           (options_.camera && options_.perspective_views_below_tags > 0);
   }
 
  private:
@@ -252,9 +254,10 @@ class FrameDetector {
   FrameDetectorOptions options_;
   std::shared_ptr<const TagFamily> family_;
   std::vector<TagPattern> patterns_;  // Per tag (point id / 4): the photometric fit's model.
-  // With a wide camera: the perspective views covering its field (an image of 2 u0 + 1 by
-  // 2 v0 + 1 px); empty otherwise.
-  std::vector<PerspectiveView> views_;
+  // The perspective views covering the camera's field for images of views_size_ (computed by
+  // the first FindTags that needs them; a detector serves one thread, as Detect says).
+  mutable std::vector<PerspectiveView> views_;
+  mutable std::array<int, 2> views_size_{-1, -1};
   std::unique_ptr<AprilTagDetector> detector_;
 };
 

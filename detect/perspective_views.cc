@@ -27,18 +27,20 @@ Eigen::Matrix3d LookingAlong(const Eigen::Vector3d& axis) {
   return r;
 }
 
-// The lens's angular resolution (px / rad) along `axis`: the mean of its radial and tangential
-// scales, by differences of the projection.
+// The lens's angular resolution (px / rad) along `axis`: the mean of its radial scale (towards
+// the optical axis and away) and its tangential one, by differences of the projection.
 double PixelsPerRadian(const CameraIntrinsics& camera, const Eigen::Vector3d& axis) {
   constexpr double kStep = 1e-4;
-  const Eigen::Matrix3d r = LookingAlong(axis);
-  Eigen::Vector2d at, radial, tangential;
-  const Eigen::Vector3d outward = r.col(0);  // Any two perpendicular directions do.
-  if (!ProjectPoint(camera, axis, &at) || !ProjectPoint(camera, axis + kStep * outward, &radial) ||
-      !ProjectPoint(camera, axis + kStep * r.col(1), &tangential)) {
+  Eigen::Vector3d radial = Eigen::Vector3d::UnitZ() - axis.z() * axis;  // Towards the axis.
+  radial = radial.norm() > 1e-9 ? radial.normalized() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d tangential = axis.cross(radial);
+  Eigen::Vector2d at, along_radial, along_tangential;
+  if (!ProjectPoint(camera, axis, &at) ||
+      !ProjectPoint(camera, axis + kStep * radial, &along_radial) ||
+      !ProjectPoint(camera, axis + kStep * tangential, &along_tangential)) {
     return camera.fku_px;
   }
-  return 0.5 * ((radial - at).norm() + (tangential - at).norm()) / kStep;
+  return 0.5 * ((along_radial - at).norm() + (along_tangential - at).norm()) / kStep;
 }
 
 }  // namespace

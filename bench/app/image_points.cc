@@ -121,6 +121,8 @@ FrameDetectorOptions ImageDetectorOptions(const ImagePointOptions& image) {
   options.refine.curved_edges = image.lens != LensFamily::kRadTan;
   if (image.camera) {
     options.camera = *image.camera;
+    // A wide lens: boards near its image circle may decode no tag (FrameDetectorOptions).
+    if (options.refine.curved_edges) options.perspective_views_below_tags = 4;
   } else if (options.refine.curved_edges) {
     options.refinement = CornerRefinement::kEdgeFit;
   }

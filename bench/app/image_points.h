@@ -35,9 +35,9 @@ struct ImageDetectionCache {
   // checkerboard, whether the sector-based detector went first (a wide lens); reused only for the
   // same.
   std::string source;
-  // FindTags painted corner squares out through a distorting camera (FrameDetector::
-  // FindingUsesCamera): it then finds more tags than without one, and is not reused by a pass
-  // that has a camera when it was filled without.
+  // FindTags used the camera (FrameDetector::FindingUsesCamera: corner squares painted out
+  // through a distorting lens, perspective views of a wide one): it then finds more tags than
+  // without one, and is not reused by a pass that has a camera when it was filled without.
   bool found_through_lens = false;
   std::vector<FoundTags> per_image;  // By the folder's image order; empty for unreadable images.
   // checkerboard: each image's corners as detect/chessboard.h found them (row-major; empty: not

@@ -520,11 +520,13 @@ void Visit(FieldVisitor& v, RenderedSourceOptions& o) {
            "of the decoded tags'.",
            "≥ 1"},
           &o.detection.max_predicted_residual_ratio);
-  v.Field({"perspective_views_below_tags", "",
-           "Through a wide lens (half field ≥ 60°): a frame in which AprilTag 3 decodes fewer grid "
-           "tags is searched again in perspective views of the lens's field; 0: never.",
-           "≥ 0"},
-          &o.detection.perspective_views_below_tags);
+  v.Field(
+      {"perspective_views_below_tags", "",
+       "Through a wide lens (half field ≥ 60°) whose camera the detector is given (the unified, "
+       "eucm and double-sphere truths): a frame in which AprilTag 3 decodes fewer grid tags is "
+       "searched again in perspective views of the lens's field; 0: never (the default).",
+       "≥ 0"},
+      &o.detection.perspective_views_below_tags);
   VisitSection(v, {"detector", "", "AprilTag 3 options."}, &o.detection.detector, /*flow=*/true);
   v.Check(nullptr, [&o](std::string* why) { return o.render.Check(why); });
   v.Check(nullptr, [&o](std::string* why) { return o.detection.Check(why); });
