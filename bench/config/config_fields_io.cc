@@ -202,7 +202,7 @@ void FieldReader::Section(const FieldSpec& f, const SectionOps& ops) {
 void FieldReader::List(const FieldSpec& f, const ListOps& ops) {
   At(f, [&](const YAML::Node& n, const std::string& g) {
     if (!n.IsSequence() || (n.size() == 0 && !ops.allow_empty)) {
-      r_.Fail(n, g, "expected a non-empty list");
+      r_.Fail(n, g, ops.allow_empty ? "expected a list of mappings" : "expected a non-empty list");
     }
     ops.resize(0);
     ops.resize(n.size());

@@ -177,9 +177,9 @@ void Finish(const Reader& r, const YAML::Node& at, const std::string& field, Sce
     r.Fail(at, field + "." + why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
 }
 
-// Where the value of `spec` that a failing field (dotted, e.g. "noise.pixel_sigma_px") comes from
-// is written: the axis sharing the most leading components with it; with one axis, that axis;
-// else the file alone.
+// Where the value of `spec` that a failing field (e.g. "noise.pixel_sigma_px") comes from is
+// written: the axis sharing the most leading components with it; none sharing one: the file alone
+// (the error is not the sweep's).
 std::string WhereSweptValueIs(const config_internal::SweepPointSpec& spec,
                               const std::string& failing, const std::string& file) {
   const auto components = [](const std::string& dotted) {
@@ -188,8 +188,17 @@ std::string WhereSweptValueIs(const config_internal::SweepPointSpec& spec,
     for (std::string part; std::getline(in, part, '.');) parts.push_back(part);
     return parts;
   };
-  const std::vector<std::string> failing_parts = components(failing);
-  std::string where = spec.value_where.size() == 1 ? spec.value_where[0].second : file;
+  // "points.aprilgrids[1].tag_cols" as the axes write it: "points.aprilgrids.1.tag_cols".
+  std::string dotted;
+  for (char c : failing) {
+    if (c == '[') {
+      dotted += '.';
+    } else if (c != ']') {
+      dotted += c;
+    }
+  }
+  const std::vector<std::string> failing_parts = components(dotted);
+  std::string where = file;
   size_t best = 0;
   for (const auto& [axis_field, axis_where] : spec.value_where) {
     const std::vector<std::string> axis_parts = components(axis_field);
@@ -236,17 +245,23 @@ void ExpandSweptScenario(const Reader& r, const YAML::Node& root, const std::str
       s.sweep_point = spec.point;
       Finish(r, spec.override_node, field, &s);
     } catch (const ConfigError& e) {
-      // The override is built in memory: the error is placed at the swept value it names.
       const std::string what = e.what();
       const size_t at = what.find(field);
       if (at == std::string::npos) throw;
+      // An error placed in a file (a base's line, a truth change's mark) keeps its place; one in
+      // the override built in memory is placed at the swept value it names.
+      const std::string placed = at >= 2 ? what.substr(0, at - 2) : "";
+      // (Nodes cloned into the override carry the mark 1:1.)
+      if (!placed.empty() && placed != path && placed != path + ":1:1") throw;
       const std::string rest = what.substr(at + field.size());  // ".noise: reason"
       const std::string failing = rest.substr(
           rest.empty() || rest[0] != '.' ? 0 : 1,
           rest.find(": ") == std::string::npos ? std::string::npos : rest.find(": ") - 1);
       throw ConfigError(WhereSweptValueIs(spec, failing, path) + ": " + what.substr(at));
     } catch (const YAML::Exception& e) {
-      throw ConfigError(WhereSweptValueIs(spec, "", path) + ": " + field + ": " + e.what());
+      const std::string where =
+          spec.value_where.size() == 1 ? spec.value_where[0].second : std::string(path);
+      throw ConfigError(where + ": " + field + ": " + e.what());
     }
     config->scenarios.push_back(std::move(s));
   }
@@ -289,7 +304,7 @@ void AddVariants(const Reader& r, const YAML::Node& node, size_t first, RunConfi
       ScenarioConfig s = config->scenarios[index];
       ParseScenario(r, item["scenario"], field + ".scenario", &s);
       s.name += "-" + suffix;
-      s.sweep_point.sweep = s.name;
+      s.sweep_point.sweep += "-" + suffix;  // A sweep's points vary into one sweep.
       if (!note.empty()) s.description += ", " + note;
       s.source_file = r.file();
       Finish(r, item["scenario"], field + ".scenario", &s);

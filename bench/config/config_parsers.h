@@ -56,7 +56,7 @@ class FieldReader final : public FieldVisitor {
  private:
   template <typename F>
   void At(const FieldSpec& f, F read) {
-    if ((f.flags & kRequired) && !node_[f.key].IsDefined()) {
+    if ((f.flags & kRequired) && (!node_[f.key].IsDefined() || node_[f.key].IsNull())) {
       r_.Fail(node_, Reader::Join(field_, f.key), "missing");
     }
     r_.If(node_, f.key, field_, read);

@@ -387,7 +387,9 @@ void Visit(FieldVisitor& v, CalibrationChange& c) {
   v.Exclusive("at_s", {"from_s", "to_s"},
               "a step has `at_s`, a ramp (`kind: ramp`) `from_s` and `to_s`");
   const auto given = [](double t) {
-    return [t](std::string* why) { return !std::isnan(t) || (*why = "missing", false); };
+    return [t](std::string* why) {
+      return !std::isnan(t) || (*why = "missing (or not a number)", false);
+    };
   };
   if (step) {
     v.Check("at_s", given(at_s));

@@ -224,6 +224,19 @@ INSTANTIATE_TEST_SUITE_P(
             Scenario() + "sweep:\n  - field: noise.pixel_sigma_px\n"
                          "    range: {from: -1, to: 0, step: 1}\n",
             {"FILE:11:12: sweep point", "noise.pixel_sigma_px=-1", "pixel_sigma_px must be >= 0"}},
+        ConfigCase{"sweep_error_not_the_sweeps",
+                   Scenario("", "", kTruth + "    changes: [{kind: step, at_s: 60, fku_px: 1}]\n") +
+                       "sweep:\n  - field: noise.pixel_sigma_px\n    values: [0.5]\n",
+                   {"FILE:8:15:", ".truth.changes[0]", "at_s = 60 s is outside the run [0, 10] s"}},
+        ConfigCase{"sweep_bad_second_grid",
+                   Scenario("",
+                            "{aprilgrids: [{tag_rows: 2, tag_cols: 2, tag_size_m: 0.1, origin: "
+                            "[0, 3, 0], rpy_deg: [90, 0, 0]}, {tag_rows: 2, tag_cols: 2, "
+                            "tag_size_m: 0.1, first_id: 4, origin: [0.5, 3, 0], rpy_deg: [90, 0, "
+                            "0]}]}") +
+                       "sweep:\n  - field: points.aprilgrids.0.tag_size_m\n    values: [0.1]\n"
+                       "  - field: points.aprilgrids.1.tag_size_m\n    values: [-1]\n",
+                   {"FILE:13:14: sweep point", "aprilgrids[1]", "tag_size_m must be positive"}},
         ConfigCase{"sweep_unknown_field",
                    Scenario() + "sweep:\n  - field: noise.pixel_sigmaa\n    values: [1]\n",
                    {"noise.pixel_sigmaa", "unknown key"}},

@@ -166,6 +166,13 @@ TEST(Config, VariantsNameTheirScenariosAndRefuseAnUnknownOne) {
       << why;
   why = LoadError(two + "variants:\n  - {suffix: v, of: [betta], scenario: {}}\n");
   EXPECT_NE(why.find("did you mean 'beta'"), std::string::npos) << why;
+  // A sweep's points vary into one sweep, named after it.
+  ASSERT_TRUE(
+      LoadRunConfigFromString("scenarios:\n  - {name: s, points: {preset: thesis}}\n"
+                              "variants:\n  - {suffix: v, of: [s], scenario: {seed: 2}}\n",
+                              "v.yaml", &config, &why))
+      << why;
+  EXPECT_EQ(config.scenarios.at(1).sweep_point.sweep, "s-v");
   why = LoadError(two + "variants:\n  - {suffix: v, of: [beta], scenario: {trials: 0}}\n");
   EXPECT_NE(why.find("variants[0].scenario.trials: must be >= 1"), std::string::npos) << why;
 }
@@ -370,7 +377,8 @@ TEST(Config, TruthChangesAreReadWrittenAndRefusedFromTheirDeclaration) {
   EXPECT_NE(e.find("test.yaml:8:"), std::string::npos) << e;
   EXPECT_NE(e.find("scenario.truth.changes[0].kind: missing"), std::string::npos) << e;
   e = error("{kind: step, fku_px: 1}");
-  EXPECT_NE(e.find("scenario.truth.changes[0].at_s: missing"), std::string::npos) << e;
+  EXPECT_NE(e.find("scenario.truth.changes[0].at_s: missing (or not a number)"), std::string::npos)
+      << e;
   e = error("{kind: ramp, from_s: 1, fku_px: 1}");
   EXPECT_NE(e.find("scenario.truth.changes[0].to_s: missing"), std::string::npos) << e;
   e = error("{kind: step, at_s: 1, to_s: 3, fku_px: 1}");
@@ -381,6 +389,8 @@ TEST(Config, TruthChangesAreReadWrittenAndRefusedFromTheirDeclaration) {
   EXPECT_NE(e.find("scenario.truth.changes[0].fku_pz: unknown key (did you mean 'fku_px'?)"),
             std::string::npos)
       << e;
+  e = error("{kind: , at_s: 1, fku_px: 1}");  // A null kind is no kind.
+  EXPECT_NE(e.find("scenario.truth.changes[0].kind: missing"), std::string::npos) << e;
   e = error("5");
   EXPECT_NE(e.find("scenario.truth.changes[0]: expected a mapping"), std::string::npos) << e;
 
