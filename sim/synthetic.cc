@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace calibench {
 
@@ -323,6 +324,17 @@ std::optional<ThesisSimulation> MakeThesisSimulation(int sim, bool proper) {
   s.measurements.noise.pixel_sigma_px = std::sqrt(row.noise_variance);
   s.measurements.noise.hold_s = 0.1;
   return s;
+}
+
+double FocalLengthPuttingRayAt(CameraIntrinsics lens, double angle_deg, double radius_px) {
+  lens.fku_px = lens.fkv_px = 1, lens.u0_px = lens.v0_px = 0, lens.phi_deg = 90;
+  const double t = angle_deg * M_PI / 180;
+  Eigen::Vector2d normalised;
+  if (!ProjectPoint(lens, Eigen::Vector3d(std::sin(t), 0, std::cos(t)), &normalised) ||
+      !(normalised.norm() > 0)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return radius_px / normalised.norm();
 }
 
 }  // namespace calibench

@@ -111,6 +111,12 @@ Rigid3 FacingBoardPoseAlong(const Eigen::Vector3d& tilt, const Eigen::Vector3d& 
 // the board tilted by up to max_tilt_deg about a uniform in-plane axis and turned by up to
 // 0.5 rad about its normal, `board_point` at a distance uniform in [near_m, far_m]. Draws, in
 // order: azimuth, tilt, tilt axis, turn, distance.
+// The focal length (px) with which `lens`'s distortion images the ray `angle_deg` off the axis
+// `radius_px` from the principal point (the lens's own focal lengths and principal point are not
+// used): wide-lens scenes put the half field on a circle of the image with it. NaN where the lens
+// does not image that ray.
+double FocalLengthPuttingRayAt(CameraIntrinsics lens, double angle_deg, double radius_px);
+
 struct FacingPoseRange {
   double max_tilt_deg = 35;
   double near_m = 0.3, far_m = 0.45;

@@ -42,18 +42,9 @@ struct WideTruth {
   double field_deg;
 };
 
-// The normalised image radius of the ray at `angle_deg` from the axis (k's A set to identity).
-double NormalisedRadius(CameraIntrinsics k, double angle_deg) {
-  k.fku_px = k.fkv_px = 1.0, k.u0_px = k.v0_px = 0.0;
-  Eigen::Vector2d pixel;
-  const double t = angle_deg * kDeg;
-  if (!ProjectPoint(k, Eigen::Vector3d(std::sin(t), 0, std::cos(t)), &pixel)) return NAN;
-  return pixel.norm();
-}
-
 // `k`'s lens with its half field on the field circle, the principal point off the centre.
 WideTruth MakeTruth(LensModel model, CameraIntrinsics k, double field_deg) {
-  const double f = kFieldCircleRadiusPx / NormalisedRadius(k, field_deg / 2);
+  const double f = FocalLengthPuttingRayAt(k, field_deg / 2, kFieldCircleRadiusPx);
   k.fku_px = f, k.fkv_px = 1.002 * f;
   k.u0_px = 401.7, k.v0_px = 397.6;
   char name[64];

@@ -11,6 +11,7 @@
 
 #include "detect/frame_detector.h"
 #include "sim/render.h"
+#include "sim/synthetic.h"
 #include "util/random.h"
 
 namespace calibench {
@@ -25,11 +26,7 @@ CameraIntrinsics Eucm190() {
   CameraIntrinsics k;
   k.family = LensFamily::kEucm;
   k.alpha = 0.6, k.beta = 1.0;
-  k.fku_px = k.fkv_px = 1, k.u0_px = k.v0_px = 0;
-  Eigen::Vector2d p;
-  const double t = 95 * kDeg;
-  EXPECT_TRUE(ProjectPoint(k, Eigen::Vector3d(std::sin(t), 0, std::cos(t)), &p));
-  const double f = 380.0 / p.norm();
+  const double f = FocalLengthPuttingRayAt(k, 95, 380);
   k.fku_px = f, k.fkv_px = 1.002 * f, k.u0_px = 401.7, k.v0_px = 397.6;
   return k;
 }

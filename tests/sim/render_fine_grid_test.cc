@@ -27,11 +27,7 @@ CameraIntrinsics Fisheye160() {
   CameraIntrinsics k;
   k.family = LensFamily::kEquidistant;
   k.k1 = 0.02, k.k2 = -0.01, k.k3 = 0.003, k.k4 = -5e-4;
-  k.fku_px = k.fkv_px = 1, k.u0_px = k.v0_px = 0;
-  Eigen::Vector2d p;
-  const double t = 80 * kDeg;
-  EXPECT_TRUE(ProjectPoint(k, Eigen::Vector3d(std::sin(t), 0, std::cos(t)), &p));
-  const double f = 380.0 / p.norm();
+  const double f = FocalLengthPuttingRayAt(k, 80, 380);
   k.fku_px = f, k.fkv_px = 1.002 * f, k.u0_px = 401.7, k.v0_px = 397.6;
   return k;
 }
