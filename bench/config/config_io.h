@@ -1,7 +1,8 @@
 // Reading and writing scenario YAML. The config I/O files (bench/config/config_*.cc) are the only
 // ones that include yaml-cpp.
 //
-// The format is declared once, field by field, in bench/config/scenario_fields.cc (fields.h: each
+// The format is declared once, field by field, in bench/config/scenario_fields.cc and
+// source_fields.cc (fields.h: each
 // field's YAML key, member, type, default, unit, doc and check); method options in each type's
 // VisitOptions (methods/method.h). The parser, the writer (ResolvedYaml), equality, the
 // "did you mean" key lists and the reference (`calibench config-reference`, the generated part of

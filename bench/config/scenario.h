@@ -192,7 +192,8 @@ struct ScenarioConfig {
 // back to.
 bool operator==(const ScenarioConfig& a, const ScenarioConfig& b);
 
-// The declarations of the scenario format (scenario_fields.cc).
+// The declarations of the scenario format (scenario_fields.cc; the measurement sources' in
+// source_fields.cc).
 void Visit(FieldVisitor& v, ScenarioConfig& s);
 void Visit(FieldVisitor& v, CameraSpec& c);
 void Visit(FieldVisitor& v, CameraIntrinsics& k);

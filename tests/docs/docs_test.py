@@ -134,7 +134,8 @@ def config_keys():
         if m:
             for lst in braced_lists(m.group(1)):
                 keys.update(lst)
-    # The declarations of the scenario format (Visit per struct, scenario_fields.cc): the key of
+    # The declarations of the scenario format (Visit per struct, scenario_fields.cc and
+    # source_fields.cc): the key of
     # every FieldSpec handed to a visitor.
     for path in sources("bench/config/*.cc"):
         text = strip_comments(read(path))
@@ -142,10 +143,12 @@ def config_keys():
             r"\b(?:Field|Section|List|VisitEnum|VisitSection|VisitList|Refused)\s*\(\s*"
             r"(?:[A-Za-z_]\w*\s*,\s*)?\{?\s*\"([A-Za-z0-9_]+)\"", text))
     # Method options: VisitOptions of every method type (and the shared online options): the key
-    # of every OptionSpec, `Field({"key", "unit", "doc"}, &member)`.
+    # of every OptionSpec, `Field({"key", "unit", "doc"}, &member)` or `EnumOption(v, {...}, ...)`.
     for path in sources("methods/*.cc") + sources("methods/*.h"):
         text = strip_comments(read(path))
-        keys.update(re.findall(r"\bField(?:OrAll)?\s*\(\s*\{?\s*\"([A-Za-z0-9_]+)\"", text))
+        keys.update(re.findall(
+            r"\b(?:Field(?:OrAll)?|EnumOption)\s*\(\s*(?:[A-Za-z_]\w*\s*,\s*)?\{?\s*\"([A-Za-z0-9_]+)\"",
+            text))
     # Tracked quantities (tracking.tolerance keys) are the metric table's tracked names.
     keys.update(name for name, _, tracked in metric_entries() if tracked)
     return keys
