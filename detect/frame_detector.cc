@@ -155,16 +155,25 @@ std::vector<Observation> FrameDetector::Detect(const uint8_t* pixels, int width,
 }
 
 FoundTags FrameDetector::FindTags(const GrayImageView& view) const {
-  FoundTags found;
   std::vector<TagDetection> tags =
       detector_->Detect(view.data, view.width, view.height, view.stride);
   std::vector<bool> from_copy(tags.size(), false);
   if (corner_squares_) {
     FindTagsAmongSquares(view, {SquareLens(), options_.refine.curved_edges}, &tags, &from_copy);
   }
-  if (options_.camera && options_.perspective_views_below_tags > 0) {
+  FoundTags found = UsableTags(view, tags, from_copy);
+  if (options_.camera &&
+      static_cast<int>(found.tags.size()) < options_.perspective_views_below_tags) {
     FindTagsInPerspectiveViews(view, &tags, &from_copy);
+    found = UsableTags(view, tags, from_copy);
   }
+  return found;
+}
+
+FoundTags FrameDetector::UsableTags(const GrayImageView& view,
+                                    const std::vector<TagDetection>& tags,
+                                    const std::vector<bool>& from_copy) const {
+  FoundTags found;
   std::map<int, int> times_seen;
   for (const TagDetection& tag : tags) ++times_seen[tag.id];
   for (size_t t = 0; t < tags.size(); ++t) {
@@ -190,14 +199,8 @@ FoundTags FrameDetector::FindTags(const GrayImageView& view) const {
 void FrameDetector::FindTagsInPerspectiveViews(const GrayImageView& view,
                                                std::vector<TagDetection>* tags,
                                                std::vector<bool>* from_copy) const {
-  // The usable tags so far: grid ids decoded once, away from the border (as FindTags keeps them).
-  std::map<int, int> times_seen;
-  for (const TagDetection& tag : *tags) ++times_seen[tag.id];
-  int usable = 0;
-  for (const TagDetection& tag : *tags) {
-    usable += PointId(tag.id, 0) >= 0 && times_seen[tag.id] == 1 && !NearBorder(tag.corners, view);
-  }
-  if (usable >= options_.perspective_views_below_tags) return;
+  std::set<int> known;  // Ids the image gave (usable or not): not taken again from a view.
+  for (const TagDetection& tag : *tags) known.insert(tag.id);
   const CameraIntrinsics& camera = *options_.camera;
   if (views_size_ != std::array<int, 2>{view.width, view.height}) {
     views_ = PerspectiveViewsCovering(camera, view.width, view.height);
@@ -215,7 +218,7 @@ void FrameDetector::FindTagsInPerspectiveViews(const GrayImageView& view,
     for (const TagDetection& tag : seen) ++times_in_view[tag.id];
     for (const TagDetection& in_view : seen) {
       if (PointId(in_view.id, 0) < 0 || times_in_view[in_view.id] > 1 ||
-          times_seen.count(in_view.id) > 0) {
+          known.count(in_view.id) > 0) {
         continue;
       }
       TagDetection tag = in_view;
@@ -224,7 +227,7 @@ void FrameDetector::FindTagsInPerspectiveViews(const GrayImageView& view,
         maps = ViewToImage(camera, pv, in_view.corners[k], &tag.corners[k]);
       }
       if (!maps) continue;
-      times_seen[tag.id] = 1;
+      known.insert(tag.id);
       tags->push_back(tag);
       from_copy->push_back(true);
     }

@@ -222,7 +222,11 @@ class FrameDetector {
   // Adds the tags that corner squares hide (header comment): *from_copy grows with *tags.
   void FindTagsAmongSquares(const GrayImageView& view, const SquareMapping& mapping,
                             std::vector<TagDetection>* tags, std::vector<bool>* from_copy) const;
-  // Adds the grid tags found in perspective views_ (header comment) that *tags lacks.
+  // The grid tags of `tags` that FindTags keeps: grid ids decoded once, away from the border (the
+  // others counted in FoundTags::counts).
+  FoundTags UsableTags(const GrayImageView& view, const std::vector<TagDetection>& tags,
+                       const std::vector<bool>& from_copy) const;
+  // Adds the grid tags found in perspective views_ (header comment) whose ids *tags lacks.
   void FindTagsInPerspectiveViews(const GrayImageView& view, std::vector<TagDetection>* tags,
                                   std::vector<bool>* from_copy) const;
   // The corner squares to paint out next to the tags found (corner_squares.cc).
