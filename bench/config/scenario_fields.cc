@@ -50,20 +50,17 @@ const EnumNames<MotionFrame>& MotionFrameNames() {
 
 void VisitMotion(FieldVisitor& v, ScenarioConfig& s) {
   // The preset's name as written (read only: the twist it sets is what is written and compared).
-  Choices presets;
-  std::string preset;
-  for (const auto& [motion, name] : ThesisMotionNames()) {
-    presets.names.push_back(name);
-    if (s.motion_preset == motion) preset = name;
-  }
+  static const EnumNames<ThesisMotion> presets{ThesisMotionNames()};
+  std::string preset = s.motion_preset ? presets.Name(*s.motion_preset) : "";
+  Choices choices = presets.AsChoices();
+  choices.first_is_unset = false;  // "none" is a preset (no motion), not the absence of one.
   v.Field({"preset", "",
            "A thesis motion (body twist for a moving camera; the equivalent spatial "
            "twist for a fixed one) instead of the components.",
            "", nullptr, kNotWritten | kNotCompared},
-          &preset, presets);
-  for (const auto& [motion, name] : ThesisMotionNames()) {
-    if (v.Reads() && preset == name) s.motion_preset = motion;
-  }
+          &preset, choices);
+  ThesisMotion read;
+  if (v.Reads() && presets.Parse(preset, &read)) s.motion_preset = read;
   TwistProfile& m = s.motion;
   v.Field({"v_const", "m/s", "Linear velocity: v(t) = v_const + v_cos cos(ft) + v_sin sin(ft)."},
           &m.v_const);
