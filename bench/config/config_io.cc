@@ -245,19 +245,15 @@ void ExpandSweptScenario(const Reader& r, const YAML::Node& root, const std::str
       s.sweep_point = spec.point;
       Finish(r, spec.override_node, field, &s);
     } catch (const ConfigError& e) {
-      const std::string what = e.what();
-      const size_t at = what.find(field);
-      if (at == std::string::npos) throw;
-      // An error placed in a file (a base's line, a truth change's mark) keeps its place; one in
-      // the override built in memory is placed at the swept value it names.
-      const std::string placed = at >= 2 ? what.substr(0, at - 2) : "";
-      // (Nodes cloned into the override carry the mark 1:1.)
-      if (!placed.empty() && placed != path && placed != path + ":1:1") throw;
-      const std::string rest = what.substr(at + field.size());  // ".noise: reason"
-      const std::string failing = rest.substr(
-          rest.empty() || rest[0] != '.' ? 0 : 1,
-          rest.find(": ") == std::string::npos ? std::string::npos : rest.find(": ") - 1);
-      throw ConfigError(WhereSweptValueIs(spec, failing, path) + ": " + what.substr(at));
+      // An error in the override built in memory (its nodes have no place: the file, or 1:1 for
+      // nodes cloned into it) is placed at the swept value it names; any other keeps its place
+      // (a base's line, a truth change's mark).
+      const bool in_override =
+          e.field().rfind(field, 0) == 0 && (e.where() == path || e.where() == path + ":1:1");
+      if (!in_override) throw;
+      std::string failing = e.field().substr(field.size());  // ".noise.pixel_sigma_px"
+      if (!failing.empty() && failing[0] == '.') failing.erase(0, 1);
+      throw ConfigError(WhereSweptValueIs(spec, failing, path), e.field(), e.reason());
     } catch (const YAML::Exception& e) {
       const std::string where =
           spec.value_where.size() == 1 ? spec.value_where[0].second : std::string(path);

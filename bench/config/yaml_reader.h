@@ -21,6 +21,20 @@ namespace config_internal {
 class ConfigError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+  // "where: field: reason" (Reader::Fail), with its parts kept: where (file or file:line:col), the
+  // dotted field, the reason.
+  ConfigError(const std::string& where, const std::string& field, const std::string& reason)
+      : std::runtime_error(where + ": " + field + ": " + reason),
+        where_(where),
+        field_(field),
+        reason_(reason) {}
+  // Empty for an error made from one message.
+  const std::string& where() const { return where_; }
+  const std::string& field() const { return field_; }
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string where_, field_, reason_;
 };
 
 // The text of a file; ConfigError naming it when it cannot be opened.
@@ -131,7 +145,7 @@ class Reader {
 
   [[noreturn]] void Fail(const YAML::Node& node, const std::string& field,
                          const std::string& reason) const {
-    throw ConfigError(Where(node) + ": " + field + ": " + reason);
+    throw ConfigError(Where(node), field, reason);
   }
 
   void ExpectMap(const YAML::Node& node, const std::string& field) const {
