@@ -267,6 +267,7 @@ std::vector<Observation> FrameDetector::RefineTags(const GrayImageView& view,
       }
       tag.corners = fit.corners;
       out.crlb_px = fit.crlb_px;
+      local.covered_tags += fit.outlier_pixels > 0 ? 1 : 0;
       out.residual_rms_gray = fit.residual_rms_gray;
     }
     if (edge_fit && !RefineTagCorners(view, options_.refine, &tag)) {
@@ -377,6 +378,7 @@ void FrameDetector::PredictMissingTags(const GrayImageView& view, const CameraIn
         }
         fitted->push_back({id, fit.corners, fit.crlb_px, fit.residual_rms_gray});
         ++counts->tags;
+        counts->covered_tags += fit.outlier_pixels > 0 ? 1 : 0;
         if (decoded != refused.end()) {
           ++counts->refitted_tags;
         } else {

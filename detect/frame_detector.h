@@ -152,6 +152,9 @@ struct DetectionCounts {
   // thrown off by a corner square, say) and then fitted where their neighbours put them
   // (predict_missing_tags; not in refused_tags).
   int refitted_tags = 0;
+  // Of `tags`: fitted without pixels that disagree with their pattern (covered in part: a finger,
+  // another board; PhotometricFitResult::outlier_pixels > 0).
+  int covered_tags = 0;
   // Predicted tags whose fit was refused or explained the pixels worse than the decoded tags'
   // (dropped; not in refused_tags, as nothing was detected there).
   int refused_predictions = 0;

@@ -14,6 +14,8 @@ namespace photometric_internal {
 // The PSF's std has settled when a step moves it less than this (px); it matters to the corners
 // only through the edges' shape.
 constexpr double kSigmaSettledPx = 5e-3;
+// The robust pass needs this many flat pixels for its noise estimate; fewer, and it is skipped.
+constexpr size_t kMinFlatPixels = 32;
 
 bool TagFit::Start(const std::array<Eigen::Vector2d, 4>& initial, ParamVector* x,
                    PhotometricFitResult* result) {
@@ -121,6 +123,7 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
     if (result.ok()) result.failure = FitFailure::kDiverged;
     return result;
   }
+  if (!LeaveOutDisagreeingPixels(initial, &state, &result)) return result;
   const double dof = std::max(1.0, static_cast<double>(pixels_.size()) - kNumParams);
   std::array<Eigen::Vector2d, 4> pixel_corners;
   if (!CheckSolution(state, initial, dof, &pixel_corners, &result)) return result;
@@ -218,6 +221,114 @@ bool TagFit::Minimize(const std::array<Eigen::Vector2d, 4>& initial, FitState* s
   return false;
 }
 
+bool TagFit::LeaveOutDisagreeingPixels(const std::array<Eigen::Vector2d, 4>& initial,
+                                       FitState* state, PhotometricFitResult* result) {
+  PixelResiduals residuals;
+  double cost = 0;  // The state's own cost and information stay untouched unless pixels go.
+  ParamMatrix jtj;
+  ParamVector jtr;
+  int iterations = result->iterations;
+  long outliers = 0;  // Pixels of the region left out so far.
+  const long width = image_.width;
+  for (int round = 0; round < options_.max_outlier_rounds; ++round) {
+    if (!Evaluate(state->x, &cost, &jtj, &jtr, &residuals)) {
+      result->failure = FitFailure::kDiverged;
+      result->message = "the fitted homography is invalid over the tag's region";
+      return false;
+    }
+    const std::vector<double>& r = residuals.residual;
+    double threshold = 0, grow_threshold = 0;
+    {
+      // The noise std from the flat pixels (an edge's residuals hold the model's own misfit too),
+      // by the lower quartile of |r| (0.3186 std for Gaussian noise): a covered corner square can
+      // be half of a tag's flat pixels, which would double a median's estimate.
+      std::vector<double> flat;
+      for (size_t k = 0; k < r.size(); ++k) {
+        if (residuals.flat[k]) flat.push_back(std::abs(r[k]));
+      }
+      if (flat.size() < kMinFlatPixels) break;  // Nothing to judge by.
+      const auto quartile = flat.begin() + static_cast<long>(flat.size() / 4);
+      std::nth_element(flat.begin(), quartile, flat.end());
+      // Estimated again each round: a fit pulled by covered pixels misses every edge a little,
+      // which the first round's flat pixels show too. The contrast term bounds it below.
+      const double noise_std = *quartile / 0.3186;
+      grow_threshold = options_.outlier_grow_sigmas * noise_std;
+      threshold = std::max(
+          options_.outlier_sigmas * noise_std,
+          options_.outlier_contrast_fraction * std::abs(state->x[kWhite] - state->x[kBlack]));
+    }
+    // Each pixel that disagrees by threshold where the pattern is flat, and the rim around it that
+    // the PSF blurs into its neighbours (edges included).
+    const int rim =
+        static_cast<int>(std::ceil(options_.outlier_rim_sigmas * state->x[kSigma] + 0.5));
+    auto left_out = [&](long key) {
+      return std::binary_search(left_out_.begin(), left_out_.end(), key);
+    };
+    const size_t before = left_out_.size();
+    for (size_t k = 0; k < r.size(); ++k) {
+      if (!residuals.flat[k] || !(std::abs(r[k]) > threshold)) continue;
+      const long i = pixels_[k].key % width, j = pixels_[k].key / width;
+      for (int dj = -rim; dj <= rim; ++dj) {
+        for (int di = -rim; di <= rim; ++di) {
+          if (di * di + dj * dj > rim * rim || i + di < 0 || i + di >= width) continue;
+          left_out_.push_back((j + dj) * width + i + di);
+        }
+      }
+    }
+    std::sort(left_out_.begin(), left_out_.end());
+    left_out_.erase(std::unique(left_out_.begin(), left_out_.end()), left_out_.end());
+    // From the second round (the fit no longer pulled by what covers it): the covered area grows
+    // over its neighbours, edges included, that disagree by grow_threshold (a hysteresis, as for
+    // Canny's edges), until none is left.
+    if (round > 0) {
+      for (bool grew = true; grew;) {
+        grew = false;
+        for (size_t k = 0; k < r.size(); ++k) {
+          const long key = pixels_[k].key;
+          if (!(std::abs(r[k]) > grow_threshold) || left_out(key) ||
+              !(left_out(key - 1) || left_out(key + 1) || left_out(key - width) ||
+                left_out(key + width))) {
+            continue;
+          }
+          left_out_.insert(std::upper_bound(left_out_.begin(), left_out_.end(), key), key);
+          grew = true;
+        }
+      }
+    }
+    const bool found = left_out_.size() > before;
+    if (!found) break;
+    const long region = static_cast<long>(pixels_.size()) + outliers;
+    for (const FitPixel& px : pixels_) outliers += left_out(px.key) ? 1 : 0;
+    if (static_cast<double>(outliers) > options_.max_outlier_fraction * region) {
+      result->failure = FitFailure::kOccluded;
+      result->message = std::to_string(outliers) + " of the region's " + std::to_string(region) +
+                        " pixels disagree with the pattern (by more than " +
+                        std::to_string(threshold) +
+                        " gray levels where it is flat, or next to such) (max_outlier_fraction " +
+                        std::to_string(options_.max_outlier_fraction) + ")";
+      return false;
+    }
+    if (!Classify(state->x, result) ||
+        !Evaluate(state->x, &state->cost, &state->jtj, &state->jtr) ||
+        !Minimize(initial, state, result)) {
+      if (result->ok()) result->failure = FitFailure::kDiverged;
+      return false;
+    }
+    iterations += result->iterations;
+  }
+  result->iterations = iterations;
+  result->outlier_pixels = static_cast<int>(outliers);
+  // The last round's fit may have moved sigma past the classification's margin, as after the
+  // first fit.
+  if (state->x[kSigma] > classified_sigma_ + kReclassifySigmaPx &&
+      (!Classify(state->x, result) ||
+       !Evaluate(state->x, &state->cost, &state->jtj, &state->jtr))) {
+    if (result->ok()) result->failure = FitFailure::kDiverged;
+    return false;
+  }
+  return true;
+}
+
 bool TagFit::CheckSolution(const FitState& state, const std::array<Eigen::Vector2d, 4>& initial,
                            double dof, std::array<Eigen::Vector2d, 4>* pixel_corners,
                            PhotometricFitResult* result) const {
@@ -269,6 +380,15 @@ bool PhotometricFitOptions::Check(std::string* why) const {
   if (min_pixels < photometric_internal::kNumParams + 1) msg = "min_pixels must be > 13";
   if (!(max_outside_fraction >= 0 && max_outside_fraction < 1))
     msg = "max_outside_fraction must lie in [0, 1)";
+  if (!(outlier_sigmas > 0)) msg = "outlier_sigmas must be > 0";
+  if (!(outlier_contrast_fraction >= 0)) msg = "outlier_contrast_fraction must be >= 0";
+  if (max_outlier_rounds < 0) msg = "max_outlier_rounds must be >= 0";
+  if (!(outlier_grow_sigmas > 0 && outlier_grow_sigmas <= outlier_sigmas))
+    msg = "outlier_grow_sigmas must lie in (0, outlier_sigmas]";
+  if (!(outlier_rim_sigmas >= 0 && outlier_rim_sigmas <= 10))
+    msg = "outlier_rim_sigmas must lie in [0, 10]";
+  if (!(max_outlier_fraction >= 0 && max_outlier_fraction < 1))
+    msg = "max_outlier_fraction must lie in [0, 1)";
   if (msg.empty()) return true;
   if (why) *why = msg;
   return false;
@@ -277,7 +397,7 @@ bool PhotometricFitOptions::Check(std::string* why) const {
 const char* FitFailureName(FitFailure failure) {
   static constexpr std::array<const char*, kNumFitFailures> kNames = {
       "none",     "image_border",  "low_contrast", "too_few_pixels",
-      "diverged", "not_converged", "moved"};
+      "diverged", "not_converged", "moved",        "occluded"};
   const int i = static_cast<int>(failure);
   return i >= 0 && i < kNumFitFailures ? kNames[i] : "unknown";
 }

@@ -65,6 +65,7 @@ void DetectionStatsAccumulator::AddFrame(int tags_expected, const DetectionCount
   stats_.predicted_tags += counts.predicted_tags;
   stats_.refitted_tags += counts.refitted_tags;
   stats_.refused_predictions += counts.refused_predictions;
+  stats_.covered_tags += counts.covered_tags;
 }
 
 void DetectionStatsAccumulator::AddCornerError(const Eigen::Vector2d& e,

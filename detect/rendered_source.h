@@ -50,6 +50,7 @@ struct DetectionStats {
   long refitted_tags = 0;   // Of tags_detected: decoded, refused from AprilTag 3's corners, then
                             // fitted where neighbours predicted them (DetectionCounts).
   long refused_predictions = 0;  // Predicted tags whose fit was refused (dropped).
+  long covered_tags = 0;         // Of tags_detected: fitted without pixels that disagree (covered).
   long corners = 0;
   double rms_px = 0, bias_x_px = 0, bias_y_px = 0, p95_px = 0;  // Per-corner Euclidean error.
   // Mean error along each tag's diagonal, outward from the tag's projected centre (> 0: tags

@@ -29,6 +29,10 @@ constexpr int kMaxLinesPerPixel = 32;       // Cells of >= 1 px: a pixel is near
 // is the constant 0 (the pixel is on the line's lower side) or 1 until the next classification.
 constexpr uint8_t kSlotZero = kMaxLinesPerPixel, kSlotOne = kMaxLinesPerPixel + 1;
 constexpr int kNumSlots = kMaxLinesPerPixel + 2;
+// A pixel where the model's brightness moves by less than this fraction of the contrast per px
+// of edge shift is flat (PixelResiduals): a Gaussian-blurred edge's slope phi(d / s) / s falls
+// below it ~2.2 s from the edge.
+constexpr double kFlatSlopePerPx = 0.05;
 // With a camera the region's outline is sampled (8 points a side) and its box grown by this: it
 // covers the chords between the samples.
 constexpr double kOutlineMarginPx = 2;
@@ -67,6 +71,7 @@ struct FitPixel {
   int first_line, num_lines;  // The lines within reach of it (pixel_lines_).
   int first_rect, num_rects;  // Its near rectangles as 4 slots of its lines (pixel_rects_).
   int deep;                   // Rectangles that contain it beyond the profile's reach.
+  long key;                   // j * image width + i: which image pixel (the left-out set's key).
 };
 // x0, x1, y0, y1 among the pixel's lines (its lines within reach), or kSlotZero / kSlotOne.
 using RectSlots = std::array<uint8_t, 4>;
@@ -148,6 +153,13 @@ class TagFit {
                    const std::array<Eigen::Vector2d, 4>& corners, StepMoves* moves) const;
   // Fills the result's levels, blur and residual RMS and *pixel_corners; false with the failure
   // set for a contrast too low for the residuals or a corner moved past max_correction_px.
+  // The robust pass (photometric_fit.h, "Pixels that disagree"): from a converged *state, leaves
+  // out the pixels whose residual exceeds both outlier_sigmas noise std and
+  // outlier_contrast_fraction of the contrast, and fits again, until none is left out or after
+  // max_outlier_rounds. False with the failure set when too much of the region is left out or a
+  // re-fit fails.
+  bool LeaveOutDisagreeingPixels(const std::array<Eigen::Vector2d, 4>& initial, FitState* state,
+                                 PhotometricFitResult* result);
   bool CheckSolution(const FitState& state, const std::array<Eigen::Vector2d, 4>& initial,
                      double dof, std::array<Eigen::Vector2d, 4>* pixel_corners,
                      PhotometricFitResult* result) const;
@@ -197,7 +209,15 @@ class TagFit {
   // pixels were kept.
   bool EnoughPixels(long inside, long outside, PhotometricFitResult* result) const;
   // Cost, J^T J and J^T r at x; false when x is invalid (a pixel behind the homography's horizon).
-  bool Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, ParamVector* jtr) const;
+  // With `residuals`: each pixel's gray - model too (0 for a censored one) and whether the model
+  // is flat there (its brightness changes by less than kFlatSlopePerPx of the contrast per px of
+  // edge shift: beyond ~2 PSF std of every edge), in pixels_' order.
+  struct PixelResiduals {
+    std::vector<double> residual;
+    std::vector<bool> flat;
+  };
+  bool Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, ParamVector* jtr,
+                PixelResiduals* residuals = nullptr) const;
   // Fills the distance, normal and profile (tables: vertical, horizontal lines) of each line of
   // pixel `index` at its model point p^~ (and the lens terms with a camera).
   void ProfileLines(size_t index, const Eigen::Vector3d& p, const PatternLines& lines,
@@ -234,6 +254,7 @@ class TagFit {
   std::vector<Eigen::Matrix2d> pixel_jacobians_;  // With a camera: ModelJacobian per pixel.
   std::vector<int> pixel_lines_;
   std::vector<RectSlots> pixel_rects_;
+  std::vector<long> left_out_;  // Sorted FitPixel::key of the pixels the robust pass left out.
   std::array<Eigen::Vector2d, 4> classified_corners_;
   double classified_sigma_ = 0;
 };

@@ -121,7 +121,8 @@ void TagFit::AddPixel(const PixelAt& at, const PatternLines& lines, const Classi
               0,
               static_cast<int>(pixel_rects_.size()),
               0,
-              0};
+              0,
+              static_cast<long>(at.j) * image_.width + at.i};
   auto slot = [&](int line) {
     // A line farther than the margin keeps its profile's constant until reclassification.
     if (!(std::abs(values[line]) < margins.near_px)) {
@@ -253,6 +254,10 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
         continue;
       }
       ++inside;
+      if (!left_out_.empty() && std::binary_search(left_out_.begin(), left_out_.end(),
+                                                   static_cast<long>(j) * image_.width + i)) {
+        continue;
+      }
       AddPixel(at, lines, margins, &line_values);
     }
   }
@@ -401,8 +406,12 @@ Eigen::Matrix3d TagFit::HomographyGradient(size_t index, const Eigen::Vector3d& 
   return dg;
 }
 
-bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
-                      ParamVector* jtr) const {
+bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, ParamVector* jtr,
+                      PixelResiduals* residuals) const {
+  if (residuals) {
+    residuals->residual.assign(pixels_.size(), 0.0);
+    residuals->flat.assign(pixels_.size(), false);
+  }
   const Eigen::Matrix3d g = HomographyOf(x);
   const double sigma = std::max(x[kSigma], kMinSigmaPx);
   const double black = x[kBlack], white = x[kWhite], contrast = black - white;
@@ -453,6 +462,12 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj,
     }
     if (censored) continue;
     const double r = px.gray - model;
+    if (residuals) {
+      residuals->residual[index] = r;
+      double slope = 0;
+      for (int k = 0; k < px.num_lines; ++k) slope += std::abs(pl.weight[k]);
+      residuals->flat[index] = slope < kFlatSlopePerPx;
+    }
     *cost += r * r;
     // A pixel beyond every edge's reach depends only on the levels and the shading.
     AccumulateNormalEquations(jac, r, px.num_rects == 0 ? kBlack : 0, jtj, jtr);

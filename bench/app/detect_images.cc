@@ -58,6 +58,7 @@ bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
       image.predicted_tags = counts.predicted_tags;
       image.refitted_tags = counts.refitted_tags;
       image.refused_predictions = counts.refused_predictions;
+      image.covered_tags = counts.covered_tags;
     }
     images->push_back(std::move(image));
   }
@@ -110,6 +111,10 @@ std::string FormatImageCorners(const std::vector<ImageCorners>& images,
       extra += ", " + std::to_string(image.refitted_tags) +
                " of them refused from AprilTag 3's corners but fitted where their neighbours put "
                "them";
+    }
+    if (image.covered_tags > 0) {
+      extra += ", " + std::to_string(image.covered_tags) +
+               " of them fitted without pixels that disagree with their pattern (covered in part)";
     }
     if (image.refused_predictions > 0) {
       extra += ", " + std::to_string(image.refused_predictions) +

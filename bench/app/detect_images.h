@@ -36,6 +36,7 @@ struct ImageCorners {
   int unrefined_copy_tags = 0;  // DetectionCounts::unrefined_copy_tags (dropped).
   int predicted_tags = 0;       // Of tags: fitted where their neighbours put them (not decoded).
   int refitted_tags = 0;        // DetectionCounts::refitted_tags.
+  int covered_tags = 0;         // DetectionCounts::covered_tags.
   int refused_predictions = 0;  // DetectionCounts::refused_predictions.
   std::string refused_reasons;  // "diverged 1, image_border 2" (FitFailureName), or empty.
   struct Corner {

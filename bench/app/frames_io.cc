@@ -187,7 +187,9 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
   }
   std::map<int, Truth> truth;
   if (!ReadCornerTruth(frames_dir + "/corners.csv", &truth, why)) return false;
-  const auto detector = FrameDetector::Create(s.points.AprilGrids(), s.rendering.detection, why);
+  // The same detector options as the in-memory path (with a wide truth: its lens for the fit).
+  const auto detector =
+      FrameDetector::Create(s.points.AprilGrids(), s.RenderingOptions().detection, why);
   if (!detector) return false;
   DetectionStatsAccumulator acc;
   std::string errors_csv =
@@ -221,7 +223,7 @@ bool DetectFrames(const ScenarioConfig& s, const FramesOptions& o, const std::st
 }
 
 std::string FormatDetectionStats(const DetectionStats& s) {
-  char text[900];
+  char text[1100];
   std::snprintf(
       text, sizeof(text),
       "frames %d (%d without detections)\n"
@@ -229,14 +231,15 @@ std::string FormatDetectionStats(const DetectionStats& s) {
       "%ld dropped at the border, %ld unrefined (%ld more dropped: found only in a "
       "modified copy), %ld refused by the photometric fit; %ld of the detected not decoded "
       "but predicted from their neighbours (%ld predictions refused), %ld refused from "
-      "AprilTag 3's corners but fitted from their neighbours'\n"
+      "AprilTag 3's corners but fitted from their neighbours', %ld fitted without pixels that "
+      "disagree with their pattern (covered in part)\n"
       "corner error vs truth over %ld corners: RMS %.4f px, bias (%.4f, %.4f) px, "
       "p95 %.4f px; along the tag diagonals: radial (outward) bias %.4f px, tangential "
       "%.4f px; Cramer-Rao std per axis (RMS) %.4f px\n",
       s.frames, s.frames_without_detections, s.tags_detected, s.tags_expected, s.DetectionRate(),
       s.unknown_tags, s.border_tags, s.unrefined_tags, s.unrefined_copy_tags, s.refused_tags,
-      s.predicted_tags, s.refused_predictions, s.refitted_tags, s.corners, s.rms_px, s.bias_x_px,
-      s.bias_y_px, s.p95_px, s.bias_radial_px, s.bias_tangent_px, s.crlb_rms_px);
+      s.predicted_tags, s.refused_predictions, s.refitted_tags, s.covered_tags, s.corners, s.rms_px,
+      s.bias_x_px, s.bias_y_px, s.p95_px, s.bias_radial_px, s.bias_tangent_px, s.crlb_rms_px);
   return text;
 }
 
