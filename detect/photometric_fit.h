@@ -124,9 +124,10 @@ struct PhotometricFitResult {
 // there, and the tag's edges are straight. Every distance above is then measured in pixels
 // through the lens: d = (l . u~(p)) / |J(p)^T l_xy|, u(p) the plane point of pixel p's ray
 // (UnprojectToRay) and J = du/dp (the inverse of the central differences of the projection,
-// ProjectPoint), so the model's edges bend as the lens bends them. A pinhole camera (or none)
-// fits in pixels. Never throws; result.failure says why a fit was refused (corners then
-// unchanged).
+// ProjectPoint), so the model's edges bend as the lens bends them (to second order: d + spread
+// d^2 / 2 where J changes across the edge; the blurred profile shifted by the edge's curvature;
+// tag_fit.h PatternLines). A pinhole camera (or none) fits in pixels. Never throws;
+// result.failure says why a fit was refused (corners then unchanged).
 PhotometricFitResult FitTagPhotometric(const GrayImageView& image, const TagPattern& pattern,
                                        const std::array<Eigen::Vector2d, 4>& initial_corners,
                                        const PhotometricFitOptions& options,

@@ -142,6 +142,7 @@ void TagFit::BendLines(double sigma, PatternLines* lines) const {
   const size_t n_lines = lines->raw.size();
   lines->bend_shift.assign(n_lines, 0.0);
   lines->bend_shift_dsigma.assign(n_lines, 0.0);
+  lines->spread.assign(n_lines, 0.0);
   if (!camera_) return;
   constexpr double kStep = 0.25;  // Along the line, in p^ (the tag spans about [-1, 1]).
   const double half_var = 0.5 * (sigma * sigma + 1.0 / 12);
@@ -164,6 +165,18 @@ void TagFit::BendLines(double sigma, PatternLines* lines) const {
     if (!std::isfinite(kappa)) continue;
     lines->bend_shift[i] = kappa * half_var;
     lines->bend_shift_dsigma[i] = kappa * sigma;
+    // N = |M^T l_xy| one pixel either side of the curve, along its image normal.
+    constexpr double kAcrossPx = 1.0;
+    const Eigen::Vector2d unit_normal = normal.normalized();
+    double log_n[2];
+    bool across = true;
+    for (int side = 0; side < 2 && across; ++side) {
+      Eigen::Vector2d p_hat;
+      across = ModelOf(at + (side == 0 ? -kAcrossPx : kAcrossPx) * unit_normal, &p_hat);
+      if (across) log_n[side] = std::log((ModelJacobian(p_hat).transpose() * l.head<2>()).norm());
+    }
+    const double spread = across ? (log_n[1] - log_n[0]) / (2 * kAcrossPx) : 0.0;
+    if (std::isfinite(spread)) lines->spread[i] = spread;
   }
 }
 

@@ -369,7 +369,8 @@ void TagFit::ProfileLines(size_t index, const Eigen::Vector3d& p, const PatternL
       const Eigen::Vector2d mt_l = m.transpose() * lines.raw[line].head<2>();
       out->lens_inv_n[k] = 1 / mt_l.norm();
       out->lens_r[k] = m * mt_l * out->lens_inv_n[k];
-      f = lines.raw[line].dot(p) * out->lens_inv_n[k] - lines.bend_shift[line];
+      const double first_order = lines.raw[line].dot(p) * out->lens_inv_n[k];
+      f = first_order * (1 + 0.5 * lines.spread[line] * first_order) - lines.bend_shift[line];
       out->normal[k] = mt_l * out->lens_inv_n[k];
     } else {
       f = scale_ * lines.unit[line].dot(p);
@@ -390,8 +391,9 @@ Eigen::Matrix3d TagFit::HomographyGradient(size_t index, const Eigen::Vector3d& 
     const int line = lines_of_pixel[k];
     Eigen::Vector3d df;  // weight * d f / d l.
     if (camera_) {
-      const double w = pl.lens_inv_n[k] * pl.weight[k],
-                   f = lines.raw[line].dot(p) * pl.lens_inv_n[k];
+      // d = f + spread f^2 / 2 (PatternLines::spread): d d / d f = 1 + spread f.
+      const double f = lines.raw[line].dot(p) * pl.lens_inv_n[k];
+      const double w = pl.lens_inv_n[k] * pl.weight[k] * (1 + lines.spread[line] * f);
       df = Eigen::Vector3d(w * (p.x() - f * pl.lens_r[k].x()), w * (p.y() - f * pl.lens_r[k].y()),
                            w);
     } else {
