@@ -244,13 +244,14 @@ Consistency CheckAgainstTruth(const WideTruth& truth, const RefineResult& r) {
 
 // Measured (20 views each, the corners re-fitted through the estimate until f.ku settles: 2-3
 // passes; RMS 0.0042-0.0051 px): the fitted camera projects every ray of the field within
-// 0.0009-0.0036 px of the truth (max over the field), and 48 of the 50 free intrinsics lie
-// within 2 reported std of the truth on the test's frames: eucm 160's alpha and beta at 2.92 and
-// 2.54 (nearly collinear: one error direction; Mahalanobis d2 12.0 for 6 dof). A 95% interval
-// expects 2.5 of 50 beyond. With a single pass (the corners fitted once through the first,
-// homography-based estimate, f.ku 3 px off on unified 190) up to 4.6 std: the passes matter.
-// Over 6 frame sets (CALIBENCH_WIDE_SEED=0..5; docs/results/wide-lenses.md) 16 of 300 intrinsics
-// lie beyond 2 std (13.7 expected) and d2 ranges 1.4-25.2: the covariance is right. (Before the
+// 0.0009-0.0031 px of the truth (max over the field), and 47 of the 50 free intrinsics lie
+// within 2 reported std of the truth on the test's frames: eucm 160's alpha and beta at -3.10 and
+// +2.71 (nearly collinear: one error direction; Mahalanobis d2 13.1 for 6 dof), eucm 190's alpha
+// at -2.06. A 95% interval expects 2.5 of 50 beyond. With a single pass (the corners fitted once
+// through the first, homography-based estimate, f.ku 3 px off on unified 190) up to 4.6 std: the
+// passes matter.
+// Over 6 frame sets (CALIBENCH_WIDE_SEED=0..5; docs/results/wide-lenses.md) 17 of 300 intrinsics
+// lie beyond 2 std (13.7 expected) and d2 ranges 1.1-25.1: the covariance is right. (Before the
 // renderer's finer grid took cubic rather than bilinear corner rays, pinhole-equi 160 deg's
 // k1..k4 were off by up to 4.4 std with d2 105-181: the renderer's edges, not the detector's.)
 //
