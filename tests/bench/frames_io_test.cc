@@ -3,13 +3,14 @@
 // options (with a wide truth: drawn through its lens), must find the same corners. The scenario is
 // the 190 deg double-sphere one, whose two grids overlap in the image in frames 4-9 of trial 0:
 // the tags they cover in part are fitted without the covered pixels and counted.
+#include "bench/app/frames_io.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <string>
 
-#include "bench/app/frames_io.h"
 #include "bench/config/config_io.h"
 
 namespace calibench {
@@ -26,9 +27,9 @@ constexpr double kTruthDigitsPx = 1e-6;
 TEST(DetectFrames, WrittenFramesAreDetectedAsInMemory) {
   RunConfig config;
   std::string why;
-  ASSERT_TRUE(LoadRunConfig(
-      std::string(CALIBENCH_SOURCE_DIR) + "/configs/examples/wide_190_rendered.yaml", &config,
-      &why))
+  ASSERT_TRUE(
+      LoadRunConfig(std::string(CALIBENCH_SOURCE_DIR) + "/configs/examples/wide_190_rendered.yaml",
+                    &config, &why))
       << why;
   const ScenarioConfig& s = config.scenarios[0];
   FramesOptions options;
