@@ -214,6 +214,22 @@ TEST(PhotometricFit, RenderedTagsAreUnbiasedAtTheCramerRaoBound) {
   }
 }
 
+// The exact corners of a one-tag grid seen from `cam_from_board`, and a start 0.3 px off each in
+// x and y (outwards or inwards), as a detector's corners would be.
+testing::AssertionResult CornersAndStart(const CameraIntrinsics& camera, const AprilGrid& grid,
+                                         const Rigid3& cam_from_board,
+                                         std::array<Eigen::Vector2d, 4>* truth,
+                                         std::array<Eigen::Vector2d, 4>* start) {
+  const std::vector<Eigen::Vector3d> corners = grid.CornersInBoard();
+  for (int k = 0; k < 4; ++k) {
+    if (!ProjectPoint(camera, cam_from_board * corners[k], &(*truth)[k])) {
+      return testing::AssertionFailure() << "corner " << k << " does not project";
+    }
+    (*start)[k] = (*truth)[k] + Eigen::Vector2d(k % 2 ? 0.3 : -0.3, k < 2 ? 0.3 : -0.3);
+  }
+  return testing::AssertionSuccess();
+}
+
 // The PSF is a fitted parameter: on a tag the renderer blurs by sigma = 1 px (16 x 16 samples, 2
 // gray levels of noise), fitted from corners 0.3 px off, sigma comes back within kBlurTolPx (the
 // renderer's sampled kernel against the continuous Gaussian of the model: measured < 0.02 px) and
@@ -246,11 +262,7 @@ TEST(PhotometricFit, FitsTheRenderersBlur) {
   Rng rng(7);
   ASSERT_TRUE(renderer->Render({view}, &rng, &image, &why)) << why;
   std::array<Eigen::Vector2d, 4> truth, start;
-  const std::vector<Eigen::Vector3d> corners = grid.CornersInBoard();
-  for (int k = 0; k < 4; ++k) {
-    ASSERT_TRUE(ProjectPoint(camera, view.cam_from_board * corners[k], &truth[k]));
-    start[k] = truth[k] + Eigen::Vector2d(k % 2 ? 0.3 : -0.3, k < 2 ? 0.3 : -0.3);
-  }
+  ASSERT_TRUE(CornersAndStart(camera, grid, view.cam_from_board, &truth, &start));
   TagPattern pattern;
   ASSERT_TRUE(TagPattern::FromFamily(*family, 0, grid.tag_spacing * family->width_at_border(), 0.0,
                                      &pattern, &why))
@@ -307,11 +319,7 @@ TEST(PhotometricFit, PixelsCoveredByAnotherBoardAreLeftOut) {
   const auto renderer = FrameRenderer::Create(camera, render, &why);
   ASSERT_TRUE(renderer) << why;
   std::array<Eigen::Vector2d, 4> truth, start;
-  const std::vector<Eigen::Vector3d> corners = grid.CornersInBoard();
-  for (int k = 0; k < 4; ++k) {
-    ASSERT_TRUE(ProjectPoint(camera, tag.cam_from_board * corners[k], &truth[k]));
-    start[k] = truth[k] + Eigen::Vector2d(k % 2 ? 0.3 : -0.3, k < 2 ? 0.3 : -0.3);
-  }
+  ASSERT_TRUE(CornersAndStart(camera, grid, tag.cam_from_board, &truth, &start));
   TagPattern pattern;
   ASSERT_TRUE(TagPattern::FromFamily(*family, 0, grid.tag_spacing * family->width_at_border(),
                                      grid.tag_spacing * family->width_at_border(), &pattern, &why))
