@@ -16,6 +16,10 @@ namespace photometric_internal {
 constexpr double kSigmaSettledPx = 5e-3;
 // The robust pass needs this many flat pixels for its noise estimate; fewer, and it is skipped.
 constexpr size_t kMinFlatPixels = 32;
+// The lower quartile of |n| for n ~ N(0, 1): Phi^-1(5 / 8).
+constexpr double kQuartileOfAbsNormal = 0.3186;
+// The std of rounding to whole gray levels (1 / sqrt(12)): no image is less noisy.
+constexpr double kRoundingStdGray = 0.2887;
 
 bool TagFit::Start(const std::array<Eigen::Vector2d, 4>& initial, ParamVector* x,
                    PhotometricFitResult* result) {
@@ -228,49 +232,53 @@ bool TagFit::LeaveOutDisagreeingPixels(const std::array<Eigen::Vector2d, 4>& ini
   ParamMatrix jtj;
   ParamVector jtr;
   int iterations = result->iterations;
-  long outliers = 0;  // Pixels of the region left out so far.
-  const long width = image_.width;
+  const long width = image_.width, height = image_.height;
+  auto left_out = [&](long key) {
+    return std::binary_search(left_out_.begin(), left_out_.end(), key);
+  };
+  auto fail = [&](const std::string& message) {
+    result->iterations = iterations;
+    if (result->ok()) {
+      result->failure = FitFailure::kDiverged;
+      result->message = message;
+    }
+    return false;
+  };
   for (int round = 0; round < options_.max_outlier_rounds; ++round) {
     if (!Evaluate(state->x, &cost, &jtj, &jtr, &residuals)) {
-      result->failure = FitFailure::kDiverged;
-      result->message = "the fitted homography is invalid over the tag's region";
-      return false;
+      return fail("the fitted homography is invalid over the tag's region");
     }
     const std::vector<double>& r = residuals.residual;
-    double threshold = 0, grow_threshold = 0;
-    {
-      // The noise std from the flat pixels (an edge's residuals hold the model's own misfit too),
-      // by the lower quartile of |r| (0.3186 std for Gaussian noise): a covered corner square can
-      // be half of a tag's flat pixels, which would double a median's estimate.
-      std::vector<double> flat;
-      for (size_t k = 0; k < r.size(); ++k) {
-        if (residuals.flat[k]) flat.push_back(std::abs(r[k]));
-      }
-      if (flat.size() < kMinFlatPixels) break;  // Nothing to judge by.
-      const auto quartile = flat.begin() + static_cast<long>(flat.size() / 4);
-      std::nth_element(flat.begin(), quartile, flat.end());
-      // Estimated again each round: a fit pulled by covered pixels misses every edge a little,
-      // which the first round's flat pixels show too. The contrast term bounds it below.
-      const double noise_std = *quartile / 0.3186;
-      grow_threshold = options_.outlier_grow_sigmas * noise_std;
-      threshold = std::max(
-          options_.outlier_sigmas * noise_std,
-          options_.outlier_contrast_fraction * std::abs(state->x[kWhite] - state->x[kBlack]));
+    // The noise std from the flat pixels (an edge's residuals hold the model's own misfit too), by
+    // the lower quartile of |r| (kQuartileOfAbsNormal std for Gaussian noise): a covered corner
+    // square can be half of a tag's flat pixels, which would double a median's estimate. Never
+    // below the 8-bit rounding's std. Estimated again each round: a fit pulled by covered pixels
+    // misses every edge a little, which the first round's flat pixels show too.
+    std::vector<double> flat;
+    for (size_t k = 0; k < r.size(); ++k) {
+      if (residuals.flat[k]) flat.push_back(std::abs(r[k]));
     }
-    // Each pixel that disagrees by threshold where the pattern is flat, and the rim around it that
-    // the PSF blurs into its neighbours (edges included).
+    if (flat.size() < kMinFlatPixels) break;  // Nothing to judge by.
+    const auto quartile = flat.begin() + static_cast<long>(flat.size() / 4);
+    std::nth_element(flat.begin(), quartile, flat.end());
+    const double noise_std = std::max(*quartile / kQuartileOfAbsNormal, kRoundingStdGray);
+    const double contrast = std::abs(state->x[kWhite] - state->x[kBlack]);
+    const double threshold = std::max(options_.outlier_sigmas * noise_std,
+                                      options_.outlier_contrast_fraction * contrast);
+    // Each flat pixel that disagrees by threshold, and the rim around it that the PSF blurs into
+    // its neighbours (edges included).
     const int rim =
-        static_cast<int>(std::ceil(options_.outlier_rim_sigmas * state->x[kSigma] + 0.5));
-    auto left_out = [&](long key) {
-      return std::binary_search(left_out_.begin(), left_out_.end(), key);
-    };
+        static_cast<int>(std::ceil(options_.outlier_rim_psf_sigmas * state->x[kSigma] + 0.5));
     const size_t before = left_out_.size();
     for (size_t k = 0; k < r.size(); ++k) {
       if (!residuals.flat[k] || !(std::abs(r[k]) > threshold)) continue;
       const long i = pixels_[k].key % width, j = pixels_[k].key / width;
-      for (int dj = -rim; dj <= rim; ++dj) {
-        for (int di = -rim; di <= rim; ++di) {
-          if (di * di + dj * dj > rim * rim || i + di < 0 || i + di >= width) continue;
+      for (long dj = -rim; dj <= rim; ++dj) {
+        for (long di = -rim; di <= rim; ++di) {
+          if (di * di + dj * dj > rim * rim || i + di < 0 || i + di >= width || j + dj < 0 ||
+              j + dj >= height) {
+            continue;
+          }
           left_out_.push_back((j + dj) * width + i + di);
         }
       }
@@ -278,54 +286,63 @@ bool TagFit::LeaveOutDisagreeingPixels(const std::array<Eigen::Vector2d, 4>& ini
     std::sort(left_out_.begin(), left_out_.end());
     left_out_.erase(std::unique(left_out_.begin(), left_out_.end()), left_out_.end());
     // From the second round (the fit no longer pulled by what covers it): the covered area grows
-    // over its neighbours, edges included, that disagree by grow_threshold (a hysteresis, as for
-    // Canny's edges), until none is left.
+    // over its 4-neighbours, edges included, that disagree by outlier_grow_sigmas noise std (a
+    // hysteresis, as for Canny's edges), a pixel a pass and at most `rim` passes: the faint part
+    // of a covering edge's blur that the rim missed, not a whole edge the model misses a little.
     if (round > 0) {
-      for (bool grew = true; grew;) {
-        grew = false;
+      const double grow_threshold = options_.outlier_grow_sigmas * noise_std;
+      std::vector<long> grown;
+      for (int pass = 0; pass < rim; ++pass) {
+        grown.clear();
         for (size_t k = 0; k < r.size(); ++k) {
-          const long key = pixels_[k].key;
-          if (!(std::abs(r[k]) > grow_threshold) || left_out(key) ||
-              !(left_out(key - 1) || left_out(key + 1) || left_out(key - width) ||
-                left_out(key + width))) {
-            continue;
+          const long key = pixels_[k].key, i = key % width;
+          if (!(std::abs(r[k]) > grow_threshold) || left_out(key)) continue;
+          if ((i > 0 && left_out(key - 1)) || (i + 1 < width && left_out(key + 1)) ||
+              left_out(key - width) || left_out(key + width)) {
+            grown.push_back(key);
           }
-          left_out_.insert(std::upper_bound(left_out_.begin(), left_out_.end(), key), key);
-          grew = true;
         }
+        if (grown.empty()) break;
+        const size_t old_size = left_out_.size();
+        left_out_.insert(left_out_.end(), grown.begin(), grown.end());
+        std::inplace_merge(left_out_.begin(), left_out_.begin() + static_cast<long>(old_size),
+                           left_out_.end());
       }
     }
-    const bool found = left_out_.size() > before;
-    if (!found) break;
-    const long region = static_cast<long>(pixels_.size()) + outliers;
-    for (const FitPixel& px : pixels_) outliers += left_out(px.key) ? 1 : 0;
-    if (static_cast<double>(outliers) > options_.max_outlier_fraction * region) {
-      result->failure = FitFailure::kOccluded;
-      result->message = std::to_string(outliers) + " of the region's " + std::to_string(region) +
-                        " pixels disagree with the pattern (by more than " +
-                        std::to_string(threshold) +
-                        " gray levels where it is flat, or next to such) (max_outlier_fraction " +
-                        std::to_string(options_.max_outlier_fraction) + ")";
+    if (left_out_.size() == before) break;  // Nothing new: the fit stands.
+    if (!Classify(state->x, result)) {
+      result->iterations = iterations;
       return false;
     }
-    if (!Classify(state->x, result) ||
-        !Evaluate(state->x, &state->cost, &state->jtj, &state->jtr) ||
-        !Minimize(initial, state, result)) {
-      if (result->ok()) result->failure = FitFailure::kDiverged;
+    const long region = static_cast<long>(pixels_.size()) + left_out_pixels_;
+    if (static_cast<double>(left_out_pixels_) > options_.max_outlier_fraction * region) {
+      result->iterations = iterations;
+      result->failure = FitFailure::kOccluded;
+      result->message =
+          std::to_string(left_out_pixels_) + " of the region's " + std::to_string(region) +
+          " pixels disagree with the pattern (by more than " + std::to_string(threshold) +
+          " gray levels where it is flat, or next to such) (max_outlier_fraction " +
+          std::to_string(options_.max_outlier_fraction) + ")";
+      return false;
+    }
+    if (!Evaluate(state->x, &state->cost, &state->jtj, &state->jtr)) {
+      return fail("the homography is invalid over the tag's region without the pixels left out");
+    }
+    if (!Minimize(initial, state, result)) {
+      result->iterations += iterations;
       return false;
     }
     iterations += result->iterations;
   }
   result->iterations = iterations;
-  result->outlier_pixels = static_cast<int>(outliers);
   // The last round's fit may have moved sigma past the classification's margin, as after the
   // first fit.
   if (state->x[kSigma] > classified_sigma_ + kReclassifySigmaPx &&
       (!Classify(state->x, result) ||
        !Evaluate(state->x, &state->cost, &state->jtj, &state->jtr))) {
-    if (result->ok()) result->failure = FitFailure::kDiverged;
-    return false;
+    return fail("the homography is invalid over the tag's region after the pass");
   }
+  result->outlier_pixels = static_cast<int>(left_out_pixels_);
   return true;
 }
 
@@ -385,8 +402,8 @@ bool PhotometricFitOptions::Check(std::string* why) const {
   if (max_outlier_rounds < 0) msg = "max_outlier_rounds must be >= 0";
   if (!(outlier_grow_sigmas > 0 && outlier_grow_sigmas <= outlier_sigmas))
     msg = "outlier_grow_sigmas must lie in (0, outlier_sigmas]";
-  if (!(outlier_rim_sigmas >= 0 && outlier_rim_sigmas <= 10))
-    msg = "outlier_rim_sigmas must lie in [0, 10]";
+  if (!(outlier_rim_psf_sigmas >= 0 && outlier_rim_psf_sigmas <= 10))
+    msg = "outlier_rim_psf_sigmas must lie in [0, 10]";
   if (!(max_outlier_fraction >= 0 && max_outlier_fraction < 1))
     msg = "max_outlier_fraction must lie in [0, 1)";
   if (msg.empty()) return true;

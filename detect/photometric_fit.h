@@ -21,21 +21,23 @@
 // black square and, on an AprilGrid, the corner squares beside it. Where something else covers
 // part of it (a finger, another board in front, a reflection) those pixels pull the least-squares
 // fit: another board over a grid's outer corner squares moved its corners by 0.5 px. After the
-// fit converges, a pixel where the pattern is flat (beyond ~2 PSF std of every edge) whose
-// residual r exceeds both outlier_sigmas times the noise std (from the lower quartile of the flat
-// pixels' |r|, robust to those very pixels) and outlier_contrast_fraction of the fitted contrast
-// |w - k| is left out with the pixels within outlier_rim_sigmas PSF std of it (the covering
-// edge's blurred rim, too faint to be found by its own residual), and the fit runs again from
-// there; repeated (at most max_outlier_rounds) while pixels are left out. From the second round
-// (the fit no longer pulled) the covered area also grows over the pixels beside it, edges
-// included, that disagree by outlier_grow_sigmas noise std: the faint part of a covering edge's
-// blur that the rim missed. An edge pixel alone is never a seed: a model that misses an edge's
-// shape (an unknown lens bending it, a sharpened image's halo) shows there. A misplaced edge of the
-// pattern itself moves a pixel by about (contrast / 2) (shift / sigma), a twentieth of the contrast
-// for a 0.1 px shift at sigma 1: only something the pattern cannot produce reaches a quarter of the
-// contrast. With nothing left out the fit is the plain least-squares one, bit for bit. Left out are
-// never more than max_outlier_fraction of the region's pixels: more, and the tag is refused as
-// occluded.
+// fit converges, a pixel where the pattern is flat (its slope below kFlatSlopePerPx of the
+// contrast per px: 2.2 s from an edge at s = 0.8 px, 1.8 s at 1.6 px) whose residual r exceeds
+// both outlier_sigmas times the noise std (from the lower quartile of the flat pixels' |r|, robust
+// to those very pixels; never below the 8-bit rounding's 0.29) and outlier_contrast_fraction of
+// the fitted contrast |w - k| is left out with the pixels within outlier_rim_psf_sigmas PSF std of
+// it (the covering edge's blurred rim, too faint to be found by its own residual), and the fit
+// runs again from there; repeated (at most max_outlier_rounds) while pixels are left out. From
+// the second round (the fit no longer pulled) the covered area also grows, a pixel a pass and at
+// most a rim's width, over the 4-neighbours, edges included, that disagree by outlier_grow_sigmas
+// noise std. An edge pixel alone is never a seed: a model that misses an edge's shape (an unknown
+// lens bending it, a sharpened image's halo) shows there. So a cover that reaches no flat pixel
+// (within ~2 PSF std of the pattern's edges only, or in a blur so wide that little is flat) is
+// not found. A misplaced edge of the pattern itself moves a pixel by at most 0.4 contrast
+// (shift / s), a 25th of the contrast for a 0.1 px shift at s = 1: only something the pattern
+// cannot produce reaches a quarter of it. With nothing left out the fit is the plain
+// least-squares one, bit for bit. Left out are never more than max_outlier_fraction of the
+// region's pixels: more, and the tag is refused as occluded.
 //
 // The Cramer-Rao bound of each corner: the corners are functions of G; their covariance is
 // D_k [sigma_n^2 (J^T J)^-1]_GG D_k^T, with sigma_n^2 the residual variance (on N - 13 degrees of
@@ -72,15 +74,16 @@ struct PhotometricFitOptions {
   int min_pixels = 64;      // Fewer pixels in the region: refused.
   // Fraction of the region's pixels that may fall outside the image before the tag is refused.
   double max_outside_fraction = 0.25;
-  // Pixels that disagree with the pattern (header): left out when |r| exceeds both of these
-  // (noise std from the median |r|; fraction of the fitted contrast), then the fit runs again.
+  // Pixels that disagree with the pattern (header): a flat pixel is left out when |r| exceeds
+  // both of these (noise std from the flat pixels' lower quartile of |r|; fraction of the fitted
+  // contrast), then the fit runs again.
   double outlier_sigmas = 6.0;
   double outlier_contrast_fraction = 0.25;
   // A pixel beside those left out goes when it disagrees by this many noise std (header).
   double outlier_grow_sigmas = 4.0;
   // The pixels within this many PSF std (+ half a pixel) of one left out go too: the blurred rim
   // of whatever covers the pattern.
-  double outlier_rim_sigmas = 4.0;
+  double outlier_rim_psf_sigmas = 4.0;
   int max_outlier_rounds = 3;          // Fits again at most this often (0: no robust pass).
   double max_outlier_fraction = 0.25;  // Left out more of the region than this: refused.
   bool Check(std::string* why) const;

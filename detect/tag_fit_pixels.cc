@@ -187,6 +187,7 @@ bool TagFit::EnoughPixels(long inside, long outside, PhotometricFitResult* resul
 }
 
 bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
+  left_out_pixels_ = 0;
   pixels_.clear();
   pixel_lines_.clear();
   pixel_rects_.clear();
@@ -254,11 +255,18 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
         continue;
       }
       ++inside;
-      if (!left_out_.empty() && std::binary_search(left_out_.begin(), left_out_.end(),
-                                                   static_cast<long>(j) * image_.width + i)) {
-        continue;
-      }
+      const size_t kept = pixels_.size(), kept_lines = pixel_lines_.size(),
+                   kept_rects = pixel_rects_.size();
       AddPixel(at, lines, margins, &line_values);
+      // A pixel the robust pass left out is classified like the others, counted, and dropped.
+      if (pixels_.size() > kept && !left_out_.empty() &&
+          std::binary_search(left_out_.begin(), left_out_.end(), pixels_.back().key)) {
+        pixels_.pop_back();
+        if (camera_) pixel_jacobians_.pop_back();
+        pixel_lines_.resize(kept_lines);
+        pixel_rects_.resize(kept_rects);
+        ++left_out_pixels_;
+      }
     }
   }
   if (!EnoughPixels(inside, outside, result)) return false;

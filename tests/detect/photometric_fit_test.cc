@@ -284,8 +284,9 @@ TEST(PhotometricFit, FitsTheRenderersBlur) {
 // corners move by more than kCoveredPulledPx (measured 0.15-0.64 px, the covered side's most).
 // The robust pass leaves them out with their blurred rim and fits the rest. Over kCoveredDraws
 // noise draws each corner's mean error stays within kBiasTolPx (measured <= 0.003 px), its
-// spread per axis within kMaxSpreadOverCrlb of the CRLB the fit reports, which is larger than the
-// uncovered tag's (fewer pixels remain); on the tag alone nothing is left out.
+// spread per axis within kMaxSpreadOverCrlb of the CRLB the fit reports, which on the covered
+// side is larger than the uncovered tag's (fewer pixels remain); on the tag alone nothing is left
+// out.
 constexpr double kCoveredPulledPx = 0.05;
 constexpr int kCoveredDraws = 8;
 
@@ -364,7 +365,10 @@ TEST(PhotometricFit, PixelsCoveredByAnotherBoardAreLeftOut) {
     worst_pulled = std::max(worst_pulled, bias_pulled[k].norm());
     EXPECT_LT(bias_robust[k].norm(), kBiasTolPx) << "corner " << k;
     EXPECT_LT(spread, kMaxSpreadOverCrlb * crlb_robust[k]) << "corner " << k;
-    EXPECT_GT(crlb_robust[k], crlb_clean[k]) << "corner " << k;
+    // The covered side's corners lose the most pixels (measured +30% / +26%; the others < 1%).
+    if (k == 1 || k == 2) {
+      EXPECT_GT(crlb_robust[k], crlb_clean[k]) << "corner " << k;
+    }
   }
   EXPECT_GT(left_out, 0);
   EXPECT_GT(worst_pulled, kCoveredPulledPx);  // Without the robust pass the test would fail.
