@@ -214,6 +214,17 @@ TEST(PhotometricFit, RenderedTagsAreUnbiasedAtTheCramerRaoBound) {
   }
 }
 
+// A 640 x 480 pinhole camera (f 800 px) and a grid of one 10 cm tag (with Kalibr's corner squares
+// or without): 2 m away the tag is 40 px wide.
+const CameraIntrinsics kOneTagCamera{800.0, 800.0, 90.0, 319.5, 239.5};
+AprilGrid OneTagGrid(bool corner_squares) {
+  AprilGrid grid;
+  grid.tag_rows = grid.tag_cols = 1;
+  grid.tag_size_m = 0.1;
+  grid.corner_squares = corner_squares;
+  return grid;
+}
+
 // The exact corners of a one-tag grid seen from `cam_from_board`, and a start 0.3 px off each in
 // x and y (outwards or inwards), as a detector's corners would be.
 testing::AssertionResult CornersAndStart(const CameraIntrinsics& camera, const AprilGrid& grid,
@@ -238,10 +249,8 @@ constexpr double kBlurTolPx = 0.05, kCornerTolPx = 0.02;
 
 TEST(PhotometricFit, FitsTheRenderersBlur) {
   std::string why;
-  const CameraIntrinsics camera{800.0, 800.0, 90.0, 319.5, 239.5};
-  AprilGrid grid;
-  grid.tag_rows = grid.tag_cols = 1;
-  grid.tag_size_m = 0.1;
+  const CameraIntrinsics camera = kOneTagCamera;
+  const AprilGrid grid = OneTagGrid(false);
   const auto family = TagFamily::Create(grid.family, grid.black_tag_border, &why);
   ASSERT_TRUE(family) << why;
   BoardView view{grid, family, {}};
@@ -292,11 +301,8 @@ constexpr int kCoveredDraws = 8;
 
 TEST(PhotometricFit, PixelsCoveredByAnotherBoardAreLeftOut) {
   std::string why;
-  const CameraIntrinsics camera{800.0, 800.0, 90.0, 319.5, 239.5};
-  AprilGrid grid;
-  grid.tag_rows = grid.tag_cols = 1;
-  grid.tag_size_m = 0.1;
-  grid.corner_squares = true;
+  const CameraIntrinsics camera = kOneTagCamera;
+  const AprilGrid grid = OneTagGrid(true);
   const auto family = TagFamily::Create(grid.family, grid.black_tag_border, &why);
   ASSERT_TRUE(family) << why;
   const Eigen::Matrix3d facing = (Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()) *
