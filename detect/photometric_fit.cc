@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "detect/tag_fit.h"
@@ -20,6 +21,15 @@ constexpr size_t kMinFlatPixels = 32;
 constexpr double kQuartileOfAbsNormal = 0.3186;
 // The std of rounding to whole gray levels (1 / sqrt(12)): no image is less noisy.
 constexpr double kRoundingStdGray = 0.2887;
+
+namespace {
+// The order statistic of rank floor(q (n - 1)) of n > 0 values (no interpolation).
+double OrderStatistic(std::vector<double> values, double q) {
+  const auto k = values.begin() + static_cast<long>(q * static_cast<double>(values.size() - 1));
+  std::nth_element(values.begin(), k, values.end());
+  return *k;
+}
+}  // namespace
 
 bool TagFit::Start(const std::array<Eigen::Vector2d, 4>& initial, ParamVector* x,
                    PhotometricFitResult* result) {
@@ -56,13 +66,8 @@ bool TagFit::Start(const std::array<Eigen::Vector2d, 4>& initial, ParamVector* x
     all.push_back(px.gray);
     if (px.num_rects == 0) (px.deep > 0 ? dark : bright).push_back(px.gray);
   }
-  auto quantile = [](std::vector<double> v, double q) {
-    const size_t k = static_cast<size_t>(q * static_cast<double>(v.size() - 1));
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
-    return v[k];
-  };
-  (*x)[kBlack] = dark.size() >= 8 ? quantile(dark, 0.5) : quantile(all, 0.05);
-  (*x)[kWhite] = bright.size() >= 8 ? quantile(bright, 0.5) : quantile(all, 0.95);
+  (*x)[kBlack] = dark.size() >= 8 ? OrderStatistic(dark, 0.5) : OrderStatistic(all, 0.05);
+  (*x)[kWhite] = bright.size() >= 8 ? OrderStatistic(bright, 0.5) : OrderStatistic(all, 0.95);
   if (!((*x)[kWhite] - (*x)[kBlack] >= options_.min_contrast_gray)) {
     result->failure = FitFailure::kLowContrast;
     result->message =
@@ -114,7 +119,7 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
   FitState state;
   state.x = ParamVector::Zero();
   if (!Start(initial, &state.x, &result)) return result;
-  if (!Evaluate(state.x, &state.cost, &state.jtj, &state.jtr)) {
+  if (!Evaluate(state.x, &state.cost, &state.jtj, &state.jtr, &state.residuals)) {
     result.failure = FitFailure::kDiverged;
     result.message = "the initial homography is invalid over the tag's region";
     return result;
@@ -123,7 +128,8 @@ PhotometricFitResult TagFit::Run(const std::array<Eigen::Vector2d, 4>& initial) 
   if (!Minimize(initial, &state, &result)) return result;
   // A PSF wider than the one the pixels were classified with reaches farther: classify again.
   if (state.x[kSigma] > classified_sigma_ + kReclassifySigmaPx &&
-      (!Classify(state.x, &result) || !Evaluate(state.x, &state.cost, &state.jtj, &state.jtr))) {
+      (!Classify(state.x, &result) ||
+       !Evaluate(state.x, &state.cost, &state.jtj, &state.jtr, &state.residuals))) {
     if (result.ok()) result.failure = FitFailure::kDiverged;
     return result;
   }
@@ -157,6 +163,7 @@ bool TagFit::StepCorners(const ParamVector& trial, const std::array<Eigen::Vecto
 bool TagFit::Minimize(const std::array<Eigen::Vector2d, 4>& initial, FitState* state,
                       PhotometricFitResult* result) {
   ParamVector& x = state->x;
+  PixelResiduals trial_residuals;  // Reused across the iterations.
   double lambda = 1e-4;
   bool converged = false;
   int it = 0;
@@ -190,7 +197,7 @@ bool TagFit::Minimize(const std::array<Eigen::Vector2d, 4>& initial, FitState* s
     double trial_cost = 0;
     ParamMatrix trial_jtj;
     ParamVector trial_jtr;
-    if (!valid || !Evaluate(trial, &trial_cost, &trial_jtj, &trial_jtr) ||
+    if (!valid || !Evaluate(trial, &trial_cost, &trial_jtj, &trial_jtr, &trial_residuals) ||
         !(trial_cost < state->cost)) {
       // At the minimum, steps below the tolerance may no longer lower the cost in floating point.
       converged = valid && moved < options_.convergence_px && sigma_settled;
@@ -204,17 +211,18 @@ bool TagFit::Minimize(const std::array<Eigen::Vector2d, 4>& initial, FitState* s
     state->cost = trial_cost;
     state->jtj = trial_jtj;
     state->jtr = trial_jtr;
+    std::swap(state->residuals, trial_residuals);
     lambda = std::max(lambda / 10, 1e-9);
     converged = moved < options_.convergence_px && sigma_settled;
     // The pixels' rectangle lists may be stale: rebuild.
     if (moves.since_classified > kReclassifyPx ||
         x[kSigma] > classified_sigma_ + kReclassifySigmaPx) {
       if (!Classify(x, result)) return false;
-      if (!Evaluate(x, &state->cost, &state->jtj, &state->jtr)) break;
+      if (!Evaluate(x, &state->cost, &state->jtj, &state->jtr, &state->residuals)) break;
       converged = false;
     }
   }
-  result->iterations = it;
+  result->iterations += it;  // Summed over the fit and the robust pass's re-fits.
   if (converged) return true;
   result->failure =
       it >= options_.max_iterations ? FitFailure::kNotConverged : FitFailure::kDiverged;
@@ -227,17 +235,11 @@ bool TagFit::Minimize(const std::array<Eigen::Vector2d, 4>& initial, FitState* s
 
 bool TagFit::LeaveOutDisagreeingPixels(const std::array<Eigen::Vector2d, 4>& initial,
                                        FitState* state, PhotometricFitResult* result) {
-  PixelResiduals residuals;
-  double cost = 0;  // The state's own cost and information stay untouched unless pixels go.
-  ParamMatrix jtj;
-  ParamVector jtr;
-  int iterations = result->iterations;
   const long width = image_.width, height = image_.height;
   auto left_out = [&](long key) {
     return std::binary_search(left_out_.begin(), left_out_.end(), key);
   };
   auto fail = [&](const std::string& message) {
-    result->iterations = iterations;
     if (result->ok()) {
       result->failure = FitFailure::kDiverged;
       result->message = message;
@@ -245,9 +247,9 @@ bool TagFit::LeaveOutDisagreeingPixels(const std::array<Eigen::Vector2d, 4>& ini
     return false;
   };
   for (int round = 0; round < options_.max_outlier_rounds; ++round) {
-    if (!Evaluate(state->x, &cost, &jtj, &jtr, &residuals)) {
-      return fail("the fitted homography is invalid over the tag's region");
-    }
+    // The residuals of the fit's last evaluation: at its solution, or one converged step before it
+    // (a few thousandths of a pixel, far below what the thresholds tell apart).
+    const PixelResiduals& residuals = state->residuals;
     const std::vector<double>& r = residuals.residual;
     // The noise std from the flat pixels (an edge's residuals hold the model's own misfit too), by
     // the lower quartile of |r| (kQuartileOfAbsNormal std for Gaussian noise): a covered corner
@@ -259,9 +261,8 @@ bool TagFit::LeaveOutDisagreeingPixels(const std::array<Eigen::Vector2d, 4>& ini
       if (residuals.flat[k]) flat.push_back(std::abs(r[k]));
     }
     if (flat.size() < kMinFlatPixels) break;  // Nothing to judge by.
-    const auto quartile = flat.begin() + static_cast<long>(flat.size() / 4);
-    std::nth_element(flat.begin(), quartile, flat.end());
-    const double noise_std = std::max(*quartile / kQuartileOfAbsNormal, kRoundingStdGray);
+    const double noise_std =
+        std::max(OrderStatistic(std::move(flat), 0.25) / kQuartileOfAbsNormal, kRoundingStdGray);
     const double contrast = std::abs(state->x[kWhite] - state->x[kBlack]);
     const double threshold = std::max(options_.outlier_sigmas * noise_std,
                                       options_.outlier_contrast_fraction * contrast);
@@ -310,13 +311,9 @@ bool TagFit::LeaveOutDisagreeingPixels(const std::array<Eigen::Vector2d, 4>& ini
       }
     }
     if (left_out_.size() == before) break;  // Nothing new: the fit stands.
-    if (!Classify(state->x, result)) {
-      result->iterations = iterations;
-      return false;
-    }
+    if (!Classify(state->x, result)) return false;
     const long region = static_cast<long>(pixels_.size()) + left_out_pixels_;
     if (static_cast<double>(left_out_pixels_) > options_.max_outlier_fraction * region) {
-      result->iterations = iterations;
       result->failure = FitFailure::kOccluded;
       result->message =
           std::to_string(left_out_pixels_) + " of the region's " + std::to_string(region) +
@@ -325,21 +322,16 @@ bool TagFit::LeaveOutDisagreeingPixels(const std::array<Eigen::Vector2d, 4>& ini
           std::to_string(options_.max_outlier_fraction) + ")";
       return false;
     }
-    if (!Evaluate(state->x, &state->cost, &state->jtj, &state->jtr)) {
+    if (!Evaluate(state->x, &state->cost, &state->jtj, &state->jtr, &state->residuals)) {
       return fail("the homography is invalid over the tag's region without the pixels left out");
     }
-    if (!Minimize(initial, state, result)) {
-      result->iterations += iterations;
-      return false;
-    }
-    iterations += result->iterations;
+    if (!Minimize(initial, state, result)) return false;
   }
-  result->iterations = iterations;
   // The last round's fit may have moved sigma past the classification's margin, as after the
   // first fit.
   if (state->x[kSigma] > classified_sigma_ + kReclassifySigmaPx &&
       (!Classify(state->x, result) ||
-       !Evaluate(state->x, &state->cost, &state->jtj, &state->jtr))) {
+       !Evaluate(state->x, &state->cost, &state->jtj, &state->jtr, &state->residuals))) {
     return fail("the homography is invalid over the tag's region after the pass");
   }
   result->outlier_pixels = static_cast<int>(left_out_pixels_);

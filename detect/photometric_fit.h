@@ -109,7 +109,7 @@ std::string FormatFitFailures(const std::array<int, kNumFitFailures>& counts);
 struct PhotometricFitResult {
   FitFailure failure = FitFailure::kNone;
   std::string message;
-  int iterations = 0;
+  int iterations = 0;      // LM iterations, the robust pass's re-fits included.
   int pixels = 0;          // Pixels in the fit.
   int outlier_pixels = 0;  // Left out as disagreeing with the pattern (header).
   std::array<Eigen::Vector2d, 4> corners;

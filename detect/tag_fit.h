@@ -139,17 +139,27 @@ class TagFit {
   // no quadrilateral, the region is unusable or its contrast is below min_contrast_gray.
   bool Start(const std::array<Eigen::Vector2d, 4>& initial, ParamVector* x,
              PhotometricFitResult* result);
-  // The fit's iterate: parameters, cost, J^T J and J^T r at x, and the tag's corners (model plane).
+  // Each pixel's gray - model (0 for a censored one) and whether the model is flat there (its
+  // brightness changes by less than kFlatSlopePerPx of the contrast per px of edge shift), in
+  // pixels_' order.
+  struct PixelResiduals {
+    std::vector<double> residual;
+    std::vector<bool> flat;
+  };
+  // The fit's iterate: parameters; cost, J^T J, J^T r and the residuals where last evaluated (at x,
+  // or one converged step before it); the tag's corners (model plane).
   struct FitState {
     ParamVector x;
     double cost = 0;
     ParamMatrix jtj;
     ParamVector jtr;
+    PixelResiduals residuals;
     std::array<Eigen::Vector2d, 4> corners;
   };
   // Levenberg-Marquardt from *state (evaluated at its x) until the corners move by less than
   // convergence_px and sigma has settled, re-classifying the pixels when the corners or sigma move
-  // past the margins. False with the failure set when it does not converge.
+  // past the margins; adds its iterations to result->iterations. False with the failure set when
+  // it does not converge.
   bool Minimize(const std::array<Eigen::Vector2d, 4>& initial, FitState* state,
                 PhotometricFitResult* result);
   // A trial step's corners and how far they moved (px) from the current ones and from those the
@@ -218,16 +228,10 @@ class TagFit {
   // False with the failure set when too much of the region is outside the image or too few
   // pixels were kept.
   bool EnoughPixels(long inside, long outside, PhotometricFitResult* result) const;
-  // Cost, J^T J and J^T r at x; false when x is invalid (a pixel behind the homography's horizon).
-  // With `residuals`: each pixel's gray - model too (0 for a censored one) and whether the model
-  // is flat there (its brightness changes by less than kFlatSlopePerPx of the contrast per px of
-  // edge shift: beyond ~2 PSF std of every edge), in pixels_' order.
-  struct PixelResiduals {
-    std::vector<double> residual;
-    std::vector<bool> flat;
-  };
+  // Cost, J^T J and J^T r at x, and each pixel's residual; false when x is invalid (a pixel behind
+  // the homography's horizon).
   bool Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, ParamVector* jtr,
-                PixelResiduals* residuals = nullptr) const;
+                PixelResiduals* residuals) const;
   // Fills the distance, normal and profile (tables: vertical, horizontal lines) of each line of
   // pixel `index` at its model point p^~ (and the lens terms with a camera).
   void ProfileLines(size_t index, const Eigen::Vector3d& p, const PatternLines& lines,

@@ -418,10 +418,8 @@ Eigen::Matrix3d TagFit::HomographyGradient(size_t index, const Eigen::Vector3d& 
 
 bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, ParamVector* jtr,
                       PixelResiduals* residuals) const {
-  if (residuals) {
-    residuals->residual.assign(pixels_.size(), 0.0);
-    residuals->flat.assign(pixels_.size(), false);
-  }
+  residuals->residual.assign(pixels_.size(), 0.0);
+  residuals->flat.assign(pixels_.size(), false);
   const Eigen::Matrix3d g = HomographyOf(x);
   const double sigma = std::max(x[kSigma], kMinSigmaPx);
   const double black = x[kBlack], white = x[kWhite], contrast = black - white;
@@ -472,12 +470,10 @@ bool TagFit::Evaluate(const ParamVector& x, double* cost, ParamMatrix* jtj, Para
     }
     if (censored) continue;
     const double r = px.gray - model;
-    if (residuals) {
-      residuals->residual[index] = r;
-      double slope = 0;
-      for (int k = 0; k < px.num_lines; ++k) slope += std::abs(pl.weight[k]);
-      residuals->flat[index] = slope < kFlatSlopePerPx;
-    }
+    residuals->residual[index] = r;
+    double slope = 0;
+    for (int k = 0; k < px.num_lines; ++k) slope += std::abs(pl.weight[k]);
+    residuals->flat[index] = slope < kFlatSlopePerPx;
     *cost += r * r;
     // A pixel beyond every edge's reach depends only on the levels and the shading.
     AccumulateNormalEquations(jac, r, px.num_rects == 0 ? kBlack : 0, jtj, jtr);
