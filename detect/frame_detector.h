@@ -39,10 +39,12 @@
 // and at 1.3x their Cramer-Rao std as the decoded ones are). Once the decoded tags are fitted, each
 // missing tag of a grid with a fitted tag within two tags of it (one for a fisheye without a
 // camera) is predicted: the homography from the board plane to the image (to the tangent plane
-// about the neighbours' mean ray through a distorted camera) fitted to the corners of every such
-// neighbour (detect/plane_to_image.h), kept only if it fits them to 0.5 px (one neighbour's four
-// corners fix it exactly: fitted corners at ~0.01 px extrapolate to a tag two pitches away within
-// ~0.1 px), maps the tag's square to its four corners. The tag's pattern is fitted from there. The
+// about the neighbours' mean ray through a distorted camera) fitted to the corners of the fitted
+// tags within one tag of it, or when there are none or they do not fit, within two
+// (detect/plane_to_image.h; the smaller patch holds where a lens bends the board's image), kept
+// only if it fits them to 0.5 px (one neighbour's four corners fix it exactly: fitted corners at
+// ~0.01 px extrapolate to a tag two pitches away within ~0.1 px), maps the tag's square to its
+// four corners. The tag's pattern is fitted from there. The
 // position names the tag (its neighbours are a pitch away, the fit moves a corner at most
 // max_correction_px); the fit must explain the pixels: residual RMS at most
 // max_predicted_residual_ratio x the decoded tags' median (an occluded or shadowed tag is refused

@@ -245,6 +245,11 @@ class TagFit {
   // ray (tangent_plane.h), where the tag's edges are straight. p^ = (model point - centre_) /
   // scale_. False where the pixel has no ray in front of that plane.
   bool ModelOf(const Eigen::Vector2d& pixel, Eigen::Vector2d* p_hat) const;
+  // With a camera: whether the pixel position has a ray (inside the lens's valid region).
+  bool HasRay(const Eigen::Vector2d& pixel) const;
+  // With a camera: whether every pixel position within `radius` px of `pixel` (its 8 neighbours at
+  // that distance; the valid region is a convex disc in pixels for every family) has a ray.
+  bool RaysAround(const Eigen::Vector2d& pixel, double radius) const;
   // d pixel / d p^ at a model point (scale_ I without a camera), and its inverse d p^ / d pixel.
   Eigen::Matrix2d PixelJacobian(const Eigen::Vector2d& p_hat) const;
   Eigen::Matrix2d ModelJacobian(const Eigen::Vector2d& p_hat) const {

@@ -86,6 +86,23 @@ Eigen::Vector2d TagFit::ToPixel(const Eigen::Vector2d& p_hat) const {
   return pixel;
 }
 
+bool TagFit::HasRay(const Eigen::Vector2d& pixel) const {
+  Eigen::Vector3d ray;
+  return RayOfDistorted(*camera_, (a_inv_ * pixel.homogeneous()).hnormalized(), &ray);
+}
+
+bool TagFit::RaysAround(const Eigen::Vector2d& pixel, double radius) const {
+  const double diagonal = radius * M_SQRT1_2;
+  for (const Eigen::Vector2d& step :
+       {Eigen::Vector2d(radius, 0), Eigen::Vector2d(-radius, 0), Eigen::Vector2d(0, radius),
+        Eigen::Vector2d(0, -radius), Eigen::Vector2d(diagonal, diagonal),
+        Eigen::Vector2d(diagonal, -diagonal), Eigen::Vector2d(-diagonal, diagonal),
+        Eigen::Vector2d(-diagonal, -diagonal)}) {
+    if (!HasRay(pixel + step)) return false;
+  }
+  return true;
+}
+
 Eigen::Matrix2d TagFit::PixelJacobian(const Eigen::Vector2d& p_hat) const {
   if (!camera_) return scale_ * Eigen::Matrix2d::Identity();
   // Central differences of the projection (smooth, no iteration).

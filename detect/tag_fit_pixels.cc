@@ -173,8 +173,9 @@ void TagFit::AddPixel(const PixelAt& at, const PatternLines& lines, const Classi
 bool TagFit::EnoughPixels(long inside, long outside, PhotometricFitResult* result) const {
   if (outside > options_.max_outside_fraction * static_cast<double>(inside + outside)) {
     result->failure = FitFailure::kImageBorder;
-    result->message = "the tag's region is cut by the image border (" + std::to_string(outside) +
-                      " of " + std::to_string(inside + outside) + " px outside)";
+    result->message = "the tag's region is cut by the image border or the lens's edge (" +
+                      std::to_string(outside) + " of " + std::to_string(inside + outside) +
+                      " px outside)";
     return false;
   }
   if (static_cast<int>(pixels_.size()) < options_.min_pixels) {
@@ -209,6 +210,20 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
   // outline has no pixel (past the lens's valid region): the box then.
   bool outline_spans = camera_ != nullptr;
   for (const Eigen::Vector2d& p : region.outline) outline_spans &= p.allFinite();
+  // Pixels within the PSF's reach of the lens's edge (the boundary of its valid region: an
+  // omnidirectional lens's image circle, an equidistant lens's 90 deg) hold what the lens model
+  // cannot describe: the image circle's blurred rim, or a renderer's background past the model.
+  // They count as outside, like pixels past the image border. The valid region is convex in
+  // pixels, so when the region box's corners, grown by that reach, have rays, every pixel has.
+  const double lens_edge_reach = reach + 0.5;
+  bool near_lens_edge = false;
+  if (camera_) {
+    for (const double u : {region.u0 - lens_edge_reach, region.u1 + lens_edge_reach}) {
+      for (const double v : {region.v0 - lens_edge_reach, region.v1 + lens_edge_reach}) {
+        near_lens_edge |= !HasRay(Eigen::Vector2d(u, v));
+      }
+    }
+  }
   long inside = 0, outside = 0;
   const int i0 = static_cast<int>(std::floor(region.u0));
   const int i1 = static_cast<int>(std::ceil(region.u1));
@@ -250,7 +265,8 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
         in_region = kLimitSign[k] * distance(layout_.limits[k]) > reach;
       }
       if (!in_region) continue;
-      if (i < 0 || j < 0 || i >= image_.width || j >= image_.height) {
+      if (i < 0 || j < 0 || i >= image_.width || j >= image_.height ||
+          (near_lens_edge && !RaysAround(Eigen::Vector2d(i, j), lens_edge_reach))) {
         ++outside;
         continue;
       }

@@ -6,36 +6,43 @@
 namespace calibench {
 
 // Adds N(0, sigma^2) noise to every pixel. Normals come from a table of kNoiseTable standard
-// normals drawn once (Box-Muller from a fixed seed): each row of a frame reads its own block of
-// kNoiseBlock consecutive entries, blocks (a + r b) mod the block count for row-block r with a
-// and b (odd) drawn from `rng` per frame, so a frame's noise is iid Gaussian (its blocks are
-// distinct) at the cost of a copy. Frames reuse the table's blocks (occasionally one at the same
-// row: 0.1 rows per pair of 480-row frames). Images needing more row blocks than the table holds
-// (4096: 4096 rows of <= 1024 px) draw every normal from `rng` (Box-Muller: 6x slower).
+// normals drawn once (Box-Muller from a fixed seed), in kBlocks blocks of kBlockLength entries. A
+// row is cut into segments of at most kSegment pixels. The frame takes two draws from `rng`, a
+// and b; its segment s reads block (a + s b) mod kBlocks (b odd: a frame's segments read distinct
+// blocks, so its noise is iid Gaussian) from an offset in [0, kBlockLength - kSegment] hashed from
+// the two draws and s. Frames reuse the table's entries, each time at a pixel of its own. The
+// offset keeps frames independent in expectation: read from a block's start, column x would
+// always hold entry x of some block, and every frame would share the table's column means (sd
+// sigma / sqrt(kBlocks): 0.03 gray levels at sigma = 2 with 4096 blocks), a fixed pattern common
+// to all trials. Frames with more segments than blocks (more than 2048 rows of <= 1024 px, 1024
+// rows of <= 2048 px) draw every normal from `rng` (Box-Muller: 6x slower).
 void AddImageNoise(double sigma, int width, int height, Rng* rng, std::vector<float>* values) {
-  constexpr int kNoiseBits = 22, kBlockBits = 10;
-  constexpr size_t kNoiseTable = size_t{1} << kNoiseBits, kNoiseBlock = size_t{1} << kBlockBits;
-  constexpr size_t kBlocks = kNoiseTable / kNoiseBlock;
+  constexpr size_t kNoiseTable = size_t{1} << 22, kBlockLength = size_t{1} << 11;
+  constexpr size_t kSegment = kBlockLength / 2, kBlocks = kNoiseTable / kBlockLength;
   static const std::vector<float> table = [] {
     std::vector<float> t(kNoiseTable);
     Rng table_rng(0x6e6f697365ULL);  // "noise"
     for (float& v : t) v = static_cast<float>(table_rng.Normal());
     return t;
   }();
-  const size_t blocks_per_row = (static_cast<size_t>(width) + kNoiseBlock - 1) / kNoiseBlock;
-  if (blocks_per_row * height > kBlocks) {
+  const size_t segments_per_row = (static_cast<size_t>(width) + kSegment - 1) / kSegment;
+  if (segments_per_row * height > kBlocks) {
     for (float& v : *values) v += static_cast<float>(sigma * rng->Normal());
     return;
   }
-  const size_t a = rng->NextU64() % kBlocks, b = (rng->NextU64() % kBlocks) | 1;
+  const uint64_t draw_a = rng->NextU64(), draw_b = rng->NextU64();
+  const size_t a = draw_a % kBlocks, b = (draw_b % kBlocks) | 1;
+  const uint64_t offset_key = Mix64(draw_a ^ Mix64(draw_b));
+  constexpr size_t kOffsets = kBlockLength - kSegment + 1;
   const float s = static_cast<float>(sigma);
   size_t r = 0;
   for (int y = 0; y < height; ++y) {
     float* row = values->data() + static_cast<size_t>(y) * width;
-    for (size_t c = 0; c < blocks_per_row; ++c, ++r) {
-      const float* normals = table.data() + ((a + r * b) % kBlocks) * kNoiseBlock;
-      const size_t from = c * kNoiseBlock;
-      const size_t to = std::min(static_cast<size_t>(width), from + kNoiseBlock);
+    for (size_t c = 0; c < segments_per_row; ++c, ++r) {
+      const float* normals =
+          table.data() + ((a + r * b) % kBlocks) * kBlockLength + Mix64(offset_key + r) % kOffsets;
+      const size_t from = c * kSegment;
+      const size_t to = std::min(static_cast<size_t>(width), from + kSegment);
       for (size_t x = from; x < to; ++x) row[x] += s * normals[x - from];
     }
   }

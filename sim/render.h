@@ -35,9 +35,10 @@
 // (measured on straight edges; RenderOptions::blur_grid). m = 1 is the fast pixel-level blur.
 // Speed: with distortion, FrameRenderer computes the rays of the (w + 1) x (h + 1) pixel corners
 // once per camera (without, a corner's ray is A^-1 times the corner); the table holds each in two
-// numbers: (x, y) on the plane z = 1 for radtan and equidistant (rays in front only), the
-// stereographic coordinates (X, Y) / (|P| + Z) of the unit ray for the omnidirectional families
-// (every ray but the backward axis, which no family images). The rays of the samples inside a
+// numbers: (x, y) on the plane z = 1 for radtan (rays in front only), the stereographic
+// coordinates (X, Y) / (|P| + Z) of the unit ray for the equidistant and omnidirectional families
+// (every ray but the backward axis, which no family images; smooth through 90 deg from the axis,
+// where the plane's tan(theta) is not: board_shader.h RaySpace). The rays of the samples inside a
 // pixel are interpolated bilinearly between its four corners' coordinates (exact without
 // distortion; with |k1| <= 0.3 the error is below 1e-3 px), unless a corner has no ray: then each
 // sample is unprojected. The finer grid's corners (blur_grid m > 1) are interpolated by the cubic

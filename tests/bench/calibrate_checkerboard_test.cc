@@ -15,17 +15,18 @@ namespace {
 // 24 views of a 9 x 6 board of 3 cm squares, 2 gray levels of noise, sharp and with a 1 px PSF:
 // an EuRoC-like lens (k1 = -0.28, k2 = 0.074, 752 x 480, f 458 px, boards at 0.45-0.6 m) and an
 // equidistant fisheye (f 230 px, boards at 0.2-0.3 m, up to ~50 deg off axis). Measured, |error| /
-// reported std of f.ku, f.kv, u0, v0: with cornerSubPix's corners up to 4.8 (EuRoC-like, blurred)
+// reported std of f.ku, f.kv, u0, v0: with cornerSubPix's corners up to 1.2 (EuRoC-like, blurred)
 // and 6.9 (fisheye, blurred): the bent edges bias cornerSubPix, and the fisheye's boards are found
 // only by the sector-based detector, whose corners are worse; re-fitted as X-junctions through
-// the estimate, at most 1.71 blurred (the fisheye's v0) and 2.48 sharp (the sharp fisheye's v0:
-// sharp frames keep
-// the pixel-phase error of a gradient-based corner, x_junction_test.cc, correlated between a
-// view's neighbouring corners).
+// the estimate, at most 2.20 blurred (the EuRoC-like f.kv) and 1.75 sharp (the sharp fisheye's
+// v0: sharp frames keep the pixel-phase error of a gradient-based corner, x_junction_test.cc,
+// correlated between a view's neighbouring corners).
 // kWithinStd = 3: 16 checks, 0.04 expected outside by chance if the stds are right.
 constexpr double kWithinStd = 3.0;
-// The cases this exists for: on blurred frames cornerSubPix's f.ku is off by more than this many
-// stds (measured 4.7 and 6.3).
+// The case this exists for: on the blurred fisheye cornerSubPix's f.ku is off by more than this
+// many stds (measured 6.2; 6.3 with another draw of the image noise). On the blurred EuRoC-like
+// lens its error is not told apart from its noise (measured 1.1 std; 4.7 with the other draw):
+// reported, not asserted.
 constexpr double kBiasedBeforeStd = 3.0;
 
 struct LensCase {
@@ -85,7 +86,7 @@ TEST(CalibrateCheckerboard, DistortedViewsAreCalibratedThroughTheLens) {
             << label << " " << ParamNames(c.truth.family)[i];
       }
       EXPECT_LT(r.ceres.rms_reproj_px, first.ceres.rms_reproj_px) << label;
-      if (blur > 0) {
+      if (blur > 0 && c.model == LensModel::kPinholeEqui) {
         EXPECT_GT(std::abs(got_before[0] - want[0]),
                   kBiasedBeforeStd * first.ceres.intrinsics_std[0])
             << label;

@@ -54,5 +54,45 @@ TEST(ImageFilters, FusedBlurAndPixelSumEqualsTheTwoSteps) {
   EXPECT_EQ(compared, 4 * 3 * 7);
 }
 
+// AddImageNoise has no pattern common to frames: over kFrames frames (rng seeds 1..kFrames) of
+// kWidth x kHeight unit-sigma noise, every column's and every row's mean is N(0, 1 / n) for an iid
+// field (n = the draws it averages), so sum(n mean^2) over the columns (rows) is chi-square with
+// kWidth (kHeight) degrees of freedom; bounded by its quantile of probability 0.9999
+// (Wilson-Hilferty). A table read from each block's start fails this: every frame's column x then
+// holds entry x of some block, whose mean over the table's B blocks is a fixed N(0, 1 / B), and
+// the column statistic is ~ (1 + n / B) kWidth (8.8 kWidth here for B = 4096).
+TEST(ImageFilters, NoiseHasNoPatternCommonToFrames) {
+  constexpr int kFrames = 500, kWidth = 300, kHeight = 64;
+  std::vector<double> column_sum(kWidth, 0.0), row_sum(kHeight, 0.0);
+  std::vector<float> frame;
+  for (int f = 1; f <= kFrames; ++f) {
+    frame.assign(static_cast<size_t>(kWidth) * kHeight, 0.0f);
+    Rng rng(f);
+    AddImageNoise(1.0, kWidth, kHeight, &rng, &frame);
+    for (int y = 0; y < kHeight; ++y) {
+      for (int x = 0; x < kWidth; ++x) {
+        const double v = frame[static_cast<size_t>(y) * kWidth + x];
+        column_sum[x] += v, row_sum[y] += v;
+      }
+    }
+  }
+  auto chi_square = [](const std::vector<double>& sums, double n) {
+    double s = 0;
+    for (double sum : sums) s += sum * sum / n;
+    return s;
+  };
+  auto quantile_9999 = [](int dof) {  // Wilson-Hilferty, normal quantile 3.719.
+    const double a = 2.0 / (9.0 * dof);
+    return dof * std::pow(1 - a + 3.719 * std::sqrt(a), 3);
+  };
+  EXPECT_LT(chi_square(column_sum, double{kFrames} * kHeight), quantile_9999(kWidth));
+  EXPECT_LT(chi_square(row_sum, double{kFrames} * kWidth), quantile_9999(kHeight));
+  // And the noise is unit-sigma: the last frame's variance within 5 std of an iid one's (the
+  // variance of a sample variance of n unit normals is 2 / n).
+  double sum2 = 0;
+  for (float v : frame) sum2 += double{v} * v;
+  EXPECT_NEAR(sum2 / frame.size(), 1.0, 5 * std::sqrt(2.0 / frame.size()));
+}
+
 }  // namespace
 }  // namespace calibench
