@@ -106,18 +106,13 @@ std::unique_ptr<FrameDetector> FrameDetector::Create(const std::vector<AprilGrid
   d->family_ = TagFamily::Create(grids[0].family, grids[0].black_tag_border, why);
   if (!d->family_) return nullptr;
   d->options_.refine.width_at_border = d->family_->width_at_border();
-  // Every tag's pattern for the photometric fit, once: tag index = point id / 4. The white
-  // between tags is tag_spacing of the black square's side, at least the family's own white ring;
-  // the corner squares fill it at the corners. An id the family lacks keeps an empty pattern (its
-  // fit is refused).
+  // Every tag's pattern for the photometric fit, once: tag index = point id / 4
+  // (TagPattern::OnGrid). An id the family lacks keeps an empty pattern (its fit is refused).
   for (const AprilGrid& grid : grids) {
-    const double gap_cells = grid.tag_spacing * d->family_->width_at_border();
-    const double margin = std::max(gap_cells, static_cast<double>(d->family_->border_start()));
-    const double squares = grid.corner_squares ? gap_cells : 0.0;
     for (int t = 0; t < grid.NumTags(); ++t) {
       TagPattern pattern;
-      if (!TagPattern::FromFamily(*d->family_, grid.first_id + t, margin, squares, &pattern,
-                                  nullptr))
+      if (!TagPattern::OnGrid(*d->family_, grid.first_id + t, grid.tag_spacing, grid.corner_squares,
+                              &pattern, nullptr))
         pattern.black.clear();
       d->patterns_.push_back(std::move(pattern));
     }

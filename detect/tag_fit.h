@@ -245,8 +245,9 @@ class TagFit {
   // ray (tangent_plane.h), where the tag's edges are straight. p^ = (model point - centre_) /
   // scale_. False where the pixel has no ray in front of that plane.
   bool ModelOf(const Eigen::Vector2d& pixel, Eigen::Vector2d* p_hat) const;
-  // With a camera: whether the pixel position has a ray (inside the lens's valid region).
-  bool HasRay(const Eigen::Vector2d& pixel) const;
+  // With a camera: whether the pixel position has a ray (inside the lens's valid region), and
+  // that ray (unit) when `ray` is given.
+  bool HasRay(const Eigen::Vector2d& pixel, Eigen::Vector3d* ray = nullptr) const;
   // With a camera: whether every pixel position within `radius` px of `pixel` (its 8 neighbours at
   // that distance; the valid region is a convex disc in pixels for every family) has a ray.
   bool RaysAround(const Eigen::Vector2d& pixel, double radius) const;

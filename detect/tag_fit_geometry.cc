@@ -68,13 +68,9 @@ bool TagFit::ModelOf(const Eigen::Vector2d& pixel, Eigen::Vector2d* p_hat) const
     *p_hat = (pixel - centre_) / scale_;
     return true;
   }
-  // UnprojectToRay, with A^-1 computed once.
   Eigen::Vector3d ray;
   Eigen::Vector2d q;
-  if (!RayOfDistorted(*camera_, (a_inv_ * pixel.homogeneous()).hnormalized(), &ray) ||
-      !plane_.FromRay(ray, &q)) {
-    return false;
-  }
+  if (!HasRay(pixel, &ray) || !plane_.FromRay(ray, &q)) return false;
   *p_hat = (q - centre_) / scale_;
   return true;
 }
@@ -86,9 +82,11 @@ Eigen::Vector2d TagFit::ToPixel(const Eigen::Vector2d& p_hat) const {
   return pixel;
 }
 
-bool TagFit::HasRay(const Eigen::Vector2d& pixel) const {
-  Eigen::Vector3d ray;
-  return RayOfDistorted(*camera_, (a_inv_ * pixel.homogeneous()).hnormalized(), &ray);
+bool TagFit::HasRay(const Eigen::Vector2d& pixel, Eigen::Vector3d* ray) const {
+  // UnprojectToRay, with A^-1 computed once.
+  Eigen::Vector3d unused;
+  return RayOfDistorted(*camera_, (a_inv_ * pixel.homogeneous()).hnormalized(),
+                        ray ? ray : &unused);
 }
 
 bool TagFit::RaysAround(const Eigen::Vector2d& pixel, double radius) const {

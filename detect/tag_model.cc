@@ -105,6 +105,13 @@ QuadrantCorrection QuadrantCorrectionAt(double a, double b, const QuadrantRule& 
   return {sum * scale, 2 * sum_da * scale, 2 * sum_db * scale};
 }
 
+bool TagPattern::OnGrid(const TagFamily& family, int id, double tag_spacing, bool corner_squares,
+                        TagPattern* pattern, std::string* why) {
+  const double gap_cells = tag_spacing * family.width_at_border();
+  return FromFamily(family, id, std::max(gap_cells, static_cast<double>(family.border_start())),
+                    corner_squares ? gap_cells : 0.0, pattern, why);
+}
+
 bool TagPattern::FromFamily(const TagFamily& family, int id, double white_margin_cells,
                             double corner_square_cells, TagPattern* pattern, std::string* why) {
   if (id < 0 || id >= family.num_codes()) {

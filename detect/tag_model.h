@@ -47,6 +47,11 @@ struct TagPattern {
   // Kalibr's black squares of that side at the four corners. False (and *why) for a bad id.
   static bool FromFamily(const TagFamily& family, int id, double white_margin_cells,
                          double corner_square_cells, TagPattern* pattern, std::string* why);
+  // Tag `id` as an AprilGrid prints it (the pattern FrameDetector fits): the white between tags,
+  // tag_spacing of the black square's side, at least the family's own white ring; with
+  // corner_squares, Kalibr's squares of that gap's side at its corners. False as FromFamily.
+  static bool OnGrid(const TagFamily& family, int id, double tag_spacing, bool corner_squares,
+                     TagPattern* pattern, std::string* why);
 };
 
 // The edge profile P(d) above and its derivatives dP/dd, dP/dsigma, for an edge whose image

@@ -275,13 +275,10 @@ TEST(WideAngle, CornersAtTheLensEdgeAreNotPulledByWhatLiesPastIt) {
   ro.blur_sigma_px = 0.8;
   const auto renderer = FrameRenderer::Create(lens.camera, ro, &why);
   ASSERT_TRUE(renderer) << why;
-  // The tags' patterns as FrameDetector draws them: white gap and corner squares of the spacing.
-  const double gap_cells = grid.tag_spacing * family->width_at_border();
-  std::vector<TagPattern> patterns(grid.NumTags());
+  std::vector<TagPattern> patterns(grid.NumTags());  // As FrameDetector fits them.
   for (int t = 0; t < grid.NumTags(); ++t) {
-    ASSERT_TRUE(TagPattern::FromFamily(
-        *family, t, std::max(gap_cells, static_cast<double>(family->border_start())), gap_cells,
-        &patterns[t], &why))
+    ASSERT_TRUE(
+        TagPattern::OnGrid(*family, t, grid.tag_spacing, grid.corner_squares, &patterns[t], &why))
         << why;
   }
   const std::vector<Eigen::Vector3d> corners = grid.CornersInBoard();
