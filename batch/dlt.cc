@@ -1,5 +1,6 @@
 #include "batch/dlt.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <array>
@@ -53,7 +54,11 @@ void Normalise(const std::vector<Eigen::Vector3d>& points,
   }
   mean_dist /= n;
   pixel_mean_dist /= n;
-  out->spread = Eigen::JacobiSVD<Eigen::Matrix3d>(scatter).singularValues();
+  // The scatter is symmetric positive semi-definite: its singular values are its eigenvalues
+  // (descending, rounding's negatives at 0).
+  const Eigen::Vector3d ascending =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter, Eigen::EigenvaluesOnly).eigenvalues();
+  out->spread = ascending.reverse().cwiseMax(0.0);
   out->pixels_coincide = !(pixel_mean_dist > 0);
   if (out->pixels_coincide) return;
   out->s3 = std::sqrt(3.0) / mean_dist;

@@ -3,10 +3,12 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "sim/board_shader.h"
 #include "sim/image_filters.h"
+#include "sim/target.h"
 
 namespace calibench {
 namespace {
@@ -138,12 +140,13 @@ std::vector<float> ShadePixels(const CameraIntrinsics& camera, const Rigid3& cam
 }  // namespace
 
 bool CheckerboardPattern::Check(std::string* why) const {
-  if (cols >= 2 && rows >= 2 && cols <= 10000 && rows <= 10000 && square_m > 0 &&
-      std::isfinite(square_m)) {
+  if (cols >= 2 && rows >= 2 && cols <= kMaxCornersPerSide && rows <= kMaxCornersPerSide &&
+      square_m > 0 && std::isfinite(square_m)) {
     return true;
   }
   if (why) {
-    *why = "a checkerboard needs 2..10000 inner corners a side and a positive, finite square";
+    *why = "a checkerboard needs 2.." + std::to_string(kMaxCornersPerSide) +
+           " inner corners a side and a positive, finite square";
   }
   return false;
 }

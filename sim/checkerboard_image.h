@@ -34,7 +34,8 @@ struct CheckerboardPattern {
   double square_m = 0.03;  // Side of a square.
   // Inner corner (r, c) in the board frame.
   Eigen::Vector3d Corner(int r, int c) const { return {c * square_m, r * square_m, 0.0}; }
-  // At least 2 x 2 inner corners, at most 10000 a side; a positive, finite square.
+  // At least 2 x 2 inner corners, at most kMaxCornersPerSide (target.h) a side; a positive,
+  // finite square.
   bool Check(std::string* why) const;
 };
 

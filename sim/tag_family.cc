@@ -94,6 +94,20 @@ std::unique_ptr<AprilTagFamilyHandle> AprilTagFamilyHandle::Create(const std::st
   return h;
 }
 
+int NumAprilTagCodes(const std::string& name) {
+  static const std::map<std::string, int> counts = [] {
+    std::map<std::string, int> c;
+    for (const auto& [n, f] : Families()) {
+      apriltag_family* family = f.create();
+      c[n] = family != nullptr ? static_cast<int>(family->ncodes) : 0;
+      if (family != nullptr) f.destroy(family);
+    }
+    return c;
+  }();
+  const auto it = counts.find(name);
+  return it == counts.end() ? 0 : it->second;
+}
+
 AprilTagFamilyHandle::~AprilTagFamilyHandle() {
   derived_.reset();
   if (base_ != nullptr) destroy_(base_);

@@ -39,6 +39,9 @@ constexpr int kMinBorderBits = 1, kMaxBorderBits = 2;
 // False with *why when `name` is unknown, border_bits is outside [kMinBorderBits, kMaxBorderBits]
 // or the family's border is white (reversed) and border_bits != 1.
 bool CheckBorderBits(const std::string& name, int border_bits, std::string* why);
+// The number of codes (tag ids 0 .. n - 1) of family `name`; 0 for an unknown name. Each family is
+// read once (thread-safe).
+int NumAprilTagCodes(const std::string& name);
 
 // An apriltag_family for the detector with `border_bits` black border cells (see above), owning
 // what it allocates: the library's family, and for border_bits > 1 a derived copy whose bit

@@ -1,6 +1,9 @@
 #include "sim/target.h"
 
 #include <cmath>
+#include <cstdint>
+
+#include "sim/tag_family.h"
 
 namespace calibench {
 namespace {
@@ -29,6 +32,9 @@ std::vector<Eigen::Vector3d> PlanarBoard::CornersInPointsFrame() const {
 bool PlanarBoard::Check(std::string* why) const {
   std::string msg;
   if (rows < 2 || cols < 2) msg = "a board needs at least 2 x 2 corners";
+  if (rows > kMaxCornersPerSide || cols > kMaxCornersPerSide) {
+    msg = "a board has at most " + std::to_string(kMaxCornersPerSide) + " corners a side";
+  }
   if (!(spacing_m > 0 && std::isfinite(spacing_m))) msg = "spacing_m must be positive";
   if (!CheckRotation(points_from_board.rotation, 1e-9, false, nullptr)) msg = "invalid rotation";
   if (msg.empty()) return true;
@@ -62,6 +68,16 @@ bool AprilGrid::Check(std::string* why) const {
   if (!(tag_size_m > 0 && std::isfinite(tag_size_m))) msg = "tag_size_m must be positive";
   if (!(tag_spacing > 0 && std::isfinite(tag_spacing))) msg = "tag_spacing must be positive";
   if (first_id < 0) msg = "first_id must be >= 0";
+  const int codes = NumAprilTagCodes(family);
+  const int64_t ids_end =
+      static_cast<int64_t>(first_id) + static_cast<int64_t>(tag_rows) * tag_cols;  // No overflow.
+  if (codes == 0) {
+    msg = "unknown AprilTag family '" + family + "'";
+  } else if (tag_rows >= 1 && tag_cols >= 1 && first_id >= 0 && ids_end > codes) {
+    msg = family + " has " + std::to_string(codes) + " codes (ids 0.." + std::to_string(codes - 1) +
+          "): " + std::to_string(tag_rows) + " x " + std::to_string(tag_cols) + " tags from id " +
+          std::to_string(first_id) + " need ids up to " + std::to_string(ids_end - 1);
+  }
   if (black_tag_border != 1 && black_tag_border != 2) {
     msg = "black_tag_border must be 1 (AprilTag 3) or 2 (Kalibr), not " +
           std::to_string(black_tag_border);

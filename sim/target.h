@@ -14,6 +14,9 @@
 
 namespace calibench {
 
+// The most corners a board may have along a side (an index of a corner stays far inside int).
+constexpr int kMaxCornersPerSide = 10000;
+
 struct PlanarBoard {
   int rows = 6, cols = 8;    // Corners.
   double spacing_m = 0.1;    // Corner pitch.
@@ -22,6 +25,7 @@ struct PlanarBoard {
   int NumCorners() const { return rows * cols; }
   std::vector<Eigen::Vector3d> CornersInBoard() const;
   std::vector<Eigen::Vector3d> CornersInPointsFrame() const;
+  // 2 .. kMaxCornersPerSide corners a side, a positive spacing, a rotation.
   bool Check(std::string* why) const;
 };
 
@@ -61,6 +65,8 @@ struct AprilGrid {
   double Pitch() const { return tag_size_m * (1.0 + tag_spacing); }
   std::vector<Eigen::Vector3d> CornersInBoard() const;
   std::vector<Eigen::Vector3d> CornersInPointsFrame() const;
+  // A known family whose codes hold every id (first_id .. first_id + NumTags() - 1), positive
+  // sizes, a border of 1 or 2 bits, a rotation.
   bool Check(std::string* why) const;
 };
 

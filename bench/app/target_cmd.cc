@@ -11,6 +11,7 @@
 
 #include "bench/run/csv.h"
 #include "sim/tag_family.h"
+#include "sim/target.h"
 
 namespace calibench {
 namespace {
@@ -34,6 +35,9 @@ bool TargetArgs::Check(std::string* why) const {
   if (rows < (grid ? 1 : 2) || cols < (grid ? 1 : 2)) {
     msg = grid ? "--rows and --cols (tags) must be >= 1"
                : "--rows and --cols (inner corners) must be >= 2";
+  }
+  if (rows > kMaxCornersPerSide || cols > kMaxCornersPerSide) {
+    msg = "--rows and --cols must be at most " + std::to_string(kMaxCornersPerSide);
   }
   if (!(size_m > 0 && size_m < 10)) msg = "--size must lie in (0, 10) m";
   if (grid && !(spacing > 0 && spacing <= 1)) {
@@ -71,15 +75,9 @@ bool AprilGridPattern(const TargetArgs& a, AprilGrid* g, BoardPattern* out, std:
   g->first_id = a.first_id;
   g->black_tag_border = a.border_bits;
   g->corner_squares = true;
+  if (!g->Check(why)) return false;  // Ids past the family's codes, among others.
   const auto family = TagFamily::Create(g->family, g->black_tag_border, why);
   if (!family) return false;
-  if (g->first_id + g->NumTags() > family->num_codes()) {
-    if (why) {
-      *why = g->family + " has " + std::to_string(family->num_codes()) + " codes: ids up to " +
-             std::to_string(g->first_id + g->NumTags() - 1) + " do not exist";
-    }
-    return false;
-  }
   const double s = g->tag_size_m, p = g->Pitch(), gap = g->tag_spacing * s;
   const int wab = family->width_at_border(), start = family->border_start();
   const double cell = s / wab;

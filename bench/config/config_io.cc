@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -54,6 +55,18 @@ void ParsePointsSection(const Reader& r, const YAML::Node& node, const std::stri
   *p = PointsConfig();
   config_internal::FieldReader reader(r, node, field, nullptr);
   Visit(reader, *p);
+  if (has_grids || has_boards) {  // Counted before the corners are built.
+    int64_t corners = 0;
+    for (const PlanarBoard& b : p->Boards()) corners += static_cast<int64_t>(b.rows) * b.cols;
+    for (const AprilGrid& g : p->AprilGrids()) {
+      corners += 4 * static_cast<int64_t>(g.tag_rows) * g.tag_cols;
+    }
+    if (corners > kMaxScenarioPoints) {
+      r.Fail(node, Reader::Join(field, has_grids ? "aprilgrids" : "boards"),
+             std::to_string(corners) + " corners: a scenario has at most " +
+                 std::to_string(kMaxScenarioPoints) + " points");
+    }
+  }
   if (has_grids) {
     p->form = PointsForm::kAprilGrids;
     for (const AprilGrid& g : p->AprilGrids()) {
@@ -66,8 +79,9 @@ void ParsePointsSection(const Reader& r, const YAML::Node& node, const std::stri
   } else if (has_random) {
     p->form = PointsForm::kRandom;
     const std::string f = Reader::Join(field, "random");
-    if (p->count < 1 || p->count > 100000) {
-      r.Fail(rnd["count"], f + ".count", "must lie in [1, 100000]");
+    if (p->count < 1 || p->count > kMaxScenarioPoints) {
+      r.Fail(rnd["count"], f + ".count",
+             "must lie in [1, " + std::to_string(kMaxScenarioPoints) + "]");
     }
     if (!(p->random_min.array() < p->random_max.array()).all()) {
       r.Fail(rnd, f, "min must be below max in every coordinate");

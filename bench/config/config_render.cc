@@ -1,6 +1,8 @@
 // Config I/O for AprilTag targets and rendering (scenario sections and Kalibr target files).
 #include <cmath>
 #include <cstdlib>
+#include <string>
+#include <utility>
 
 #include "bench/config/config_parsers.h"
 #include "bench/config/target_io.h"
@@ -104,7 +106,10 @@ bool LoadTargetYamlFromString(const std::string& yaml, const std::string& path,
       if (!CheckBorderBits(t.grid.family, t.grid.black_tag_border, &reason)) {
         r.Fail(root["blackTagBorder"], "blackTagBorder", reason);
       }
-      if (!t.grid.Check(&reason)) r.Fail(root, "(target)", reason);
+      if (t.grid.first_id < 0) r.Fail(root["codeOffset"], "codeOffset", "must be >= 0");
+      // What Check can still refuse: ids past the family's codes (tagCols x tagRows tags from
+      // codeOffset, in tagFamily).
+      if (!t.grid.Check(&reason)) r.Fail(root["tagCols"], "tagCols x tagRows", reason);
     } else {
       r.CheckKeys(
           root, "",
@@ -116,6 +121,13 @@ bool LoadTargetYamlFromString(const std::string& yaml, const std::string& path,
       t.col_spacing_m = r.Double(required("colSpacingMeters"), "colSpacingMeters");
       if (t.cols < 2 || t.rows < 2) {
         r.Fail(root, "targetCols", "a checkerboard needs at least 2 x 2 inner corners");
+      }
+      for (const auto& [key, n] : {std::pair<const char*, int>{"targetCols", t.cols},
+                                   std::pair<const char*, int>{"targetRows", t.rows}}) {
+        if (n > kMaxCornersPerSide) {
+          r.Fail(root[key], key,
+                 "at most " + std::to_string(kMaxCornersPerSide) + " inner corners a side");
+        }
       }
       if (!(t.row_spacing_m > 0) || !(t.col_spacing_m > 0)) {
         r.Fail(root, "rowSpacingMeters", "spacings must be > 0");

@@ -34,6 +34,8 @@ constexpr long kMaxTrials = 1'000'000;
 // camera calibrated here has one.
 constexpr int kMaxImageSide = kMaxRenderSide;
 constexpr double kMaxImagePixels = kMaxRenderPixels;
+// The most feature points a scenario may have, however given (random, boards, AprilGrids).
+constexpr int kMaxScenarioPoints = 100000;
 
 constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
 

@@ -272,6 +272,16 @@ INSTANTIATE_TEST_SUITE_P(
                             "[0, 3, 0], rpy_deg: [90, 0, 0]}]}"),
                    {"FILE:4:", "scenario.image_size", "[100000, 100000] px is larger than",
                     "16384 px per side", "MiB"}},
+        ConfigCase{"board_corners_past_the_bound",  // 10000 x 10000 corners: 2.4 GB of points.
+                   Scenario("", "{boards: [{rows: 10000, cols: 10000, spacing_m: 0.01}]}"),
+                   {"scenario.points.boards", "100000000 corners",
+                    "a scenario has at most 100000 points"}},
+        ConfigCase{"board_side_past_the_bound",
+                   Scenario("", "{boards: [{rows: 2, cols: 60000, spacing_m: 0.01}]}"),
+                   {"at most 10000 corners a side"}},
+        ConfigCase{"grid_past_its_family",
+                   Scenario("", "{aprilgrids: [{tag_rows: 30, tag_cols: 30, tag_size_m: 0.1}]}"),
+                   {"tag36h11 has 587 codes", "30 x 30 tags from id 0 need ids up to 899"}},
         // Dynamic calibration.
         ConfigCase{
             "change_after_the_run",
@@ -383,6 +393,30 @@ TEST(BadTarget, KalibrTargetYamlErrorsNameLineFieldReason) {
        "target_type: aprilgrid\ntagCols: 6\ntagRows: 6\ntagSize: 0.1\ntagSpacing: 0.3\n"
        "tagFamily: tag99h9\n",
        ":6:12: tagFamily: 'tag99h9' is not one of"},
+      // Ids past the family's codes; the first case's tag count overflows an int (found by the
+      // target YAML fuzzer).
+      {"tags_past_int",
+       "target_type: aprilgrid\ntagCols: 67777777\ntagRows: 9\ntagSize: 0.1\ntagSpacing: 0.3\n",
+       ":2:10: tagCols x tagRows: tag36h11 has 587 codes (ids 0..586): 9 x 67777777 tags from id 0 "
+       "need ids up to 609999992"},
+      {"tags_past_the_family",
+       "target_type: aprilgrid\ntagCols: 6\ntagRows: 6\ntagSize: 0.1\ntagSpacing: 0.3\n"
+       "tagFamily: tag25h9\n",
+       ":2:10: tagCols x tagRows: tag25h9 has 35 codes (ids 0..34): 6 x 6 tags from id 0 need ids "
+       "up to 35"},
+      {"offset_past_the_family",
+       "target_type: aprilgrid\ntagCols: 6\ntagRows: 6\ntagSize: 0.1\ntagSpacing: 0.3\n"
+       "codeOffset: 2147483600\n",
+       "tag36h11 has 587 codes (ids 0..586): 6 x 6 tags from id 2147483600 need ids up to "
+       "2147483635"},
+      {"negative_offset",
+       "target_type: aprilgrid\ntagCols: 6\ntagRows: 6\ntagSize: 0.1\ntagSpacing: 0.3\n"
+       "codeOffset: -1\n",
+       ":6:13: codeOffset: must be >= 0"},
+      {"huge_checkerboard",
+       "target_type: checkerboard\ntargetCols: 9\ntargetRows: 20000\nrowSpacingMeters: 0.02\n"
+       "colSpacingMeters: 0.02\n",
+       ":3:13: targetRows: at most 10000 inner corners a side"},
   };
   for (const Case& c : cases) {
     const std::string path = TempPath("target_" + c.name + ".yaml");

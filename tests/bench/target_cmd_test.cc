@@ -176,6 +176,10 @@ TEST(Target, BadArgumentsAreRefused) {
   EXPECT_FALSE(MakeTargetLayout(args, &layout, &why));
   EXPECT_NE(why.find("587 codes"), std::string::npos) << why;
   args = TargetArgs();
+  args.type = "checkerboard", args.rows = 20000;  // (rows + 1) x (cols + 1) squares drawn.
+  EXPECT_FALSE(MakeTargetLayout(args, &layout, &why));
+  EXPECT_NE(why.find("--rows and --cols must be at most 10000"), std::string::npos) << why;
+  args = TargetArgs();
   args.out_path = "board.png";  // The PNG would overwrite the PDF.
   EXPECT_FALSE(MakeTargetLayout(args, &layout, &why));
   EXPECT_NE(why.find("--out must name a .pdf file"), std::string::npos) << why;

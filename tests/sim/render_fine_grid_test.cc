@@ -120,8 +120,8 @@ TEST(RenderFineGrid, EdgesThroughAFisheyesPeripheryLieWhereTheExactLensPutsThem)
   const Eigen::Vector3d direction(std::sin(70 * kDeg), 0, std::cos(70 * kDeg));
   Rigid3 cam_from_board;
   const Eigen::Vector3d z = -direction;  // The board's normal towards the camera.
-  const Eigen::Vector3d x = Eigen::Vector3d::UnitY().cross(z).normalized();
-  cam_from_board.rotation << x, z.cross(x), z;
+  const Eigen::Vector3d board_x = Eigen::Vector3d::UnitY().cross(z).normalized();
+  cam_from_board.rotation << board_x, z.cross(board_x), z;
   cam_from_board.translation = 0.4 * direction - cam_from_board.rotation * centre;
   const BoardView view{grid, family, cam_from_board};
 

@@ -79,19 +79,29 @@ TEST(Targets, BadValuesAreRefusedWithAReason) {
     AprilGrid grid;
     const char* reason;
   };
-  std::vector<Case> cases(6);
+  std::vector<Case> cases(10);
   cases[0].grid.tag_rows = 0, cases[0].reason = "at least one tag";
   cases[1].grid.tag_size_m = -1, cases[1].reason = "tag_size_m must be positive";
   cases[2].grid.tag_spacing = 0, cases[2].reason = "tag_spacing must be positive";
   cases[3].grid.first_id = -1, cases[3].reason = "first_id must be >= 0";
   cases[4].grid.black_tag_border = 3, cases[4].reason = "black_tag_border must be 1";
   cases[5].grid.points_from_board.rotation(0, 0) = 2, cases[5].reason = "invalid rotation";
+  cases[6].grid.family = "tag99h9", cases[6].reason = "unknown AprilTag family 'tag99h9'";
+  // Ids past the family's 587 codes: by the offset, by the count, and by a count past an int.
+  cases[7].grid.first_id = 552, cases[7].reason = "587 codes (ids 0..586): 6 x 6 tags from id 552";
+  cases[8].grid.tag_rows = 17, cases[8].grid.tag_cols = 35;
+  cases[8].reason = "17 x 35 tags from id 0 need ids up to 594";
+  cases[9].grid.tag_rows = 9, cases[9].grid.tag_cols = 677777777;
+  cases[9].reason = "need ids up to 6099999992";
   for (const Case& c : cases) {
     std::string why;
     EXPECT_FALSE(c.grid.Check(&why)) << c.reason;
     EXPECT_NE(why.find(c.reason), std::string::npos) << why;
   }
   EXPECT_TRUE(AprilGrid().Check(nullptr));
+  AprilGrid every_code;  // Ids 0..586: all of tag36h11.
+  every_code.first_id = 551;
+  EXPECT_TRUE(every_code.Check(nullptr));
   PlanarBoard board;
   std::string why;
   EXPECT_TRUE(board.Check(&why)) << why;
@@ -101,6 +111,11 @@ TEST(Targets, BadValuesAreRefusedWithAReason) {
   board.cols = 4, board.spacing_m = std::nan("");
   EXPECT_FALSE(board.Check(&why));
   EXPECT_NE(why.find("spacing_m must be positive"), std::string::npos) << why;
+  board.spacing_m = 0.1, board.rows = kMaxCornersPerSide + 1;
+  EXPECT_FALSE(board.Check(&why));
+  EXPECT_NE(why.find("at most 10000 corners a side"), std::string::npos) << why;
+  board.rows = kMaxCornersPerSide;
+  EXPECT_TRUE(board.Check(&why)) << why;
 }
 
 }  // namespace
