@@ -199,13 +199,8 @@ class BoardShader {
                std::to_string(f.border_bits()) + "-bit border)";
       return false;
     }
-    if (g.first_id + g.NumTags() > f.num_codes()) {
-      if (why)
-        *why = g.family + " has only " + std::to_string(f.num_codes()) +
-               " codes, the grid needs ids up to " + std::to_string(g.first_id + g.NumTags() - 1);
-      return false;
-    }
-    Eigen::Matrix3d plane;  // [r1 r2 t]: board (bx, by, 1) -> camera ray.
+    if (!g.Check(why)) return false;  // Ids past the family's codes, among others.
+    Eigen::Matrix3d plane;            // [r1 r2 t]: board (bx, by, 1) -> camera ray.
     plane << view.cam_from_board.rotation.col(0), view.cam_from_board.rotation.col(1),
         view.cam_from_board.translation;
     visible_ = std::abs(plane.determinant()) > 1e-15;  // Not seen edge-on.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -11,13 +12,13 @@
 
 #include "bench/run/csv.h"
 #include "sim/tag_family.h"
-#include "sim/target.h"
 
 namespace calibench {
 namespace {
 
 constexpr double kPointsPerMetre = 72.0 / 0.0254;
-constexpr double kMaxPagePixels = 400e6;  // The PNG: 20000 x 20000 px at most.
+constexpr double kMaxPagePixels = 400e6;    // The PNG: 20000 x 20000 px at most.
+constexpr int64_t kMaxSquares = 1'000'000;  // A PDF of ~40 MB.
 
 // "x y w h re f" numbers: 1e-4 pt (35 nm) resolution.
 std::string Pt(double metres) {
@@ -36,8 +37,10 @@ bool TargetArgs::Check(std::string* why) const {
     msg = grid ? "--rows and --cols (tags) must be >= 1"
                : "--rows and --cols (inner corners) must be >= 2";
   }
-  if (rows > kMaxCornersPerSide || cols > kMaxCornersPerSide) {
-    msg = "--rows and --cols must be at most " + std::to_string(kMaxCornersPerSide);
+  // (rows + 1) x (cols + 1) squares (a checkerboard's; an AprilGrid's corner squares), each a
+  // rectangle of the PDF and of the layout, counted before any is built.
+  if ((static_cast<int64_t>(rows) + 1) * (static_cast<int64_t>(cols) + 1) > kMaxSquares) {
+    msg = "--rows x --cols: at most " + std::to_string(kMaxSquares) + " squares on a page";
   }
   if (!(size_m > 0 && size_m < 10)) msg = "--size must lie in (0, 10) m";
   if (grid && !(spacing > 0 && spacing <= 1)) {

@@ -107,9 +107,9 @@ bool LoadTargetYamlFromString(const std::string& yaml, const std::string& path,
         r.Fail(root["blackTagBorder"], "blackTagBorder", reason);
       }
       if (t.grid.first_id < 0) r.Fail(root["codeOffset"], "codeOffset", "must be >= 0");
-      // What Check can still refuse: ids past the family's codes (tagCols x tagRows tags from
+      // What Check can still refuse: ids past the family's codes (tagRows x tagCols tags from
       // codeOffset, in tagFamily).
-      if (!t.grid.Check(&reason)) r.Fail(root["tagCols"], "tagCols x tagRows", reason);
+      if (!t.grid.Check(&reason)) r.Fail(root["tagRows"], "tagRows x tagCols", reason);
     } else {
       r.CheckKeys(
           root, "",

@@ -505,6 +505,7 @@ void Visit(FieldVisitor& v, PointsConfig& p) {
 }
 
 void VisitRandomBox(FieldVisitor& v, PointsConfig& p) {
+  static_assert(kMaxScenarioPoints == 100000, "the count's constraint below says it");
   v.Field({"count", "", "How many points.", "1 to 100000"}, &p.count);
   v.Field({"min", "m", "Lower corner of the box."}, &p.random_min);
   v.Field({"max", "m", "Upper corner of the box."}, &p.random_max);

@@ -397,12 +397,12 @@ TEST(BadTarget, KalibrTargetYamlErrorsNameLineFieldReason) {
       // target YAML fuzzer).
       {"tags_past_int",
        "target_type: aprilgrid\ntagCols: 67777777\ntagRows: 9\ntagSize: 0.1\ntagSpacing: 0.3\n",
-       ":2:10: tagCols x tagRows: tag36h11 has 587 codes (ids 0..586): 9 x 67777777 tags from id 0 "
+       ":3:10: tagRows x tagCols: tag36h11 has 587 codes (ids 0..586): 9 x 67777777 tags from id 0 "
        "need ids up to 609999992"},
       {"tags_past_the_family",
        "target_type: aprilgrid\ntagCols: 6\ntagRows: 6\ntagSize: 0.1\ntagSpacing: 0.3\n"
        "tagFamily: tag25h9\n",
-       ":2:10: tagCols x tagRows: tag25h9 has 35 codes (ids 0..34): 6 x 6 tags from id 0 need ids "
+       ":3:10: tagRows x tagCols: tag25h9 has 35 codes (ids 0..34): 6 x 6 tags from id 0 need ids "
        "up to 35"},
       {"offset_past_the_family",
        "target_type: aprilgrid\ntagCols: 6\ntagRows: 6\ntagSize: 0.1\ntagSpacing: 0.3\n"

@@ -261,10 +261,10 @@ TEST(BadImages, ImageOfAnotherSizeIsSkippedNamingBothSizes) {
 }
 
 TEST(BadImages, WrongFamilyOrIdsReportTheDetectionRate) {
-  FolderResult r = LoadFolder(GoodFolder(), kGridYaml + "tagFamily: tagCustom48h12\n");
+  FolderResult r = LoadFolder(GoodFolder(), kGridYaml + "tagFamily: tagStandard41h12\n");
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.why.find("found in none of 6 images"), std::string::npos) << r.why;
-  // tagCustom48h12 decodes at most a stray false positive in tag36h11 tags: a rate near 0.
+  // tagStandard41h12 decodes at most a stray false positive in tag36h11 tags: a rate near 0.
   EXPECT_NE(r.why.find("of 216 possible tags detected (detection rate 0.0"), std::string::npos)
       << r.why;
   r = LoadFolder(GoodFolder(), kGridYaml + "codeOffset: 100\n");

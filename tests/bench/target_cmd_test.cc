@@ -176,9 +176,11 @@ TEST(Target, BadArgumentsAreRefused) {
   EXPECT_FALSE(MakeTargetLayout(args, &layout, &why));
   EXPECT_NE(why.find("587 codes"), std::string::npos) << why;
   args = TargetArgs();
-  args.type = "checkerboard", args.rows = 20000;  // (rows + 1) x (cols + 1) squares drawn.
+  args.type = "checkerboard", args.rows = 10000, args.cols = 100;  // 1 010 101 squares.
   EXPECT_FALSE(MakeTargetLayout(args, &layout, &why));
-  EXPECT_NE(why.find("--rows and --cols must be at most 10000"), std::string::npos) << why;
+  EXPECT_NE(why.find("--rows x --cols: at most 1000000 squares"), std::string::npos) << why;
+  args.rows = 9800, args.size_m = 0.001;  // 989 901 squares on 9.8 x 0.1 m: accepted.
+  EXPECT_TRUE(MakeTargetLayout(args, &layout, &why)) << why;
   args = TargetArgs();
   args.out_path = "board.png";  // The PNG would overwrite the PDF.
   EXPECT_FALSE(MakeTargetLayout(args, &layout, &why));

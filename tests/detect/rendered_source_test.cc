@@ -119,7 +119,7 @@ TEST(FrameDetector, RejectsTargetsItCannotAttribute) {
   EXPECT_EQ(FrameDetector::Create({a, b}, FrameDetectorOptions(), &why), nullptr);
   EXPECT_NE(why.find("shares tag ids"), std::string::npos) << why;
   b.first_id = 36;
-  b.family = "tagCustom48h12";
+  b.family = "tagStandard41h12";
   EXPECT_EQ(FrameDetector::Create({a, b}, FrameDetectorOptions(), &why), nullptr);
   EXPECT_NE(why.find("one detector decodes one family"), std::string::npos) << why;
   b.family = "tag36h11";
