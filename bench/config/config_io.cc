@@ -56,11 +56,11 @@ void ParsePointsSection(const Reader& r, const YAML::Node& node, const std::stri
   config_internal::FieldReader reader(r, node, field, nullptr);
   Visit(reader, *p);
   if (has_grids || has_boards) {  // Counted before the corners are built.
+    // Each board and grid passed its Check (a side <= 10000 corners, ids <= a family's 65535
+    // codes), so each count fits an int; their sum is taken in int64.
     int64_t corners = 0;
-    for (const PlanarBoard& b : p->Boards()) corners += static_cast<int64_t>(b.rows) * b.cols;
-    for (const AprilGrid& g : p->AprilGrids()) {
-      corners += 4 * static_cast<int64_t>(g.tag_rows) * g.tag_cols;
-    }
+    for (const PlanarBoard& b : p->Boards()) corners += b.NumCorners();
+    for (const AprilGrid& g : p->AprilGrids()) corners += 4 * g.NumTags();
     if (corners > kMaxScenarioPoints) {
       r.Fail(node, Reader::Join(field, has_grids ? "aprilgrids" : "boards"),
              std::to_string(corners) + " corners: a scenario has at most " +
