@@ -8,7 +8,7 @@ BUILD_DIR="${CALIBENCH_BUILD_DIR:-$CALIBENCH_ROOT/build}"
 PACKAGES=(cmake ninja-build g++ pkg-config libeigen3-dev libceres-dev libopencv-dev
           libapriltag-dev libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
           python3 python3-matplotlib python3-scipy python3-pandas python3-statsmodels python3-yaml
-          python3-tabulate
+          python3-tabulate python3-venv python3-setuptools
           python3-mrcal)
 
 install_packages() {

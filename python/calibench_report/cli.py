@@ -1,7 +1,7 @@
 """calibench report DIR... [--out REPORT_DIR]: plots, scoreboards and paired tests of `calibench
 run` output directories (and of `calibench corner-bias`'s), written to REPORT_DIR/report.md, its
-appendix pages and PNG figures. `calibench report` runs this as /usr/bin/python3 -m
-calibench_report with the package on PYTHONPATH."""
+appendix pages and PNG figures. `calibench report` runs this (python3 -m calibench_report; or the
+installed command calibench-report), with the interpreter and package it finds (docs/cli.md)."""
 import argparse
 import os
 import sys
