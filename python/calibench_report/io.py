@@ -1,8 +1,8 @@
 """Reading run directories and writing the report's files.
 
-A run directory (`calibench run`) holds runs.csv, summary.csv, schema.json and the other files of
-bench/run/run_dir.h; a directory of the corner study (`calibench corner-bias`) holds
-corner_bias.csv. Paths shown in the report are relative to the report directory, never absolute.
+A run directory (`calibench run`) holds schema.json and the files it lists (runs.csv, summary.csv,
+...: bench/run/run_dir.h), read as it declares them; a directory of the corner study (`calibench
+corner-bias`) holds corner_bias.csv. Paths shown in the report are relative to the report directory, never absolute.
 """
 import dataclasses
 import os
@@ -20,17 +20,23 @@ GAIN_COST = "gain_cost.txt"  # scripts/gain_cost.sh's note on a gain sweep's cos
 class RunData:
     dirs: list  # The directories as given.
     schema: schema_io.Schema
-    runs: pd.DataFrame  # runs.csv of every directory.
-    summary: pd.DataFrame  # summary.csv of every directory.
-    timings: pd.DataFrame
-    curves: pd.DataFrame
-    events: pd.DataFrame
-    tracks: pd.DataFrame
-    bands: pd.DataFrame  # track_bands.csv.
+    tables: dict  # Every file schema.json lists, by its name without .csv: its rows, all dirs.
     configs: list  # config.resolved.yaml texts.
     corner_bias: Optional[pd.DataFrame] = None
     corner_bias_path: str = ""  # As given (see display_path).
     notes: list = dataclasses.field(default_factory=list)  # gain_cost.txt texts.
+
+    def table(self, name):
+        """The rows of schema.json's file NAME.csv (empty when absent)."""
+        return self.tables.get(name, pd.DataFrame())
+
+    runs = property(lambda self: self.table("runs"))
+    summary = property(lambda self: self.table("summary"))
+    timings = property(lambda self: self.table("timings"))
+    curves = property(lambda self: self.table("curves"))
+    events = property(lambda self: self.table("events"))
+    tracks = property(lambda self: self.table("tracks"))
+    bands = property(lambda self: self.table("track_bands"))
 
     def methods(self):
         """Every method instance in the order of first appearance."""
@@ -44,36 +50,37 @@ def _csv(path, **kwargs):
     return frame
 
 
-def _runs(path):
-    runs = _csv(path, dtype={"params": str, "message": str, "scenario": str, "sweep": str})
-    if len(runs):
-        runs["params"] = runs["params"].fillna("")
-    return runs
+def _table(path, columns):
+    """A file schema.json lists (columns: its (name, unit, doc)); its text columns as text.
+    Empty when absent."""
+    text = [name for name, _, _ in columns if name in schema_io.TEXT_COLUMNS]
+    frame = _csv(path, dtype={c: str for c in text})
+    for c in text:
+        if c in frame and frame[c].isna().any():
+            frame[c] = frame[c].fillna("")
+    return frame
 
 
 def read(dirs):
     """RunData of the directories; ValueError naming a directory that cannot be read."""
     schemas, frames, configs, notes = [], {}, [], []
     corner, corner_path = None, ""
-    names = ("runs", "summary", "timings", "curves", "events", "tracks", "bands")
-    files = {"runs": "runs.csv", "summary": "summary.csv", "timings": "timings.csv",
-             "curves": "curves.csv", "events": "events.csv", "tracks": "tracks.csv",
-             "bands": "track_bands.csv"}
     for d in dirs:
         if not os.path.isdir(d):
             raise ValueError(f"{d}: not a directory")
         if os.path.exists(os.path.join(d, CORNER_BIAS)) and corner is None:
             corner_path = os.path.join(d, CORNER_BIAS)
             corner = _csv(corner_path)
-        if not os.path.exists(os.path.join(d, "runs.csv")):
+        if not os.path.exists(os.path.join(d, schema_io.SCHEMA_FILE)):
             if corner is not None:
                 continue  # A directory of the corner study only.
-            raise ValueError(f"{d}: no runs.csv (not a calibench run directory)")
+            raise ValueError(f"{d}: no {schema_io.SCHEMA_FILE} (not a calibench run directory, or "
+                             "one written before it: run the configuration again)")
         try:
-            schemas.append(schema_io.read(d))
-            for name in names:
-                reader = _runs if name == "runs" else _csv
-                frames.setdefault(name, []).append(reader(os.path.join(d, files[name])))
+            schema = schema_io.read(d)
+            schemas.append(schema)
+            for file, columns in schema.files.items():
+                frames.setdefault(file, []).append(_table(os.path.join(d, file), columns))
         except (OSError, pd.errors.ParserError, schema_io.SchemaError) as e:
             raise ValueError(f"{d}: {e}") from e
         config = os.path.join(d, "config.resolved.yaml")
@@ -85,13 +92,12 @@ def read(dirs):
             with open(cost, encoding="utf-8") as f:
                 notes.append(f.read().strip())
 
-    def concat(name):
-        parts = [f for f in frames.get(name, []) if len(f)]
+    def concat(parts):
+        parts = [f for f in parts if len(f)]
         return pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
 
-    return RunData(dirs=list(dirs), schema=schema_io.merge(schemas), runs=concat("runs"),
-                   summary=concat("summary"), timings=concat("timings"), curves=concat("curves"),
-                   events=concat("events"), tracks=concat("tracks"), bands=concat("bands"),
+    tables = {os.path.splitext(file)[0]: concat(parts) for file, parts in frames.items()}
+    return RunData(dirs=list(dirs), schema=schema_io.merge(schemas), tables=tables,
                    configs=configs, corner_bias=corner, corner_bias_path=corner_path,
                    notes=notes)
 

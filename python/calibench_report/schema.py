@@ -10,6 +10,9 @@ import os
 from typing import Optional
 
 SCHEMA_FILE = "schema.json"
+# The columns that hold names or free text, wherever a file has them: read as text even when a
+# value looks like a number (schema.json names each file's columns and units, not their types).
+TEXT_COLUMNS = ("scenario", "sweep", "params", "message")
 
 
 @dataclasses.dataclass(frozen=True)

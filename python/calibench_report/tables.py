@@ -6,6 +6,8 @@ import pandas as pd
 
 from calibench_report import stats
 
+SIGNIFICANT = f"Holm-adjusted p < {stats.SIGNIFICANCE:g}"  # How a table names significance.
+
 
 def markdown(rows, columns):
     """A Markdown table of `rows` (lists of cells, already text) under `columns`."""

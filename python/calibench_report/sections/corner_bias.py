@@ -10,7 +10,7 @@ import pandas as pd
 
 from calibench_report import io, plots, stats
 from calibench_report.sections import Section
-from calibench_report.tables import markdown, num, signed
+from calibench_report.tables import effect_text, markdown, num, p_text, signed
 
 # How the study names its stages (detect/corner_bias.h, CornerStageName).
 STAGE_NAMES = {"raw": "AprilTag 3", "edge_fit": "edge fit", "saddle": "edge fit + saddle",
@@ -198,3 +198,43 @@ def section(ctx):
     out.pages[page] = ["# Corner bias: every case", "", "[Back to the report](../report.md)", "",
                        case_table(cases), ""]
     return out
+
+
+# The first page's answer (sections/answers.py).
+
+def answer(ctx):
+    """The first page's answer on corner detection: a lead, a table and a figure, or None."""
+    data = ctx.data
+    if data.corner_bias is None or not len(data.corner_bias):
+        return None
+    cases = per_case(data.corner_bias.copy())
+    result = contest(cases)
+    if result is None:
+        return None
+    winner, wins, counted, comparisons = result
+    names = STAGE_NAMES
+    body = [[names.get(m, m), f"{n} cases", effect_text(c, "px"), p_text(c),
+             "yes" if c.significant else "no"]
+            for m, (n, c) in sorted(comparisons.items(), key=lambda kv: kv[1][1].effect)]
+    head = ["stage", "ran on", f"Δ RMS against {names.get(winner, winner)} [95% CI]",
+            "p (Holm over the stages)", "significant"]
+    lead = (f"**{names.get(winner, winner)}** has the smallest corner RMS in {wins} of {counted} "
+            "cases (among the stages every case ran); against each other stage, on the cases both "
+            "found the tag in (Δ > 0: the other stage's corners are worse):")
+    better = [names.get(m, m) for m, (n, c) in comparisons.items()
+              if c.significant and c.effect < 0]
+    if better:
+        lead += (f" {', '.join(better)}, which ran on some cases only, "
+                 f"{'is' if len(better) == 1 else 'are'} better still on the cases "
+                 f"{'it' if len(better) == 1 else 'they'} ran.")
+    fig, axes = plots.figure(1, 1, 7.0, 3.6)
+    ax = axes[0][0]
+    stages = list(dict.fromkeys(cases.method))
+    values = [cases[(cases.method == s) & np.isfinite(cases.rms_px)].rms_px for s in stages]
+    ax.boxplot(values, labels=[names.get(s, s) for s in stages], showfliers=True)
+    ax.set_yscale("log")
+    ax.set_ylabel("corner RMS per axis (px), per case")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.tick_params(labelsize=7)
+    plots.save(fig, ctx.path("answer_detection.png"), dpi=90)
+    return [lead, "", markdown(body, head), "", "![detection](answer_detection.png)", ""]

@@ -4,9 +4,9 @@ time and share converged, all from summary.csv."""
 import dataclasses
 import math
 
-from calibench_report import plots
+from calibench_report import plots, stats
 from calibench_report.sections import Section
-from calibench_report.tables import markdown, num
+from calibench_report.tables import effect_text, markdown, num, p_text
 
 CONVERGE = "converge_time_s"
 
@@ -189,3 +189,88 @@ def section(ctx):
     for note in ctx.data.notes:
         out.md += ["Cost of a method-only sweep: " + note, ""]
     return out
+
+
+# The first page's answer (sections/answers.py).
+
+def answer_row(analysis, sweep, quantity):
+    """(row, best point) of a gain sweep: the swept instance's best gain for the quantity
+    (smallest median |error|, summary.csv), compared with every other gain on the same trials."""
+    axis = gain_axis(sweep)
+    if axis is None:
+        return None
+    instance = axis[0]
+    points = [p for p in analysis.points(sweep) if isinstance(p.x, float)]
+    medians = {p: analysis.band(p.scenario, instance, quantity.summary_metric)[0] for p in points}
+    ranked = sorted((m, p.x, p) for p, m in medians.items() if math.isfinite(m))
+    if not ranked:
+        return None
+    best = ranked[0][2]
+
+    def errors(p):
+        rows = analysis.point_rows(p)
+        h = rows[(rows.method == instance) & (rows.status == "ok")].set_index("seed")
+        return h[quantity.compared].abs() if quantity.compared in h else None
+
+    mine = errors(best)
+    comparisons = {p: stats.compare(stats.paired_differences(errors(p), mine))
+                   for _, _, p in ranked[1:] if errors(p) is not None}
+    stats.holm(list(comparisons.values()))
+    runner = ranked[1][2] if len(ranked) > 1 else None
+    c = comparisons.get(runner)
+    rival = min(((analysis.band(best.scenario, m, quantity.summary_metric)[0], m)
+                 for m in analysis.methods_of(analysis.point_rows(best)) if m != instance),
+                default=(math.nan, None))
+    converge = analysis.stat(best.scenario, instance, CONVERGE, "median")
+    name = f"**{axis[1]} = {best.x:g}**" if c is not None and c.significant else \
+        f"none significantly ({axis[1]} = {best.x:g} has the smallest median)"
+    ratio = (f" ({ranked[0][0] / rival[0]:.2g}× that of {rival[1]}, the best other method)"
+             if rival[1] and math.isfinite(rival[0]) and rival[0] > 0 else "")
+    return [sweep.name, instance, quantity.title, name,
+            f"{num(ranked[0][0])} {quantity.unit_text}{ratio}", f"{num(converge)} s",
+            f"{axis[1]} = {runner.x:g}: {effect_text(c, quantity.unit_text)}, {p_text(c)}"
+            if runner else "–"]
+
+
+def answer_figure(ctx, gains, quantities, path):
+    fig, axes = plots.figure(1, len(quantities) + 1, 4.4, 3.4)
+    axes = axes[0]
+    for k, (name, (instance, option, pts, _)) in enumerate(gains.items()):
+        sweep = ctx.data.schema.sweep(name)
+        points = [p for p in ctx.analysis.points(sweep) if isinstance(p.x, float)]
+        for ax, q in zip(axes, quantities):
+            b = [ctx.analysis.band(p.scenario, instance, q.summary_metric) for p in points]
+            x = [p.x for p in points]
+            ax.plot(x, [v[0] for v in b], "o-", ms=3, color=f"C{k}", label=f"{instance}, {name}")
+            ax.fill_between(x, [v[1] for v in b], [v[2] for v in b], color=f"C{k}", alpha=0.12)
+            others = [min((ctx.analysis.band(p.scenario, m, q.summary_metric)[0]
+                           for m in ctx.analysis.methods_of(ctx.analysis.point_rows(p))
+                           if m != instance), default=math.nan) for p in points]
+            ax.plot(x, others, "--", color=f"C{k}", lw=1,
+                    label=f"the best other method's median, {name}")
+            ax.set_title(f"median |{q.label}| ({q.unit_text}) against {option}", fontsize=8)
+        axes[-1].plot([g.value for g in pts], [g.converge_s for g in pts], "o-", ms=3,
+                      color=f"C{k}", label=name)
+        axes[-1].set_title("median convergence time (s)", fontsize=8)
+    for ax in axes:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.tick_params(labelsize=6)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=6)
+    plots.save(fig, path, dpi=85)
+
+
+def answer(ctx):
+    """The first page's answer on the gain sweeps: a table and a figure, or None."""
+    gains = all_gains(ctx.analysis)
+    quantities = ctx.data.schema.headline()
+    body = [r for name in gains for q in quantities
+            for r in [answer_row(ctx.analysis, ctx.data.schema.sweep(name), q)] if r]
+    if not body:
+        return None
+    answer_figure(ctx, gains, quantities, ctx.path("answer_gain.png"))
+    head = ["sweep", "instance", "quantity", "best gain", "its median |error|",
+            "its median convergence", "next gain: Δ [95% CI], p (Holm over the gains)"]
+    return [markdown(body, head), "", "![gain](answer_gain.png)", ""]

@@ -1,12 +1,13 @@
 """The swept scenarios by role: error against the swept value, the best method per point, and
 (in an appendix page per sweep) every point's scoreboard and paired comparisons."""
+import collections
 import math
 
 import numpy as np
 
 from calibench_report import plots
 from calibench_report.sections import Section
-from calibench_report.tables import band, effect_text, markdown, num, p_text
+from calibench_report.tables import SIGNIFICANT, band, effect_text, markdown, num, p_text
 
 TITLES = {
     "noise": "Error against the pixel noise",
@@ -207,3 +208,67 @@ def section(ctx, role):
                    "against the runner-up. Every point's scoreboard and comparisons: "
                    f"[{page}]({page}).", "", best_summary(ctx.analysis, sweep), ""]
     return out
+
+
+# The first page's answer (sections/answers.py).
+
+def adjusted(c):
+    return c.p_adjusted if c is not None and math.isfinite(c.p_adjusted) else math.inf
+
+
+def answer_row(analysis, sweep, quantity):
+    """One first-page row: (row cells, winner) of a sweep and quantity, or None."""
+    scored = [(p.point, p.of(quantity)) for p in analysis.scores(sweep)]
+    scored = [(p, s) for p, s in scored if s is not None and s.best]
+    if not scored:
+        return None
+    order = {m: i for i, m in enumerate(analysis.methods_of(analysis.rows_of(sweep)))}
+    counts = collections.Counter(s.best for _, s in scored)
+    winner = min(counts, key=lambda m: (-counts[m], order.get(m, 0)))
+    wins = [(p, s) for p, s in scored if s.best == winner]
+    significant = [(p, s) for p, s in wins if s.contest is not None and s.contest.significant]
+    point, score = max(wins, key=lambda ps: adjusted(ps[1].contest))
+    c = score.contest
+    closest = (f"{point.label}: {score.runner_up}, {effect_text(c, quantity.unit_text)}, "
+               f"{p_text(c)}" if score.runner_up else f"{point.label}: alone")
+    others = collections.Counter(s.best for _, s in scored if s.best != winner)
+    elsewhere = ", ".join(f"{m} at {k}" for m, k in others.items()) or "–"
+    name = (f"**{winner}**" if significant else
+            f"none significantly ({winner} has the smallest median)")
+    return [f"{sweep.name}", quantity.title, name, f"{len(wins)} of {len(scored)}",
+            f"{len(significant)} of {len(wins)}", closest, elsewhere]
+
+
+def answer_figure(ctx, sweep_list, quantities, path):
+    fig, axes = plots.figure(len(quantities), len(sweep_list), 4.2, 3.0)
+    for r, q in enumerate(quantities):
+        for c, sweep in enumerate(sweep_list):
+            ax = axes[r][c]
+            lines, bounds = quantity_lines(ctx.analysis, sweep, q)
+            plots.band_lines(ax, lines, ctx.palette, bounds, q.target)
+            plots.axis_scale(ax, [p.x for p in ctx.analysis.points(sweep)])
+            ax.set_title(f"{q.label}: {sweep.name}", fontsize=8)
+            ax.set_xlabel(x_label(sweep), fontsize=7)
+            ax.set_ylabel(f"median |{q.label}| ({q.unit_text})", fontsize=7)
+    legend = plots.legend_of(axes.flat)
+    fig.legend(list(legend.values()), list(legend.keys()), loc="lower center",
+               ncol=min(5, len(legend)), fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
+    plots.save(fig, path, dpi=85, tight=False)
+
+
+def answer(ctx, role):
+    """The first page's answer for the sweeps of a role: a table and a figure, or None."""
+    schema = ctx.data.schema
+    sweep_list = [s for s in schema.sweeps_of(role) if len(ctx.analysis.rows_of(s))]
+    quantities = schema.headline()
+    body = [r for s in sweep_list for q in quantities
+            for r in [answer_row(ctx.analysis, s, q)] if r]
+    if not body:
+        return None
+    figure = f"answer_{role}.png"
+    answer_figure(ctx, sweep_list, quantities, ctx.path(figure))
+    head = ["sweep", "quantity", "winner", "best at (points)", f"significant ({SIGNIFICANT})",
+            "closest win: point, runner-up, Δ of the runner-up [95% CI], p",
+            "other best methods (points)"]
+    return [markdown(body, head), "", f"![{role}]({figure})", ""]
