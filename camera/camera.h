@@ -8,7 +8,7 @@
 //         [ 0      0              1  ]   [ 0  0  1  ]
 //
 // Every lens family maps point_in_cam = P = (X, Y, Z) to a point (xd, yd) of the normalised image
-// plane, then [u v 1]^T = A * [xd  yd  1]^T. Distortion acts there, before A (seed 001's model;
+// plane, then [u v 1]^T = A * [xd  yd  1]^T. Distortion acts there, before A (Algers 2018, eq. 2;
 // OpenCV's and Zhang's too, so A doubles as OpenCV's camera_matrix).
 //
 // Pixel-centre convention (the whole suite's): OpenCV's. The centre of the pixel in column i, row j

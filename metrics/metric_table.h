@@ -92,7 +92,7 @@ struct MetricSpec {
   Summary summary = Summary::kNone;
   // The report ranks methods on it (smaller |value| is better) and compares them pairwise.
   bool ranked = false;
-  // Seed 001's target on the 97.5th percentile of |error| (0.1 deg on roll and pitch); 0: none.
+  // Bound on the 97.5th percentile of |error| (0.1 deg on roll, pitch: Algers 2018, §1.2); 0: none.
   double target = 0.0;
   // The report's first page answers each question on it (f*ku for the intrinsics, the geodesic
   // angle for the extrinsic rotation).

@@ -45,7 +45,7 @@ bool TrackQuantityIsAngle(int q);
 TrackValues TrackQuantitiesOf(const CameraIntrinsics& intrinsics, const Eigen::Matrix3d& r_c,
                               bool improper);
 
-// 0.1 deg for the angles (seed 001's target), 1 px for the intrinsics.
+// 0.1 deg for the angles (Algers 2018's target, §1.2), 1 px for the intrinsics.
 TrackValues DefaultTrackTolerance();
 
 struct TrackingOptions {

@@ -4,8 +4,8 @@
 Usage: rendered_vs_oracle.py RUNS_CSV [METHOD]   (runs.csv of configs/rendered/all.yaml; METHOD:
 the instance to compare, default the first in the file)
 Prints, per scenario, ||theta~|| as median and 2.5-97.5% percentile interval over its trials
-(seed 001's Monte Carlo percentile method), the detection columns of the rendered run, and where
-the rendered value falls against the oracle twins' intervals.
+(the Monte Carlo percentile method of Algers 2018, Umeå University, §3.6), the detection columns
+of the rendered run, and where the rendered value falls against the oracle twins' intervals.
 """
 import os
 import sys

@@ -4,7 +4,7 @@
 //   quantities   the metric table: per quantity its name (unit included), unit, label, doc, its
 //                columns (value, error, std, crlb), integer, tracked, how summary.csv summarises
 //                it (summary: null | "statistics" | "with_rmse", and the `metric` value it has
-//                there), ranked (methods are compared on it), target (seed 001's bound on the
+//                there), ranked (methods are compared on it), target (Algers 2018's bound on the
 //                97.5th percentile of |error|, or null) and headline (the report's first page
 //                answers on it);
 //   files        per CSV file its columns in file order: name, unit ("" when dimensionless), doc;

@@ -1,4 +1,4 @@
-// Order statistics for Monte Carlo summaries (seed 001's percentile method).
+// Order statistics for Monte Carlo summaries (Algers 2018's percentile method, §3.6).
 #pragma once
 
 #include <vector>

@@ -1,9 +1,9 @@
 // summary.csv: the Monte Carlo summary of a runs.csv, one row per (scenario, method, metric), in
 // the order the (scenario, method) pairs first appear, the metrics in the metric table's order
 // (metrics/metric_table.h: the quantities whose Summary is not kNone; `metric` is the column
-// summarised, err_Q or Q, whose unit every value column has). Seed 001's percentile method: the
-// 95% interval of a metric is [p2.5, p97.5] of its per-trial values (Quantile, type 7). The
-// report reads these statistics; it computes none of them again.
+// summarised, err_Q or Q, whose unit every value column has). The percentile method of Algers
+// 2018, §3.6: the 95% interval of a metric is [p2.5, p97.5] of its per-trial values (Quantile,
+// type 7). The report reads these statistics; it computes none of them again.
 //
 // Columns (SummaryColumns): scenario, sweep, point, params, method, metric,
 //   n         trials (rows) of the pair;

@@ -35,12 +35,15 @@ def definitions(ctx):
         "estimate it (e.g. φ without skew) and is left out of it; the reprojection RMS is a fit, "
         "not an error against the truth.",
         "- **Median and 95% interval**: of |error| over the Monte Carlo trials (the 2.5th and "
-        "97.5th percentiles, seed 001's percentile interval), as summary.csv holds them; cells "
+        "97.5th percentiles: the percentile interval of Algers 2018, *Stereo Camera Calibration "
+        "Accuracy in Real-time Car Angles Estimation*, Umeå University, §3.6), as summary.csv "
+        "holds them; cells "
         "*median [p2.5, p97.5]*, the best method's median in bold. Plots: the same medians and "
         "bands, log y; dashed: the Cramér–Rao standard deviation of a method's parametrisation "
         "where runs.csv has one.",
         "- **RMSE/CRLB**: summary.csv's rmse_over_crlb (≈ 1: efficient).",
-        (f"- **{target:g}° target** (seed 001: {targets} accurate to {target:g}°): holds (✓) when "
+        (f"- **{target:g}° target** (Algers 2018, §1.2: {targets} accurate to {target:g}°): "
+         "holds (✓) when "
          f"the 97.5th percentile of |error| is ≤ {target:g}° for each; the cell gives the "
          "percentiles." if target else "- **Target**: none declared."),
         "- **Best method** of a quantity at a point: the smallest median |error|.",

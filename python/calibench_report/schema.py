@@ -26,7 +26,7 @@ class Quantity:
     summary: Optional[str]  # None | "statistics" | "with_rmse".
     summary_metric: Optional[str]  # Its `metric` in summary.csv.
     ranked: bool  # Methods are compared on it.
-    target: Optional[float]  # Seed 001's bound on the 97.5th percentile of |error|.
+    target: Optional[float]  # Algers 2018's bound (§1.2) on the 97.5th percentile of |error|.
     headline: bool  # The first page answers on it.
 
     def column(self, kind):

@@ -2,8 +2,8 @@
 
 summary.csv (written by `calibench run`) holds every per-(scenario, method, metric) statistic: the
 medians, percentile bands, RMSE and bounds the report shows; this module computes none of them
-again. What needs the trials themselves is here, seed 001's method for comparing two estimators on
-the same Monte Carlo trials:
+again. What needs the trials themselves is here, Algers 2018's way (§3.7) of comparing two
+estimators on the same Monte Carlo trials:
   * the paired differences d = |error of A| - |error of B| over the seeds both have a finite value
     for (unpaired and NaN trials dropped);
   * Lilliefors test of the normality of d at the 5% level (statsmodels); not rejected: the paired

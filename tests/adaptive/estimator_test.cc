@@ -84,7 +84,7 @@ TEST_P(ConvergedThesisSim, ReachesTheTruth) {
 INSTANTIATE_TEST_SUITE_P(Thesis, ConvergedThesisSim, ::testing::Values(1, 3, 8));
 
 // Sim 7 (5 points, small motion) does not converge; the thesis printed where it ends (f*ku 868.0,
-// f*kv 875.7, u0 310.2). A faithful integration lands within 2% of them (issue #2).
+// f*kv 875.7, u0 310.2). A faithful integration lands within 2% of them (a reference one does).
 TEST(AdaptiveEstimator, Sim07EndsWhereTheThesisDid) {
   const ThesisSimulation sim = Sim(7);
   const SimRun run = RunSim(sim, OptionsOf(sim));

@@ -1,4 +1,4 @@
-// Dynamic calibration through the harness (issue #13): a short load step on the dynamic rig. Every
+// Dynamic calibration through the harness: a short load step on the dynamic rig. Every
 // tracking method reports a trajectory and per-event figures; the sliding window re-converges
 // within its window and period while the growing window does not; the tracking files are
 // byte-identical for 1 and 2 threads and across shards.

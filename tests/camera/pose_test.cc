@@ -8,7 +8,7 @@
 namespace calibench {
 namespace {
 
-constexpr double kSo3Tol = 1e-9;  // The suite's SO(3) validation tolerance (issue #2).
+constexpr double kSo3Tol = 1e-9;  // The tolerance every given rotation is checked to (scenario.cc).
 
 TEST(Rotation, AcceptsProperRejectsImproperUnlessAllowed) {
   std::string why;

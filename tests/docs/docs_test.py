@@ -11,12 +11,15 @@ Checks, from the sources (regular expressions, no compilation):
   (c) every CSV column (the metric table's quantities and their err_/std_/crlb_/est_/true_
       columns, metrics/metric_table.cc; the column declarations of bench/run/*.cc; the CSV headers
       written by bench/app/*.cc) appears in docs/outputs.md;
-  (d) no issue references ("issue #14", "(#15)") and no development history in README.md, docs/
+  (d) no issue references ("issue #N", "(#N)") and no development history in README.md, docs/
       and the READMEs a user reads beside the files they describe (data/, configs/,
       tests/fixtures/);
   (e) README.md has at most 220 lines;
   (f) every relative link of README.md and docs/**/*.md points to an existing file inside the
-      repository.
+      repository;
+  (g) the two source documents are cited by name (the Clemson adaptive-calibration thesis, Algers
+      2018), never by their number in the project's notes, and no issue number appears anywhere
+      in the sources (docs, code comments, the report's text, tools, fuzz dictionaries, configs).
 
 Run: /usr/bin/python3 tests/docs/docs_test.py [REPO_ROOT]
 """
@@ -203,6 +206,21 @@ def markdown_files():
 USER_READMES = ["data/README.md", "configs/README.md", "tests/fixtures/README.md"]
 
 
+# The source files (g) scans: text a user or a developer reads. CHANGELOG.md is history.
+SOURCE_EXTENSIONS = (".md", ".h", ".cc", ".py", ".sh", ".cmake", ".txt", ".yaml", ".dict", ".toml")
+SKIPPED_DIRS = {".git", "out", "report"}
+
+
+def source_files():
+    for base, dirs, files in os.walk(ROOT):
+        dirs[:] = sorted(d for d in dirs if d not in SKIPPED_DIRS and not d.startswith("build"))
+        for f in sorted(files):
+            path = os.path.relpath(os.path.join(base, f), ROOT)
+            if (f.endswith(SOURCE_EXTENSIONS) or os.path.dirname(path) == "scripts") and \
+                    path != "CHANGELOG.md" and os.path.getsize(os.path.join(ROOT, path)) < 2**20:
+                yield path
+
+
 # ---------------------------------------------------------------------------------------------
 
 class DocsTest(unittest.TestCase):
@@ -251,6 +269,18 @@ class DocsTest(unittest.TestCase):
                         problems.append(f"{path}:{n}: history ({phrase!r}): {line.strip()}")
         self.assertEqual(problems, [], "README.md, docs/ and " + ", ".join(USER_READMES) +
                          " must not cite issues or history")
+
+    def test_g_sources_cited_by_name_and_no_issue_numbers(self):
+        problems = []
+        for path in source_files():
+            with open(os.path.join(ROOT, path), encoding="utf-8", errors="replace") as f:
+                for n, line in enumerate(f, 1):
+                    if re.search(r"\bseed\s*0\d\d\b", line, flags=re.I):
+                        problems.append(f"{path}:{n}: a source cited by number: {line.strip()}")
+                    if re.search(r"\bissue\s*#\s*\d+", line, flags=re.I):
+                        problems.append(f"{path}:{n}: issue reference: {line.strip()}")
+        self.assertEqual(problems, [], "cite the Clemson adaptive-calibration thesis and Algers "
+                         "2018 by name, and state a target's reason instead of its issue")
 
     def test_e_readme_is_short(self):
         lines = read("README.md").count("\n")

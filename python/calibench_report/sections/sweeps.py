@@ -93,7 +93,7 @@ def best_summary(analysis, sweep):
 
 
 def target_text(analysis, scenario, method):
-    """✓/✗ of seed 001's targets and the 97.5th percentiles of |error| (summary.csv)."""
+    """✓/✗ of Algers 2018's targets (§1.2) and the 97.5th percentiles of |error| (summary.csv)."""
     targeted = analysis.data.schema.targeted()
     p975 = [analysis.stat(scenario, method, q.summary_metric, "p97_5_abs") for q in targeted]
     if not targeted or not all(math.isfinite(p) for p in p975):
@@ -196,7 +196,8 @@ def section(ctx, role):
         grid(ctx, sweeps, quantities, ctx.path(figure))
     out.md += [f"## {TITLES[role]}", "",
                "Median |error| over the trials per method against the swept value, with its 95% "
-               "band (summary.csv), the Cramér–Rao bound (dashed) and seed 001's target (dotted).",
+               "band (summary.csv), the Cramér–Rao bound (dashed) and Algers 2018's target "
+               "(dotted).",
                ""]
     if quantities:
         out.md += [f"![{TITLES[role]}]({figure})", ""]
