@@ -168,11 +168,18 @@ def contest(cases):
     return winner, int(wins.iloc[0]), int(best.size), comparisons
 
 
-def section(ctx):
-    data = ctx.data
+def cases_of(data):
+    """The study's per-case table (per_case), or None when the directories hold no study."""
     if data.corner_bias is None or not len(data.corner_bias):
         return None
-    cases = per_case(data.corner_bias.copy())
+    return per_case(data.corner_bias.copy())
+
+
+def section(ctx):
+    data = ctx.data
+    cases = cases_of(data)
+    if cases is None:
+        return None
     series = angle_series(cases)
     figure(cases, series, ctx.path("corner_bias.png"))
     best = matched(cases)
@@ -204,11 +211,8 @@ def section(ctx):
 
 def answer(ctx):
     """The first page's answer on corner detection: a lead, a table and a figure, or None."""
-    data = ctx.data
-    if data.corner_bias is None or not len(data.corner_bias):
-        return None
-    cases = per_case(data.corner_bias.copy())
-    result = contest(cases)
+    cases = cases_of(ctx.data)
+    result = contest(cases) if cases is not None else None
     if result is None:
         return None
     winner, wins, counted, comparisons = result
