@@ -82,29 +82,54 @@ Column Count(Metric metric, Integer RunRow::*field) {
           kValueColumn};
 }
 
-// The columns of the declared method outputs, in RunQuantities order (an output a row lacks: NaN).
-void AppendMethodOutputs(std::vector<Column>* columns) {
-  for (const MetricSpec& spec : RunQuantities()) {
-    if (spec.id != Metric::kMethodOutput) continue;
-    const std::string name = spec.name;
-    columns->push_back({{name, spec.unit, spec.doc},
-                        [name](const RunRow& r) {
-                          const auto it = r.method_outputs.find(name);
-                          return FormatNumber(it == r.method_outputs.end() ? kUnset : it->second);
-                        },
-                        [name](const std::string& t, RunRow* r) {
-                          double v = kUnset;
-                          if (!ParseDouble(t, &v)) return false;
-                          if (std::isnan(v)) {
-                            r->method_outputs.erase(name);
-                          } else {
-                            r->method_outputs[name] = v;
-                          }
-                          return true;
-                        },
-                        &spec,
-                        kValueColumn});
+// The place of the declared method outputs in the layout: ExpandMethodOutputs replaces it by their
+// columns, in RunQuantities order (an output a row lacks: NaN).
+Column MethodOutputsSlot() {
+  Column slot;
+  slot.kind = MetricColumn{};  // No column kind: the marker ExpandMethodOutputs looks for.
+  return slot;
+}
+
+Column MethodOutput(const MetricSpec& spec) {
+  const std::string name = spec.name;
+  return {{name, spec.unit, spec.doc},
+          [name](const RunRow& r) {
+            const auto it = r.method_outputs.find(name);
+            return FormatNumber(it == r.method_outputs.end() ? kUnset : it->second);
+          },
+          [name](const std::string& t, RunRow* r) {
+            double v = kUnset;
+            if (!ParseDouble(t, &v)) return false;
+            if (std::isnan(v)) {
+              r->method_outputs.erase(name);
+            } else {
+              r->method_outputs[name] = v;
+            }
+            return true;
+          },
+          &spec,
+          kValueColumn};
+}
+
+// The slot follows the value column of kMethodOutputsAfter, as the outputs follow that quantity
+// in RunQuantities (a programmer error otherwise).
+std::vector<Column> ExpandMethodOutputs(std::vector<Column> laid_out) {
+  std::vector<Column> out;
+  for (Column& c : laid_out) {
+    if (c.kind != MetricColumn{}) {
+      out.push_back(std::move(c));
+      continue;
+    }
+    if (out.empty() || out.back().metric == nullptr ||
+        out.back().metric->id != kMethodOutputsAfter) {
+      throw std::logic_error("runs.csv layout: the method outputs' slot is not after " +
+                             std::string(Spec(kMethodOutputsAfter).name));
+    }
+    for (const MetricSpec& spec : RunQuantities()) {
+      if (spec.id == Metric::kMethodOutput) out.push_back(MethodOutput(spec));
+    }
   }
+  return out;
 }
 
 // Every column of the quantities of a run that runs.csv carries is in the layout once (a
@@ -164,35 +189,33 @@ const std::vector<Column>& Columns() {
         Of(M::kThetaErr, kValueColumn, &RunRow::theta_err_norm),
         Of(M::kRmsReproj, kValueColumn, &RunRow::rms_reproj_px),
         Of(M::kConvergeTime, kValueColumn, &RunRow::converge_time_s),
+        MethodOutputsSlot(),  // The declared method outputs (pe_min_eig).
+        Of(M::kOrthoDefect, kValueColumn, &RunRow::ortho_defect),
+        Of(M::kFku, kStdColumn, &RunRow::std_fku_px),
+        Of(M::kFkv, kStdColumn, &RunRow::std_fkv_px),
+        Of(M::kPhi, kStdColumn, &RunRow::std_phi_deg),
+        Of(M::kU0, kStdColumn, &RunRow::std_u0_px),
+        Of(M::kV0, kStdColumn, &RunRow::std_v0_px),
+        Of(M::kFku, kCrlbColumn, &RunRow::crlb_fku_px),
+        Of(M::kFkv, kCrlbColumn, &RunRow::crlb_fkv_px),
+        Of(M::kPhi, kCrlbColumn, &RunRow::crlb_phi_deg),
+        Of(M::kU0, kCrlbColumn, &RunRow::crlb_u0_px),
+        Of(M::kV0, kCrlbColumn, &RunRow::crlb_v0_px),
+        Count(M::kImproper, &RunRow::improper),
+        Count(M::kSteps, &RunRow::steps),
+        Of(M::kDetectRate, kValueColumn, &RunRow::detect_rate),
+        Of(M::kCornerRms, kValueColumn, &RunRow::corner_rms_px),
+        Count(M::kFramesNoDetection, &RunRow::frames_no_detection),
+        Text("message", "why a row failed, or a warning", &RunRow::message),
+        Of(M::kRoll, kErrorColumn, &RunRow::err_roll_deg),
+        Of(M::kPitch, kErrorColumn, &RunRow::err_pitch_deg),
+        Of(M::kYaw, kErrorColumn, &RunRow::err_yaw_deg),
+        Count(M::kFramesUsed, &RunRow::n_frames_used),
+        Count(M::kObsUsed, &RunRow::n_obs_used),
+        Of(M::kCornerRadialBias, kValueColumn, &RunRow::corner_radial_bias_px),
+        Of(M::kCornerCrlb, kValueColumn, &RunRow::corner_crlb_px),
     };
-    static_assert(kMethodOutputsAfter == M::kConvergeTime, "the method outputs' slot moved");
-    AppendMethodOutputs(&c);
-    c.insert(c.end(), {
-                          Of(M::kOrthoDefect, kValueColumn, &RunRow::ortho_defect),
-                          Of(M::kFku, kStdColumn, &RunRow::std_fku_px),
-                          Of(M::kFkv, kStdColumn, &RunRow::std_fkv_px),
-                          Of(M::kPhi, kStdColumn, &RunRow::std_phi_deg),
-                          Of(M::kU0, kStdColumn, &RunRow::std_u0_px),
-                          Of(M::kV0, kStdColumn, &RunRow::std_v0_px),
-                          Of(M::kFku, kCrlbColumn, &RunRow::crlb_fku_px),
-                          Of(M::kFkv, kCrlbColumn, &RunRow::crlb_fkv_px),
-                          Of(M::kPhi, kCrlbColumn, &RunRow::crlb_phi_deg),
-                          Of(M::kU0, kCrlbColumn, &RunRow::crlb_u0_px),
-                          Of(M::kV0, kCrlbColumn, &RunRow::crlb_v0_px),
-                          Count(M::kImproper, &RunRow::improper),
-                          Count(M::kSteps, &RunRow::steps),
-                          Of(M::kDetectRate, kValueColumn, &RunRow::detect_rate),
-                          Of(M::kCornerRms, kValueColumn, &RunRow::corner_rms_px),
-                          Count(M::kFramesNoDetection, &RunRow::frames_no_detection),
-                          Text("message", "why a row failed, or a warning", &RunRow::message),
-                          Of(M::kRoll, kErrorColumn, &RunRow::err_roll_deg),
-                          Of(M::kPitch, kErrorColumn, &RunRow::err_pitch_deg),
-                          Of(M::kYaw, kErrorColumn, &RunRow::err_yaw_deg),
-                          Count(M::kFramesUsed, &RunRow::n_frames_used),
-                          Count(M::kObsUsed, &RunRow::n_obs_used),
-                          Of(M::kCornerRadialBias, kValueColumn, &RunRow::corner_radial_bias_px),
-                          Of(M::kCornerCrlb, kValueColumn, &RunRow::corner_crlb_px),
-                      });
+    c = ExpandMethodOutputs(std::move(c));
     CheckAgainstTheTable(c);
     return c;
   }();
