@@ -21,6 +21,11 @@ namespace {
 // excited one >= 5.2e-5; 1e-5 sits between the two groups.
 constexpr double kMinIdentifiablePeIndex = 1e-5;
 
+// Its output: the persistent-excitation index of its run.
+const OutputSpec kPeMinEig = {
+    "pe_min_eig", "", "PE index",
+    "persistent-excitation index of the adaptive estimator (smallest / largest eigenvalue)"};
+
 class AdaptiveMethod final : public Method {
  public:
   std::unique_ptr<Method> Clone() const override { return std::make_unique<AdaptiveMethod>(*this); }
@@ -57,6 +62,12 @@ class AdaptiveMethod final : public Method {
     v->Field(
         {"initial", "", "Initial guess θ̂(0), as a camera (default: the thesis's, appendix B.1)."},
         &initial_);
+  }
+
+  std::vector<OutputSpec> Outputs() const override { return {kPeMinEig}; }
+  // The thesis's law: the gain decays as 1/t unless it forgets or resets.
+  std::optional<WindupLaw> Windup() const override {
+    return WindupLaw{"alpha", {"forgetting_beta", "reset_threshold"}};
   }
 
   bool Check(std::string* why) const override {
@@ -104,7 +115,7 @@ class AdaptiveMethod final : public Method {
     result.estimate.theta = summary.theta_hat;  // Also for a diverged run: its last state.
     if (!summary.IsUsable()) return result;
     const double pe_min_eig = PersistentExcitationIndex(summary.information, summary.theta_hat);
-    result.extra_columns["pe_min_eig"] = pe_min_eig;
+    result.SetOutput(kPeMinEig, pe_min_eig);
 
     Frame last;
     source.Measure(source.Duration(), static_cast<int>(source.Breakpoints().size()) - 2, &last);

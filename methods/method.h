@@ -13,7 +13,7 @@
 //                 ceres starts from dlt or zhang. Cache() shares intermediate work between the
 //                 methods of a trial (zhang and zhang_handeye share one calibrateCamera).
 //   MethodResult  status, message, iterations and wall time (util/status.h), the estimate
-//                 (camera/estimate.h), the data it used and its own extra figures by column name.
+//                 (camera/estimate.h), the data it used and the values of its declared outputs.
 //   EstimateSink  estimates over time, as the method produces them, and named series of its own
 //                 state (the harness turns them into ||theta~||(t), convergence times, curves).
 //
@@ -23,6 +23,13 @@
 // configuration), turns them into text (options.h: the key that decides whether two sweep points
 // may share a result) or documents them (`calibench config-reference` and `calibench methods`,
 // bench/config/config_reference.h). Check() validates them after reading.
+//
+// Outputs: the figures a type reports beyond its estimate (the adaptive estimator's
+// persistent-excitation index), each declared once in Outputs() (OutputSpec: name, unit, label,
+// doc, how summary.csv summarises it). The harness writes exactly the declared outputs of the
+// registered types: their runs.csv columns, their quantities in schema.json and their summary.csv
+// rows (bench/run/run_row.h). A result sets only what its type declares (CheckOutputs,
+// registry.h); an output it leaves unset is NaN in its row.
 #pragma once
 
 #include <Eigen/Core>
@@ -52,6 +59,34 @@ struct OptionSpec {
   const char* key;
   const char* unit = "";
   const char* doc = "";
+};
+
+// How summary.csv summarises a method output over the ok trials of a (scenario, method).
+enum class OutputSummary {
+  kNone,        // Not summarised: runs.csv only.
+  kStatistics,  // n_used, median, mean, std, percentiles of the values and of |value|.
+};
+
+// One output's declaration (Method::Outputs): `name` is its runs.csv column and follows the
+// naming rule of metrics/metric_table.h (lower-case words, the unit last: _px, _s, ...; none when
+// dimensionless), `unit` its unit ("" when none), `label` a short name (tables, plots), `doc` one
+// line (schema.json, docs/outputs.md), `summary` how summary.csv summarises it.
+struct OutputSpec {
+  const char* name;
+  const char* unit = "";
+  const char* label = "";
+  const char* doc = "";
+  OutputSummary summary = OutputSummary::kNone;
+};
+
+// The windup law of an estimator whose gain decays as 1/t (the Clemson adaptive-calibration
+// thesis's): after a step change of the truth at t0 its error decays as (t0 / t)^a, so it is back
+// within tol after (t0 / a) ln(e0 / tol), e0 the step. `exponent_option` names the option holding
+// a; the law holds for the instances whose options `only_when_zero` are all 0 (they change how the
+// gain decays). The report compares the measured re-convergence times with it (schema.json).
+struct WindupLaw {
+  const char* exponent_option;
+  std::vector<const char*> only_when_zero;
 };
 
 // Reads or writes one option. An implementation that reads leaves *value untouched when the key
@@ -112,15 +147,16 @@ struct PerViewSolution {
 
 struct MethodResult : MethodSummary {
   CameraEstimate estimate;
-  // A method's own figures beyond the estimate, by runs.csv column name (for example the adaptive
-  // estimator's persistent-excitation index, pe_min_eig). The harness writes the ones the metric
-  // table declares (metrics/metric_table.h); a column a method does not set stays empty.
-  std::map<std::string, double> extra_columns;
+  // The values of the method's declared outputs (Method::Outputs), by name; one it does not set
+  // is NaN in runs.csv. Set them with SetOutput.
+  std::map<std::string, double> outputs;
   // The data the estimate used (runs.csv n_frames_used, n_obs_used): frames with at least one
   // observation, and corner observations. -1: every frame of the input (the harness counts them).
   long frames_used = -1, observations_used = -1;
   // Set by methods that solve per-view problems (see PerViewSolution); null otherwise.
   std::shared_ptr<const PerViewSolution> per_view;
+
+  void SetOutput(const OutputSpec& spec, double value) { outputs[spec.name] = value; }
 };
 
 // The series name of the linear form theta_hat (EstimateSink::OnSeries).
@@ -211,6 +247,10 @@ class Method {
   // The parametrisation (lens model, skew, one shared pose) whose Cramer-Rao bound the method's
   // rows carry; none by default.
   virtual std::optional<Parametrisation> BoundParametrisation() const { return std::nullopt; }
+  // The figures its results report beyond the estimate (see the header comment); none by default.
+  virtual std::vector<OutputSpec> Outputs() const { return {}; }
+  // The windup law its error follows after a change of the truth, if it has one.
+  virtual std::optional<WindupLaw> Windup() const { return std::nullopt; }
   // Never throws for bad data: a failed result with a message instead. `sink` may be null.
   virtual MethodResult Run(const MethodInput& input, EstimateSink* sink) const = 0;
 };

@@ -3,6 +3,9 @@
 // tests/methods/.
 #include "methods/registry.h"
 
+#include <algorithm>
+#include <stdexcept>
+
 #include "methods/options.h"
 
 namespace calibench {
@@ -63,6 +66,41 @@ std::string MethodTypeNames() {
   std::string names;
   for (const MethodType& t : MethodTypes()) names += (names.empty() ? "" : ", ") + t.name;
   return names;
+}
+
+const std::vector<OutputSpec>& DeclaredOutputs() {
+  static const std::vector<OutputSpec> outputs = [] {
+    std::vector<OutputSpec> out;
+    for (const MethodType& t : MethodTypes()) {
+      for (const OutputSpec& o : t.create()->Outputs()) {
+        const auto same = std::find_if(out.begin(), out.end(), [&](const OutputSpec& d) {
+          return std::string(d.name) == o.name;
+        });
+        if (same == out.end()) {
+          out.push_back(o);
+        } else if (std::string(same->unit) != o.unit || std::string(same->label) != o.label ||
+                   std::string(same->doc) != o.doc || same->summary != o.summary) {
+          throw std::logic_error("method output " + std::string(o.name) +
+                                 " is declared differently by " + t.name);
+        }
+      }
+    }
+    return out;
+  }();
+  return outputs;
+}
+
+bool CheckOutputs(const Method& method, const MethodResult& result, std::string* why) {
+  const std::vector<OutputSpec> declared = method.Outputs();
+  for (const auto& [name, value] : result.outputs) {
+    const bool known = std::any_of(declared.begin(), declared.end(),
+                                   [&](const OutputSpec& o) { return name == o.name; });
+    if (!known) {
+      if (why) *why = "the method set output " + name + ", which its type does not declare";
+      return false;
+    }
+  }
+  return true;
 }
 
 MethodInstance& MethodInstance::operator=(const MethodInstance& other) {

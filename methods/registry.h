@@ -34,6 +34,14 @@ const MethodType* FindMethodType(const std::string& name);
 // "adaptive, dlt, ..." for messages.
 std::string MethodTypeNames();
 
+// The outputs the registered types declare (Method::Outputs), in registry order, each name once:
+// the method output columns of runs.csv (bench/run/run_row.h). Types that declare the same name
+// declare it alike (a logic_error otherwise: a programmer error).
+const std::vector<OutputSpec>& DeclaredOutputs();
+// True when `result` sets only outputs that `method` declares; else false, *why naming the first
+// other one.
+bool CheckOutputs(const Method& method, const MethodResult& result, std::string* why);
+
 // A named instance of a type with its options. Copies deep-copy the method.
 struct MethodInstance {
   std::string name;

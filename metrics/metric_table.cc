@@ -103,9 +103,6 @@ std::vector<MetricSpec> MakeTable() {
             "first time after which ||theta~|| stays below the instance's convergence_tol (NaN: "
             "never)")
           .Summarised(S::kStatistics),
-      Entry(M::kPeMinEig, "pe_min_eig", "", "PE index",
-            "persistent-excitation index of the adaptive estimator (smallest / largest "
-            "eigenvalue)"),
       Entry(M::kOrthoDefect, "ortho_defect", "", "orthogonality defect",
             "||R^T R - I||_F of the recovered rotation before its projection onto SO(3)"),
       Entry(M::kImproper, "improper", "", "improper",
@@ -151,7 +148,10 @@ const std::vector<MetricSpec>& MetricTable() {
 const MetricSpec& Spec(Metric metric) { return MetricTable().at(static_cast<size_t>(metric)); }
 
 std::string ColumnName(Metric metric, MetricColumn column) {
-  const MetricSpec& spec = Spec(metric);
+  return ColumnName(Spec(metric), column);
+}
+
+std::string ColumnName(const MetricSpec& spec, MetricColumn column) {
   if (!(spec.columns & column)) {
     throw std::logic_error(std::string("metric table: ") + spec.name + " has no such column");
   }
@@ -169,7 +169,7 @@ std::string ColumnName(Metric metric, MetricColumn column) {
 }
 
 std::string SummaryColumn(const MetricSpec& spec) {
-  return ColumnName(spec.id, spec.columns & kErrorColumn ? kErrorColumn : kValueColumn);
+  return ColumnName(spec, spec.columns & kErrorColumn ? kErrorColumn : kValueColumn);
 }
 
 std::string ColumnDoc(const MetricSpec& spec, MetricColumn column) {

@@ -1,9 +1,11 @@
-// The metric table: every quantity calibench writes to a CSV file, declared once (MetricTable()),
-// with its name, unit, label, a one-line doc, the columns it has, how summary.csv summarises it,
-// its companion columns and whether the tracking files carry it. The row writer
+// The metric table: every quantity the harness computes and writes to a CSV file, declared once
+// (MetricTable()), with its name, unit, label, a one-line doc, the columns it has, how summary.csv
+// summarises it, its companion columns and whether the tracking files carry it. The figures a
+// method reports of itself are declared by its type instead (methods/method.h OutputSpec) and
+// join the table at kMethodOutputsAfter (bench/run/run_row.h RunQuantities). The row writer
 // (bench/run/run_row.cc), the summary writer (bench/run/summary.cc), the track writers
 // (run_row.cc, through TrackQuantityNames in tracking.h) and schema.json (bench/run/schema.h) are
-// made from it; the report reads schema.json, never its own list of quantities.
+// made from both; the report reads schema.json, never its own list of quantities.
 //
 // The naming rule of every column of every CSV file of a run directory (runs.csv, summary.csv,
 // timings.csv, curves.csv, events.csv, tracks.csv, track_errors.csv, track_bands.csv):
@@ -30,9 +32,9 @@
 
 namespace calibench {
 
-// Every quantity of the table, in its order (the order of summary.csv's metrics and of the
-// report's quantities). runs.csv's column order is its own (run_row.cc): columns are only ever
-// appended there.
+// Every quantity of the table, in its order (with the method outputs after kMethodOutputsAfter:
+// the order of summary.csv's metrics and of the report's quantities). runs.csv's column order is
+// its own (run_row.cc): columns are only ever appended there.
 enum class Metric {
   kFku,
   kFkv,
@@ -50,7 +52,6 @@ enum class Metric {
   kRmsReproj,
   kThetaErr,
   kConvergeTime,
-  kPeMinEig,
   kOrthoDefect,
   kImproper,
   kSteps,
@@ -61,7 +62,13 @@ enum class Metric {
   kCornerRadialBias,
   kCornerCrlb,
   kFramesNoDetection,
+  // Not in the table: the id of a quantity a method type declares (methods/method.h OutputSpec).
+  kMethodOutput,
 };
+
+// The method types' declared outputs follow this quantity in the quantities of a run and its
+// column in runs.csv (bench/run/run_row.h).
+inline constexpr Metric kMethodOutputsAfter = Metric::kConvergeTime;
 
 // The columns a quantity has (rule 2); bits of MetricSpec::columns.
 enum MetricColumn : unsigned {
@@ -103,6 +110,7 @@ struct MetricSpec {
 const std::vector<MetricSpec>& MetricTable();
 const MetricSpec& Spec(Metric metric);
 // A column of a quantity by rule 2: "fku_px", "err_fku_px", "std_fku_px", "crlb_fku_px".
+std::string ColumnName(const MetricSpec& spec, MetricColumn column);
 std::string ColumnName(Metric metric, MetricColumn column);
 // The column summary.csv summarises (its `metric` value): err_Q if the quantity has one, else Q.
 std::string SummaryColumn(const MetricSpec& spec);

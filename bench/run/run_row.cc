@@ -1,12 +1,14 @@
 #include "bench/run/run_row.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <functional>
 #include <stdexcept>
 #include <type_traits>
 
 #include "bench/run/csv.h"
+#include "methods/registry.h"
 #include "metrics/metric_table.h"
 #include "util/format.h"
 
@@ -80,14 +82,64 @@ Column Count(Metric metric, Integer RunRow::*field) {
           kValueColumn};
 }
 
-// Every column of the metric table that runs.csv carries is in the layout once (a programmer
-// error otherwise: the table and the layout disagree).
+// The place of the declared method outputs in the layout: ExpandMethodOutputs replaces it by their
+// columns, in RunQuantities order (an output a row lacks: NaN).
+Column MethodOutputsSlot() {
+  Column slot;
+  slot.kind = MetricColumn{};  // No column kind: the marker ExpandMethodOutputs looks for.
+  return slot;
+}
+
+Column MethodOutput(const MetricSpec& spec) {
+  const std::string name = spec.name;
+  return {{name, spec.unit, spec.doc},
+          [name](const RunRow& r) {
+            const auto it = r.method_outputs.find(name);
+            return FormatNumber(it == r.method_outputs.end() ? kUnset : it->second);
+          },
+          [name](const std::string& t, RunRow* r) {
+            double v = kUnset;
+            if (!ParseDouble(t, &v)) return false;
+            if (std::isnan(v)) {
+              r->method_outputs.erase(name);
+            } else {
+              r->method_outputs[name] = v;
+            }
+            return true;
+          },
+          &spec,
+          kValueColumn};
+}
+
+// The slot follows the value column of kMethodOutputsAfter, as the outputs follow that quantity
+// in RunQuantities (a programmer error otherwise).
+std::vector<Column> ExpandMethodOutputs(std::vector<Column> laid_out) {
+  std::vector<Column> out;
+  for (Column& c : laid_out) {
+    if (c.kind != MetricColumn{}) {
+      out.push_back(std::move(c));
+      continue;
+    }
+    if (out.empty() || out.back().metric == nullptr ||
+        out.back().metric->id != kMethodOutputsAfter) {
+      throw std::logic_error("runs.csv layout: the method outputs' slot is not after " +
+                             std::string(Spec(kMethodOutputsAfter).name));
+    }
+    for (const MetricSpec& spec : RunQuantities()) {
+      if (spec.id == Metric::kMethodOutput) out.push_back(MethodOutput(spec));
+    }
+  }
+  return out;
+}
+
+// Every column of the quantities of a run that runs.csv carries is in the layout once (a
+// programmer error otherwise: the quantities and the layout disagree).
 void CheckAgainstTheTable(const std::vector<Column>& columns) {
-  for (const MetricSpec& spec : MetricTable()) {
+  for (const MetricSpec& spec : RunQuantities()) {
     for (MetricColumn kind : {kValueColumn, kErrorColumn, kStdColumn, kCrlbColumn}) {
       const bool declared = (spec.columns & kind) != 0;
       const long laid_out = std::count_if(columns.begin(), columns.end(), [&](const Column& c) {
-        return c.metric == &spec && c.kind == kind;
+        return c.metric != nullptr && std::string(c.metric->name) == spec.name && c.kind == kind;
       });
       if (laid_out != (declared ? 1 : 0)) {
         throw std::logic_error("runs.csv layout: " + std::string(spec.name) + " (column kind " +
@@ -98,7 +150,8 @@ void CheckAgainstTheTable(const std::vector<Column>& columns) {
   }
 }
 
-// The runs.csv layout, in file order (columns are only ever appended).
+// The runs.csv layout, in file order (columns are only ever appended; the method outputs' slot
+// after converge_time_s grows with the registry).
 const std::vector<Column>& Columns() {
   using M = Metric;
   static const std::vector<Column> columns = [] {
@@ -136,7 +189,7 @@ const std::vector<Column>& Columns() {
         Of(M::kThetaErr, kValueColumn, &RunRow::theta_err_norm),
         Of(M::kRmsReproj, kValueColumn, &RunRow::rms_reproj_px),
         Of(M::kConvergeTime, kValueColumn, &RunRow::converge_time_s),
-        Of(M::kPeMinEig, kValueColumn, &RunRow::pe_min_eig),
+        MethodOutputsSlot(),  // The declared method outputs (pe_min_eig).
         Of(M::kOrthoDefect, kValueColumn, &RunRow::ortho_defect),
         Of(M::kFku, kStdColumn, &RunRow::std_fku_px),
         Of(M::kFkv, kStdColumn, &RunRow::std_fkv_px),
@@ -162,6 +215,7 @@ const std::vector<Column>& Columns() {
         Of(M::kCornerRadialBias, kValueColumn, &RunRow::corner_radial_bias_px),
         Of(M::kCornerCrlb, kValueColumn, &RunRow::corner_crlb_px),
     };
+    c = ExpandMethodOutputs(std::move(c));
     CheckAgainstTheTable(c);
     return c;
   }();
@@ -169,6 +223,29 @@ const std::vector<Column>& Columns() {
 }
 
 }  // namespace
+
+const std::vector<MetricSpec>& RunQuantities() {
+  static const std::vector<MetricSpec> quantities = [] {
+    std::vector<MetricSpec> out;
+    for (const MetricSpec& m : MetricTable()) {
+      out.push_back(m);
+      if (m.id != kMethodOutputsAfter) continue;
+      for (const OutputSpec& o : DeclaredOutputs()) {
+        MetricSpec spec;
+        spec.id = Metric::kMethodOutput;
+        spec.name = o.name;
+        spec.unit = o.unit;
+        spec.label = o.label;
+        spec.doc = o.doc;
+        spec.summary =
+            o.summary == OutputSummary::kStatistics ? Summary::kStatistics : Summary::kNone;
+        out.push_back(spec);
+      }
+    }
+    return out;
+  }();
+  return quantities;
+}
 
 const std::vector<ColumnInfo>& RunRowColumns() {
   static const std::vector<ColumnInfo> infos = [] {

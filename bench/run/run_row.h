@@ -1,16 +1,20 @@
 // The rows calibench writes: RunRow (one per scenario, trial and method instance), its runs.csv
 // layout and CSV codec, and the columns of timings.csv, curves.csv and the tracking files. The
-// layout is the list of columns in run_row.cc, in file order (columns are only ever appended); the
-// names, units and docs of the quantities are the metric table's (metrics/metric_table.h, with
-// the naming rule every column follows). Every runs.csv byte is deterministic (no timing in it).
+// layout is the list of columns in run_row.cc, in file order (columns are only ever appended),
+// with one slot, after converge_time_s, for the outputs the registered method types declare
+// (methods/registry.h DeclaredOutputs, in registry order); the names, units and docs of the
+// quantities are the metric table's and the declarations' (RunQuantities; metrics/metric_table.h
+// has the naming rule every column follows). Every runs.csv byte is deterministic (no timing).
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "bench/config/scenario.h"
+#include "metrics/metric_table.h"
 #include "metrics/tracking.h"
 
 namespace calibench {
@@ -38,8 +42,9 @@ struct RunRow {
   double theta_err_norm = kUnset;
   double rms_reproj_px = kUnset;    // Per-point RMS (Euclidean), over all frames.
   double converge_time_s = kUnset;  // NaN: never stayed below the tolerance.
-  double pe_min_eig = kUnset;       // PersistentExcitationIndex (adaptive only).
-  double ortho_defect = kUnset;     // ||R^T R - I||_F of the recovered R before projection.
+  // The method's declared outputs it set (MethodResult::outputs), by column name; NaN when absent.
+  std::map<std::string, double> method_outputs;
+  double ortho_defect = kUnset;  // ||R^T R - I||_F of the recovered R before projection.
   // Reported standard deviations (ceres covariance) and the Cramer-Rao bound (sigma^2 (J^T J)^-1
   // at the truth; only with pixel noise alone, which is what it models).
   double std_fku_px = kUnset, std_fkv_px = kUnset, std_phi_deg = kUnset, std_u0_px = kUnset,
@@ -82,6 +87,11 @@ struct RunRow {
 struct ColumnInfo {
   std::string name, unit, doc;
 };
+
+// Every quantity of a run: the metric table with the registered types' declared outputs
+// (id Metric::kMethodOutput, value column only) after kMethodOutputsAfter. The order of
+// summary.csv's metrics and of schema.json's quantities.
+const std::vector<MetricSpec>& RunQuantities();
 
 // runs.csv: header and fields; ParseRunRow is the inverse (false naming the bad column).
 const std::vector<std::string>& RunRowHeader();

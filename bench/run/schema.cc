@@ -4,11 +4,14 @@
 #include <cstdio>
 #include <iterator>
 #include <map>
+#include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "bench/run/run_row.h"
 #include "bench/run/summary.h"
+#include "methods/registry.h"
 #include "metrics/metric_table.h"
 #include "util/format.h"
 
@@ -76,7 +79,7 @@ std::string QuantityJson(const MetricSpec& m) {
   const std::pair<MetricColumn, const char*> kinds[] = {
       {kValueColumn, "value"}, {kErrorColumn, "error"}, {kStdColumn, "std"}, {kCrlbColumn, "crlb"}};
   for (const auto& [kind, key] : kinds) {
-    if (m.columns & kind) columns.push_back(Quote(key) + ": " + Quote(ColumnName(m.id, kind)));
+    if (m.columns & kind) columns.push_back(Quote(key) + ": " + Quote(ColumnName(m, kind)));
   }
   std::string cols = "{";
   for (size_t i = 0; i < columns.size(); ++i) cols += (i ? ", " : "") + columns[i];
@@ -155,13 +158,37 @@ std::string SweepsJson(const RunConfig& config, const std::string& indent) {
   return List(items, indent);
 }
 
+// Per registered type, in registry order: the outputs it declares and its windup law.
+std::string MethodsJson(const std::string& indent) {
+  auto names = [](const std::vector<std::string>& quoted) {
+    std::string out = "[";
+    for (size_t i = 0; i < quoted.size(); ++i) out += (i ? ", " : "") + quoted[i];
+    return out + "]";
+  };
+  std::vector<std::string> items;
+  for (const MethodType& t : MethodTypes()) {
+    const std::unique_ptr<Method> method = t.create();
+    std::vector<std::string> outputs, zero;
+    for (const OutputSpec& o : method->Outputs()) outputs.push_back(Quote(o.name));
+    std::string windup = "null";
+    if (const std::optional<WindupLaw> law = method->Windup()) {
+      for (const char* option : law->only_when_zero) zero.push_back(Quote(option));
+      windup = "{\"exponent\": " + Quote(law->exponent_option) +
+               ", \"only_when_zero\": " + names(zero) + "}";
+    }
+    items.push_back("{\"type\": " + Quote(t.name) + ", \"outputs\": " + names(outputs) +
+                    ", \"windup\": " + windup + "}");
+  }
+  return List(items, indent);
+}
+
 }  // namespace
 
 std::string SchemaJson(const RunConfig& config) {
   std::vector<std::string> rule;
   for (const char* r : kNamingRule) rule.push_back(Quote(r));
   std::vector<std::string> quantities;
-  for (const MetricSpec& m : MetricTable()) quantities.push_back(QuantityJson(m));
+  for (const MetricSpec& m : RunQuantities()) quantities.push_back(QuantityJson(m));
   const std::pair<const char*, const std::vector<ColumnInfo>*> files[] = {
       {"runs.csv", &RunRowColumns()},
       {"summary.csv", &SummaryColumns()},
@@ -177,7 +204,8 @@ std::string SchemaJson(const RunConfig& config) {
     out += "    " + Quote(files[i].first) + ": " + FileJson(*files[i].second, "    ") +
            (i + 1 < std::size(files) ? ",\n" : "\n");
   }
-  out += "  },\n  \"sweeps\": " + SweepsJson(config, "  ") + "\n}\n";
+  out += "  },\n  \"sweeps\": " + SweepsJson(config, "  ") +
+         ",\n  \"methods\": " + MethodsJson("  ") + "\n}\n";
   return out;
 }
 

@@ -23,11 +23,11 @@ struct Pair {
   std::vector<std::vector<double>> stds;    // Per metric: the ok rows' reported stds (finite).
 };
 
-// The summarised quantities of the metric table, in its order.
+// The summarised quantities of a run (the metric table's and the method outputs), in order.
 const std::vector<const MetricSpec*>& Summarised() {
   static const std::vector<const MetricSpec*> specs = [] {
     std::vector<const MetricSpec*> out;
-    for (const MetricSpec& m : MetricTable()) {
+    for (const MetricSpec& m : RunQuantities()) {
       if (m.summary != Summary::kNone) out.push_back(&m);
     }
     return out;
@@ -99,8 +99,8 @@ bool FindRunsColumns(const std::vector<std::string>& header, RunsColumns* cols) 
   };
   for (const MetricSpec* m : Summarised()) {
     cols->metric.push_back(column(SummaryColumn(*m)));
-    cols->crlb.push_back(m->columns & kCrlbColumn ? column(ColumnName(m->id, kCrlbColumn)) : -1);
-    cols->std.push_back(m->columns & kStdColumn ? column(ColumnName(m->id, kStdColumn)) : -1);
+    cols->crlb.push_back(m->columns & kCrlbColumn ? column(ColumnName(*m, kCrlbColumn)) : -1);
+    cols->std.push_back(m->columns & kStdColumn ? column(ColumnName(*m, kStdColumn)) : -1);
   }
   cols->scenario = column("scenario"), cols->sweep = column("sweep"), cols->point = column("point");
   cols->params = column("params"), cols->method = column("method"), cols->status = column("status");

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "methods/options.h"
+#include "methods/registry.h"
 #include "util/format.h"
 
 namespace calibench {
@@ -174,9 +175,15 @@ class ScenarioTrial {
     row.method = instance.name;
     const Outcome& outcome = OutcomeOf(instance);
     const MethodResult& r = outcome.result;
+    row.wall_ms = r.wall_ms;
+    std::string undeclared;
+    if (!CheckOutputs(*instance.method, r, &undeclared)) {  // A programmer error: a failed row.
+      row.status = ToString(MethodStatus::kFailed);
+      row.message = undeclared;
+      return row;
+    }
     row.status = ToString(r.status);
     row.steps = r.iterations;
-    row.wall_ms = r.wall_ms;
     const CameraEstimate& e = r.estimate;
     const EstimateMetrics m = EvaluateEstimate(r.status, e, s_.truth, input_.Frames().views);
     row.message =
@@ -212,9 +219,7 @@ class ScenarioTrial {
     row.rms_reproj_px = m.rms_reproj_px;
     if (r.IsUsable() && outcome.trajectory_samples > 0)
       row.converge_time_s = outcome.converge_time_s;
-    if (auto it = r.extra_columns.find("pe_min_eig"); it != r.extra_columns.end()) {
-      row.pe_min_eig = it->second;
-    }
+    row.method_outputs = r.outputs;
     row.n_frames_used = r.frames_used;
     row.n_obs_used = r.observations_used;
     if (r.frames_used < 0 && r.IsUsable()) {  // A failed row used nothing: it keeps -1.

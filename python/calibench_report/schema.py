@@ -1,8 +1,10 @@
-"""schema.json of a run directory (bench/run/schema.h): the quantities and the sweeps' roles.
+"""schema.json of a run directory (bench/run/schema.h): the quantities, the sweeps' roles and
+what the method types declare.
 
-The report knows no quantity, column or sweep by name: it takes them from here. A quantity is one
-entry of calibench's metric table (metrics/metric_table.h); a sweep is one swept scenario of the
-configuration with the role its config gave it (`report: {role: ...}`).
+The report knows no quantity, column, sweep or method type by name: it takes them from here. A
+quantity is one entry of calibench's metric table (metrics/metric_table.h) or an output a method
+type declares (methods/method.h); a sweep is one swept scenario of the configuration with the role
+its config gave it (`report: {role: ...}`); a method type lists its outputs and its windup law.
 """
 import dataclasses
 import json
@@ -67,10 +69,29 @@ class Sweep:
 
 
 @dataclasses.dataclass(frozen=True)
+class WindupLaw:
+    """After a step of the truth at t0 the error decays as (t0/t)^a: a is the instance's option
+    `exponent`; the law holds when its options `only_when_zero` are all 0."""
+    exponent: str
+    only_when_zero: tuple
+
+
+@dataclasses.dataclass(frozen=True)
+class MethodType:
+    name: str  # As configs spell it (an instance's `type`).
+    outputs: tuple  # The names of the quantities it declares.
+    windup: Optional[WindupLaw]
+
+
+@dataclasses.dataclass(frozen=True)
 class Schema:
     quantities: tuple
     sweeps: tuple
     files: dict  # file -> ((name, unit, doc), ...)
+    methods: tuple = ()  # MethodType, in registry order.
+
+    def method_type(self, name):
+        return next((t for t in self.methods if t.name == name), None)
 
     def quantity(self, name):
         return next((q for q in self.quantities if q.name == name), None)
@@ -115,6 +136,14 @@ def _sweep(s):
                  axes=tuple(s["axes"]), points=s["points"], trials=s["trials"], tracks=s["tracks"])
 
 
+def _method_type(t):
+    law = t["windup"]
+    return MethodType(name=t["type"], outputs=tuple(t["outputs"]),
+                      windup=WindupLaw(exponent=law["exponent"],
+                                       only_when_zero=tuple(law["only_when_zero"]))
+                      if law else None)
+
+
 def read(directory):
     """The Schema of one run directory; SchemaError when it has none or it is malformed."""
     path = os.path.join(directory, SCHEMA_FILE)
@@ -124,7 +153,8 @@ def read(directory):
         return Schema(quantities=tuple(_quantity(q) for q in data["quantities"]),
                       sweeps=tuple(_sweep(s) for s in data["sweeps"]),
                       files={name: tuple((c["name"], c["unit"], c["doc"]) for c in columns)
-                             for name, columns in data["files"].items()})
+                             for name, columns in data["files"].items()},
+                      methods=tuple(_method_type(t) for t in data.get("methods", [])))
     except FileNotFoundError:
         raise SchemaError(f"{os.path.basename(os.path.normpath(directory))}: no {SCHEMA_FILE} "
                           "(written by `calibench run`; run the configuration again)") from None
@@ -143,4 +173,5 @@ def merge(schemas):
             raise SchemaError("the run directories were written by calibench versions with "
                               "different metric tables; report them separately")
     sweeps = tuple(s for schema in schemas for s in schema.sweeps)
-    return Schema(quantities=first.quantities, sweeps=sweeps, files=first.files)
+    return Schema(quantities=first.quantities, sweeps=sweeps, files=first.files,
+                  methods=first.methods)

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "bench/config/config_io.h"
 #include "bench/run/csv.h"
 #include "bench/run/stats.h"
@@ -78,6 +80,37 @@ TEST(Runner, AllMethodsRecoverTheTruthOnNoiseFreeData) {
   }
   EXPECT_EQ(rows[1].method, "dlt");
   EXPECT_EQ(rows[2].method, "ceres");
+}
+
+// A method's declared outputs reach its row (adaptive's pe_min_eig; none for the others: NaN) and
+// come back from runs.csv's fields (what resume and merge read).
+TEST(Runner, MethodOutputsAreWrittenAndReadBack) {
+  ScenarioConfig s = LoadOne("tests/fixtures/thesis/sim03.yaml");
+  EnableOnly(&s, {"adaptive", "dlt"});
+  const std::vector<RunRow> rows = RunTrial(s, 0);
+  ASSERT_EQ(rows.size(), 2u);
+  ASSERT_EQ(rows[0].status, "ok") << rows[0].message;
+  // Thesis sim 3 is excited (>= 5.2e-5: methods/adaptive.cc, kMinIdentifiablePeIndex) and the
+  // index is a ratio of eigenvalues (<= 1).
+  ASSERT_EQ(rows[0].method_outputs.count("pe_min_eig"), 1u);
+  EXPECT_GT(rows[0].method_outputs.at("pe_min_eig"), 5e-5);
+  EXPECT_LE(rows[0].method_outputs.at("pe_min_eig"), 1.0);
+  EXPECT_TRUE(rows[1].method_outputs.empty());
+  const std::vector<std::string>& header = RunRowHeader();
+  const size_t pe = std::find(header.begin(), header.end(), "pe_min_eig") - header.begin();
+  ASSERT_LT(pe, header.size());
+  EXPECT_EQ(RunRowFields(rows[1])[pe], "nan");
+  for (const RunRow& r : rows) {
+    RunRow back;
+    std::string why;
+    ASSERT_TRUE(ParseRunRow(header, RunRowFields(r), &back, &why)) << why;
+    // runs.csv's text (FormatNumber: 10 significant digits) reads back to itself.
+    EXPECT_EQ(RunRowFields(back), RunRowFields(r)) << r.method;
+    ASSERT_EQ(back.method_outputs.size(), r.method_outputs.size()) << r.method;
+    for (const auto& [name, value] : r.method_outputs) {
+      EXPECT_NEAR(back.method_outputs.at(name), value, 1e-9 * std::abs(value)) << name;
+    }
+  }
 }
 
 // With pixel noise, ceres reports standard deviations and the CRLB is filled in; they agree.

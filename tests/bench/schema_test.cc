@@ -14,6 +14,7 @@
 #include "bench/run/run_dir.h"
 #include "bench/run/run_row.h"
 #include "bench/run/summary.h"
+#include "methods/registry.h"
 #include "metrics/metric_table.h"
 #include "metrics/tracking.h"
 #include "tests/common/scenario_yaml.h"
@@ -56,8 +57,8 @@ TEST(MetricTable, EveryColumnFollowsTheNamingRule) {
       EXPECT_TRUE(EndsWith(c.name, "_" + c.unit)) << file << ": " << c.name << " is in " << c.unit;
     }
   }
-  // A dimensionless quantity has no unit suffix: none of the table's ends in one.
-  for (const MetricSpec& m : MetricTable()) {
+  // A dimensionless quantity has no unit suffix: none of a run's ends in one.
+  for (const MetricSpec& m : RunQuantities()) {
     if (std::string(m.unit).empty()) {
       for (const std::string& u : units) EXPECT_FALSE(EndsWith(m.name, "_" + u)) << m.name;
     }
@@ -66,10 +67,10 @@ TEST(MetricTable, EveryColumnFollowsTheNamingRule) {
 
 TEST(MetricTable, RunsCsvCarriesEveryDeclaredColumnAndTheTracksTheTrackedOnes) {
   const std::vector<std::string>& header = RunRowHeader();
-  for (const MetricSpec& m : MetricTable()) {
+  for (const MetricSpec& m : RunQuantities()) {
     for (MetricColumn kind : {kValueColumn, kErrorColumn, kStdColumn, kCrlbColumn}) {
       if (!(m.columns & kind)) continue;
-      const std::string name = ColumnName(m.id, kind);
+      const std::string name = ColumnName(m, kind);
       EXPECT_NE(std::find(header.begin(), header.end(), name), header.end()) << name;
     }
   }
@@ -91,6 +92,32 @@ TEST(MetricTable, RunsCsvCarriesEveryDeclaredColumnAndTheTracksTheTrackedOnes) {
   for (const std::string& m : SummaryMetrics()) {
     EXPECT_NE(std::find(header.begin(), header.end(), m), header.end()) << m;
   }
+}
+
+// The registered types' declared outputs sit in their slot, after converge_time_s, in registry
+// order: in runs.csv and among the quantities of a run (where pe_min_eig has always been).
+TEST(MetricTable, MethodOutputsSitInTheirSlot) {
+  const std::vector<std::string>& header = RunRowHeader();
+  const std::vector<MetricSpec>& quantities = RunQuantities();
+  const auto column = std::find(header.begin(), header.end(), "converge_time_s");
+  ASSERT_NE(column, header.end());
+  auto quantity = std::find_if(quantities.begin(), quantities.end(),
+                               [](const MetricSpec& m) { return m.id == kMethodOutputsAfter; });
+  ASSERT_NE(quantity, quantities.end());
+  size_t i = 1;
+  for (const OutputSpec& o : DeclaredOutputs()) {
+    ASSERT_LT(column + i, header.end());
+    EXPECT_EQ(*(column + i), o.name);
+    ASSERT_LT(quantity + i, quantities.end());
+    EXPECT_EQ(std::string((quantity + i)->name), o.name);
+    EXPECT_EQ((quantity + i)->id, Metric::kMethodOutput);
+    ++i;
+  }
+  EXPECT_EQ(*(column + i), "ortho_defect");
+  EXPECT_EQ((quantity + i)->id, Metric::kOrthoDefect);
+  // adaptive declares pe_min_eig; it is not one of the metric table's own.
+  EXPECT_NE(std::find(header.begin(), header.end(), "pe_min_eig"), header.end());
+  for (const MetricSpec& m : MetricTable()) EXPECT_NE(std::string(m.name), "pe_min_eig");
 }
 
 RunConfig Load(const std::string& yaml) {
@@ -132,6 +159,17 @@ TEST(Schema, DescribesEveryColumnAndEachSweepsRole) {
                       "\"tracks\": false}"),
             std::string::npos)
       << json.substr(json.find("\"sweeps\""));
+  // Per registered type: its outputs and its windup law.
+  for (const MethodType& t : MethodTypes()) {
+    EXPECT_NE(json.find("{\"type\": \"" + t.name + "\", \"outputs\": ["), std::string::npos)
+        << t.name;
+  }
+  EXPECT_NE(json.find("{\"type\": \"adaptive\", \"outputs\": [\"pe_min_eig\"], \"windup\": "
+                      "{\"exponent\": \"alpha\", \"only_when_zero\": [\"forgetting_beta\", "
+                      "\"reset_threshold\"]}}"),
+            std::string::npos)
+      << json.substr(json.find("\"methods\""));
+  EXPECT_NE(json.find("{\"type\": \"dlt\", \"outputs\": [], \"windup\": null}"), std::string::npos);
 }
 
 TEST(Schema, IsWrittenIntoTheRunDirectory) {

@@ -39,7 +39,7 @@ TEST(AdaptiveMethod, ReachesTheTruthOnThesisSim3AndReportsItsTrajectory) {
   EXPECT_NEAR(r.estimate.intrinsics.fku_px, 822, 1e-6);
   EXPECT_NEAR(r.estimate.intrinsics.phi_deg, 87, 1e-8);
   EXPECT_LT((r.estimate.parent_from_cam.translation - truth.x_c).norm(), 1e-8);
-  EXPECT_GT(r.extra_columns.at("pe_min_eig"), 1e-5);
+  EXPECT_GT(r.outputs.at("pe_min_eig"), 1e-5);
   // The trajectory: t = 0 (the initial guess) then one sample per accepted step, in time order.
   ASSERT_EQ(static_cast<long>(recorder.samples.size()), r.iterations + 1);
   EXPECT_EQ(recorder.samples.front().first, 0.0);
@@ -60,7 +60,7 @@ TEST(AdaptiveMethod, FlagsAnUnidentifiableScene) {
   ASSERT_NE(trial, nullptr);
   const MethodResult r = MakeMethod("adaptive")->Run(trial->input, nullptr);
   ASSERT_TRUE(r.IsUsable()) << r.message;
-  EXPECT_LT(r.extra_columns.at("pe_min_eig"), 1e-5);
+  EXPECT_LT(r.outputs.at("pe_min_eig"), 1e-5);
   EXPECT_NE(r.message.find("not identifiable"), std::string::npos) << r.message;
 }
 

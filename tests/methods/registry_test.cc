@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <optional>
 #include <regex>
 #include <set>
 #include <utility>
@@ -156,6 +158,60 @@ TEST(Registry, EveryOptionHasADocAndTheUnitOfItsKey) {
             << where << ": unit " << unit << " without its suffix in the key";
       }
     }
+  }
+}
+
+// Every output of every registered type is declared as runs.csv needs it: a snake_case name that
+// ends in its unit (metrics/metric_table.h, rule 1: _px, _deg, _m, _s; none when dimensionless),
+// a label and a one-line doc; DeclaredOutputs holds each once, in registry order. A windup law
+// names options of its type. Checked by hand: giving adaptive's pe_min_eig the unit "s" fails.
+TEST(Registry, EveryOutputIsDeclaredWithItsUnitAndDocOnce) {
+  const std::regex snake_case("[a-z][a-z0-9]*(_[a-z0-9]+)*");
+  std::vector<std::string> expected;
+  for (const MethodType& t : MethodTypes()) {
+    const std::unique_ptr<Method> m = t.create();
+    for (const OutputSpec& o : m->Outputs()) {
+      const std::string name = o.name, unit = o.unit, where = t.name + " output " + name;
+      EXPECT_TRUE(std::regex_match(name, snake_case)) << where;
+      EXPECT_FALSE(std::string(o.label).empty()) << where;
+      EXPECT_FALSE(std::string(o.doc).empty()) << where;
+      EXPECT_EQ(std::string(o.doc).find_first_of("\n|"), std::string::npos) << where;
+      EXPECT_EQ(UnitOfSuffix(name), unit) << where << ": its name must end in its unit";
+      if (std::find(expected.begin(), expected.end(), name) == expected.end()) {
+        expected.push_back(name);
+      }
+    }
+    if (const std::optional<WindupLaw> law = m->Windup()) {
+      std::set<std::string> keys;
+      for (const OptionSpec& o : OptionSpecs(*m)) keys.insert(o.key);
+      EXPECT_EQ(keys.count(law->exponent_option), 1u) << t.name << ": " << law->exponent_option;
+      for (const char* option : law->only_when_zero) {
+        EXPECT_EQ(keys.count(option), 1u) << t.name << ": " << option;
+      }
+    }
+  }
+  std::vector<std::string> declared;
+  for (const OutputSpec& o : DeclaredOutputs()) declared.push_back(o.name);
+  EXPECT_EQ(declared, expected);
+}
+
+// A result may set only the outputs its type declares (the harness fails the row otherwise).
+TEST(Registry, CheckOutputsRefusesAnUndeclaredOutput) {
+  const std::unique_ptr<Method> adaptive = MakeMethod("adaptive");
+  ASSERT_FALSE(adaptive->Outputs().empty());
+  MethodResult result;
+  std::string why;
+  EXPECT_TRUE(CheckOutputs(*adaptive, result, &why)) << why;  // Nothing set: every cell NaN.
+  result.SetOutput(adaptive->Outputs().front(), 0.5);
+  EXPECT_TRUE(CheckOutputs(*adaptive, result, &why)) << why;
+  result.outputs["no_such_output"] = 1.0;
+  EXPECT_FALSE(CheckOutputs(*adaptive, result, &why));
+  EXPECT_NE(why.find("no_such_output"), std::string::npos) << why;
+  MethodResult of_adaptive;
+  of_adaptive.SetOutput(adaptive->Outputs().front(), 0.5);
+  for (const MethodType& t : MethodTypes()) {  // A type that declares none refuses another's.
+    const std::unique_ptr<Method> m = t.create();
+    if (m->Outputs().empty()) EXPECT_FALSE(CheckOutputs(*m, of_adaptive, &why)) << t.name;
   }
 }
 

@@ -9,7 +9,8 @@ track_bands.csv of bench/run/run_row.h).
   * a Pareto figure: steady error against re-convergence time, marker area ~ cost per frame;
   * the windup law: the re-convergence of the thesis's estimator against t0 / alpha ln(e0 / tol).
 Methods are named by their instances; none is known by name: the windup rows are those of the
-instances of type adaptive without forgetting or resetting, read from config.resolved.yaml."""
+instances whose type declares a windup law (schema.json `methods`) that holds for their options,
+read from config.resolved.yaml."""
 import dataclasses
 import math
 
@@ -296,15 +297,23 @@ def pareto(ctx, rows_by_scenario, path):
     return True
 
 
-def plain_adaptive(config_text):
-    """{scenario: {instance: alpha}} of the adaptive instances without forgetting or resetting."""
+def windup_instances(config_text, schema):
+    """{scenario: {instance: exponent}} of the instances whose type declares a windup law that
+    holds for their options (those it names are all 0); the exponent is their option the law
+    names."""
     out = {}
     for s in (yaml.safe_load(config_text) or {}).get("scenarios", []):
         for m in s.get("methods", []):
-            if m.get("type") == "adaptive" and not m.get("forgetting_beta") and \
-                    not m.get("reset_threshold"):
-                out.setdefault(s["name"], {})[m["name"]] = float(m["alpha"])
+            t = schema.method_type(m.get("type"))
+            law = t.windup if t else None
+            if law and not any(m.get(o) for o in law.only_when_zero):
+                out.setdefault(s["name"], {})[m["name"]] = float(m[law.exponent])
     return out
+
+
+def exponent_names(schema):
+    """The options that hold the declared windup laws' exponents, in registry order."""
+    return list(dict.fromkeys(t.windup.exponent for t in schema.methods if t.windup))
 
 
 def step_size(data, scenario, at_s, q):
@@ -327,10 +336,10 @@ def step_size(data, scenario, at_s, q):
 def windup_table(ctx, per_scenario):
     plain = {}
     for text in ctx.data.configs:
-        plain.update(plain_adaptive(text))
+        plain.update(windup_instances(text, ctx.data.schema))
     body = []
     for scenario, events_list in per_scenario.items():
-        for m, alpha in plain.get(scenario, {}).items():
+        for m, exponent in plain.get(scenario, {}).items():
             for e in events_list:
                 if e.index == 0 or e.quantity is None:
                     continue
@@ -343,13 +352,14 @@ def windup_table(ctx, per_scenario):
                 if not len(x):
                     continue
                 tol = float(x.tol.iloc[0])
-                law = e.at_s / alpha * math.log(max(e0 / tol, 1.0))
+                law = e.at_s / exponent * math.log(max(e0 / tol, 1.0))
                 measured = median(x.reconverge_s)
-                body.append([scenario, m, f"{alpha:g}", f"{e.at_s:g}", e.quantity.name,
+                body.append([scenario, m, f"{exponent:g}", f"{e.at_s:g}", e.quantity.name,
                              num(e0), num(law), num(measured),
                              f"{measured / law:.2f}" if law > 0 and math.isfinite(measured)
                              else "–"])
-    head = ["scenario", "instance", "alpha", "t0 (s)", "quantity", "step e0",
+    head = ["scenario", "instance", " / ".join(exponent_names(ctx.data.schema)), "t0 (s)",
+            "quantity", "step e0",
             "law t0/α·ln(e0/tol) (s)", "measured (s, median)", "measured / law"]
     return markdown(body, head) if body else ""
 
