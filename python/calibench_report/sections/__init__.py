@@ -1,7 +1,7 @@
 """The report's sections. Each module's section(ctx, ...) returns a Section (or None when its data
 are absent); a module that answers a question of the first page also has answer(ctx, ...): its
-lines there, or None (dynamic: answer_rows(ctx)). answers.py writes the first page from those
-alone, never from another section's helpers."""
+lines there, or None. answers.py writes the first page from those alone, never from another
+section's helpers."""
 import dataclasses
 import os
 

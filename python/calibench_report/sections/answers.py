@@ -1,7 +1,6 @@
 """The first page: for each question the runs answer (noise, points, gain, the dynamic events,
 detection) the winner, its effect size with its interval and its adjusted p, and one figure.
-Each section answers its own question (its answer(ctx), or dynamic.answer_rows); this page puts
-them in order.
+Each section answers its own question (its answer(ctx)); this page puts them in order.
 
 A sweep question is answered per sweep (oracle, rendered) and per headline quantity (schema.json:
 f·ku and the geodesic rotation error): the winner is the method with the smallest median |error|
@@ -9,11 +8,8 @@ at the most points; each of its wins is significant when its comparison with the
 runner-up has a Holm-adjusted p below stats.SIGNIFICANCE (the family: every comparison of that
 point, as in the appendix tables); its closest win, the one with the largest p, is shown with the
 runner-up's effect. Where it wins nowhere significantly, the table says so."""
-import os
-
-from calibench_report import stats
 from calibench_report.sections import Section, corner_bias, dynamic, gain, sweeps
-from calibench_report.tables import SIGNIFICANT, markdown
+from calibench_report.tables import SIGNIFICANT
 
 QUESTIONS = {
     "noise": "Pixel noise: which method is most accurate as the noise grows?",
@@ -22,24 +18,6 @@ QUESTIONS = {
     "dynamic": "A calibration that changes: which method re-converges first?",
     "detection": "Detection: which corner refinement gives the most accurate corners?",
 }
-
-
-def dynamic_question(ctx):
-    rows = dynamic.answer_rows(ctx)
-    if not rows:
-        return None
-    head = ["scenario", "first change", "first to re-converge", "its median (trials)",
-            "runner-up", "Δ of the runner-up [95% CI]", "p (Holm over the methods)"]
-    md = [markdown([r[:-1] for r in rows], head), ""]
-    trials = ctx.data.events.groupby("scenario").trial.nunique()
-    if (trials < stats.MIN_PAIRS).all():
-        span = (f"{trials.min()}" if trials.min() == trials.max()
-                else f"{trials.min()}–{trials.max()}")
-        md += [f"No comparison is testable: these scenarios have {span} trials, a paired test "
-               f"needs {stats.MIN_PAIRS}; the medians and their differences are indicative.", ""]
-    if os.path.exists(ctx.path("tracking_pareto.png")):
-        md += ["![dynamic](tracking_pareto.png)", ""]
-    return md
 
 
 def section(ctx):
@@ -54,7 +32,7 @@ def section(ctx):
     for key, answer in (("noise", lambda: sweeps.answer(ctx, "noise")),
                         ("points", lambda: sweeps.answer(ctx, "points")),
                         ("gain", lambda: gain.answer(ctx)),
-                        ("dynamic", lambda: dynamic_question(ctx)),
+                        ("dynamic", lambda: dynamic.answer(ctx)),
                         ("detection", lambda: corner_bias.answer(ctx))):
         md = answer()
         out.md += [f"### {QUESTIONS[key]}", ""] + (md or ["Not in these runs.", ""])

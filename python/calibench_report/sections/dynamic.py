@@ -7,12 +7,15 @@ track_bands.csv of bench/run/run_row.h).
     quantity the event changes, the steady error, whether the angle targets hold, the cost per
     frame and the mean NEES over the steady parts against the 95% band of its mean;
   * a Pareto figure: steady error against re-convergence time, marker area ~ cost per frame;
-  * the windup law: the re-convergence of the thesis's estimator against t0 / alpha ln(e0 / tol).
+  * the windup law: the re-convergence of the thesis's estimator against t0 / alpha ln(e0 / tol);
+  * the first page's answer (answer): per scenario of role dynamic, who re-converges first after
+    its first change, compared with the others paired by trial.
 Methods are named by their instances; none is known by name: the windup rows are those of the
 instances whose type declares a windup law (schema.json `methods`) that holds for their options,
 read from config.resolved.yaml."""
 import dataclasses
 import math
+import os
 
 import numpy as np
 import pandas as pd
@@ -429,7 +432,7 @@ def section(ctx):
 
 
 def answer_rows(ctx):
-    """First-page rows: per dynamic scenario, the first change and who re-converges first."""
+    """Per dynamic scenario (role dynamic), its first change and who re-converges first."""
     body = []
     for scenario, (_, events_list) in analyse(ctx, role_only=True).items():
         e = first_change(events_list)
@@ -444,6 +447,25 @@ def answer_rows(ctx):
         body.append([scenario, f"{e.quantity.label} at {e.at_s:g} s",
                      f"{winner} (tied with {runner})" if tied else winner,
                      f"{num(time_s)} s; steady {num(steady, 2)} {e.quantity.unit_text}",
-                     runner or "–", effect_text(c, "s"), p_text(c),
-                     c is not None and c.significant])
+                     runner or "–", effect_text(c, "s"), p_text(c)])
     return body
+
+
+def answer(ctx):
+    """The first page's answer on the dynamic scenarios: a table, a note when no comparison is
+    testable, and the Pareto figure (written by section(), which runs first), or None."""
+    rows = answer_rows(ctx)
+    if not rows:
+        return None
+    head = ["scenario", "first change", "first to re-converge", "its median (trials)",
+            "runner-up", "Δ of the runner-up [95% CI]", "p (Holm over the methods)"]
+    md = [markdown(rows, head), ""]
+    trials = ctx.data.events.groupby("scenario").trial.nunique()
+    if (trials < stats.MIN_PAIRS).all():
+        span = (f"{trials.min()}" if trials.min() == trials.max()
+                else f"{trials.min()}–{trials.max()}")
+        md += [f"No comparison is testable: these scenarios have {span} trials, a paired test "
+               f"needs {stats.MIN_PAIRS}; the medians and their differences are indicative.", ""]
+    if os.path.exists(ctx.path("tracking_pareto.png")):
+        md += ["![dynamic](tracking_pareto.png)", ""]
+    return md
