@@ -9,7 +9,8 @@ Checks, from the sources (regular expressions, no compilation):
       methods/*.cc) appears in docs/configuration.md (its reference part is generated:
       tests/docs/config_reference_test.sh checks that it is current);
   (c) every CSV column (the metric table's quantities and their err_/std_/crlb_/est_/true_
-      columns, metrics/metric_table.cc; the column declarations of bench/run/*.cc; the CSV headers
+      columns, metrics/metric_table.cc; the outputs the method types declare, the OutputSpec
+      declarations of methods/*.cc; the column declarations of bench/run/*.cc; the CSV headers
       written by bench/app/*.cc) appears in docs/outputs.md;
   (d) no issue references ("issue #N", "(#N)") and no development history in README.md, docs/
       and the READMEs a user reads beside the files they describe (data/, configs/,
@@ -173,6 +174,36 @@ def metric_entries():
     return entries
 
 
+def method_outputs():
+    """(names, problems): the name of every OutputSpec a method type declares (methods/*.cc and
+    *.h): `OutputSpec kName = {"name", ...}`, `OutputSpec kName{"name", ...}`, a temporary
+    `OutputSpec{"name", ...}`, or an initializer `{"name", ...}` in an Outputs() override's
+    body. problems names the files with a non-empty Outputs() override that neither holds such an
+    initializer nor returns a constant declared so, so that a new way of writing one fails
+    instead of going unchecked."""
+    names, constants, overrides = set(), set(), []
+    for path in sources("methods/*.cc") + sources("methods/*.h"):
+        text = strip_comments(read(path))
+        for constant, name in re.findall(
+                r'\bOutputSpec\s*([A-Za-z_]\w*)?\s*(?:=\s*)?\{\s*"([a-z][a-z0-9_]*)"', text):
+            names.add(name)
+            constants.add(constant)
+        for m in re.finditer(r"\bOutputs\s*\(\s*\)\s*const\b[^{;]*\{", text):
+            depth, i = 1, m.end()
+            while i < len(text) and depth:
+                depth += {"{": 1, "}": -1}.get(text[i], 0)
+                i += 1
+            body = text[m.end():i - 1]
+            if not re.fullmatch(r"\s*return\s*\{\s*\}\s*;\s*", body):
+                inline = re.findall(r'\{\s*"([a-z][a-z0-9_]*)"', body)
+                names.update(inline)
+                overrides.append((os.path.relpath(path, ROOT), bool(inline),
+                                  set(re.findall(r"\b[A-Za-z_]\w*\b", body))))
+    problems = sorted({path for path, inline, words in overrides
+                       if not inline and not words & constants})
+    return names, problems
+
+
 def column_names():
     columns = set()
     prefixes = {"kIntrinsic": ["", "err_", "std_", "crlb_"], "kParameter": ["", "err_"],
@@ -182,6 +213,8 @@ def column_names():
             columns.add(prefix + name)
         if tracked:
             columns.update({"est_" + name, "true_" + name, "err_" + name})
+    # The method types' declared outputs: runs.csv columns of their own.
+    columns.update(method_outputs()[0])
     # Column declarations {"name", "unit", "doc"} of the run directory writers.
     for path in sources("bench/run/*.cc"):
         text = strip_comments(read(path))
@@ -247,10 +280,14 @@ class DocsTest(unittest.TestCase):
         self.assertEqual(missing, [], "keys missing from docs/configuration.md")
 
     def test_c_outputs_reference_lists_every_column(self):
+        _, unrecognised = method_outputs()
+        self.assertEqual(unrecognised, [], "Outputs() overrides whose OutputSpec declarations "
+                         "the scan does not recognise")
         columns = column_names()
         self.assertGreaterEqual(len(columns), 100, "the column scan found too few columns")
         for expected in ("fku_px", "err_fku_px", "std_u0_px", "crlb_phi_deg", "est_pitch_deg",
-                         "wall_per_frame_us", "reconverge_s", "wall_per_tag_us", "in_view"):
+                         "wall_per_frame_us", "reconverge_s", "wall_per_tag_us", "in_view",
+                         "pe_min_eig"):
             self.assertIn(expected, columns, "the column scan missed a known column")
         documented = code_tokens(read("docs/outputs.md"))
         missing = sorted(c for c in columns if c not in documented)
