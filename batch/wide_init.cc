@@ -111,6 +111,7 @@ Candidate RefineFocal(const std::vector<View>& views, const std::vector<int>& wh
 std::vector<int> EvenlySpaced(int n, int max) {
   std::vector<int> which;
   const int count = std::min(n, max);
+  which.reserve(std::max(count, 0));
   for (int i = 0; i < count; ++i)
     which.push_back(static_cast<int>(i * static_cast<long>(n) / count));
   return which;

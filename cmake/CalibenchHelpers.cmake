@@ -1,9 +1,13 @@
 # Helpers shared by every module's CMakeLists.txt.
 
-# Warnings for our own targets (never for third-party headers, which come in as SYSTEM).
+# Warnings for our own targets (never for third-party headers, which come in as SYSTEM); errors
+# with CALIBENCH_WERROR (CI).
 function(calibench_set_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
                                            -Wno-unused-parameter)
+  if(CALIBENCH_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
 endfunction()
 
 # calibench_add_library(<module> SOURCES ... PUBLIC_DEPS ... PRIVATE_DEPS ...)

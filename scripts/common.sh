@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Shared by scripts/bench and scripts/test: install missing Debian packages, configure, build.
+# Shared by scripts/bench, scripts/test and scripts/lint: install missing Debian packages,
+# configure, build.
 # Idempotent: with everything installed and built it only re-runs the (no-op) incremental build.
 set -euo pipefail
 
@@ -27,10 +28,20 @@ install_packages() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
 }
 
-build() {
+# CALIBENCH_WERROR=ON (CI) makes the project's warnings errors (CMake option CALIBENCH_WERROR).
+configure() {
+  local opts=()
+  [ -n "${CALIBENCH_WERROR:-}" ] && opts+=(-DCALIBENCH_WERROR="$CALIBENCH_WERROR")
   if [ ! -f "$BUILD_DIR/build.ninja" ]; then
     cmake -S "$CALIBENCH_ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-      -DCALIBENCH_DATA_DIR="${CALIBENCH_DATA_DIR:-$CALIBENCH_ROOT/../shared/data}" >&2
+      -DCALIBENCH_DATA_DIR="${CALIBENCH_DATA_DIR:-$CALIBENCH_ROOT/../shared/data}" "${opts[@]}" >&2
+  elif [ ${#opts[@]} -gt 0 ] &&
+       ! grep -qx "CALIBENCH_WERROR:BOOL=$CALIBENCH_WERROR" "$BUILD_DIR/CMakeCache.txt"; then
+    cmake -S "$CALIBENCH_ROOT" -B "$BUILD_DIR" "${opts[@]}" >&2
   fi
+}
+
+build() {
+  configure
   cmake --build "$BUILD_DIR" -j "${CALIBENCH_JOBS:-2}" >&2
 }

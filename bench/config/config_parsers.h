@@ -32,8 +32,8 @@ void WriteFields(YAML::Emitter& out, const std::function<void(FieldVisitor&)>& v
 // Reads the fields present in `node` without checking its keys (the caller did).
 class FieldReader final : public FieldVisitor {
  public:
-  FieldReader(const Reader& r, YAML::Node node, std::string field, ScenarioConfig* context)
-      : r_(r), node_(std::move(node)), field_(std::move(field)), context_(context) {}
+  FieldReader(const Reader& r, const YAML::Node& node, std::string field, ScenarioConfig* context)
+      : r_(r), node_(node), field_(std::move(field)), context_(context) {}
   bool Reads() const override { return true; }
   void Field(const FieldSpec& f, double* v) override;
   void Field(const FieldSpec& f, int* v) override;

@@ -100,6 +100,7 @@ std::string QuantityJson(const MetricSpec& m) {
 
 std::string FileJson(const std::vector<ColumnInfo>& columns, const std::string& indent) {
   std::vector<std::string> items;
+  items.reserve(columns.size());
   for (const ColumnInfo& c : columns) {
     items.push_back("{\"name\": " + Quote(c.name) + ", \"unit\": " + Quote(c.unit) +
                     ", \"doc\": " + Quote(c.doc) + "}");

@@ -160,6 +160,7 @@ TEST(HandEyeTsai, LargeRelativeTurnsGiveTheExtrinsic) {
   Rng rng(24);
   const Rigid3 points_from_board{RandomRotation(&rng), Eigen::Vector3d(0.3, 1.5, -0.2)};
   std::vector<Rigid3> parent_from_points;
+  parent_from_points.reserve(30);
   int beyond = 0;
   for (int v = 0; v < 30; ++v) {
     parent_from_points.push_back(
@@ -176,6 +177,7 @@ TEST(HandEyeTsai, LargeRelativeTurnsGiveTheExtrinsic) {
   for (const double back_rad : {0.0, 1.0}) {
     const Rigid3 x_true = MakeRigViews(1, back_rad).parent_from_cam;
     std::vector<Rigid3> cam_from_board;
+    cam_from_board.reserve(parent_from_points.size());
     for (const Rigid3& p : parent_from_points)
       cam_from_board.push_back(x_true.Inverse() * p * points_from_board);
     Rigid3 x;
@@ -337,6 +339,7 @@ TEST(HandEyeTsai, NonFiniteOrHalfTurnOnlyViewsAreRefusedWithAReason) {
       {ExpSO3(Eigen::Vector3d(M_PI, 0, 0)), Eigen::Vector3d(0.1, 0, 0)},
       {ExpSO3(Eigen::Vector3d(0, M_PI, 0)), Eigen::Vector3d(0, 0.1, 0)}};
   std::vector<Rigid3> cam_from_board;
+  cam_from_board.reserve(half_turns.size());
   for (const Rigid3& p : half_turns) cam_from_board.push_back(r.parent_from_cam.Inverse() * p);
   why.clear();
   EXPECT_FALSE(HandEyeTsai(half_turns, cam_from_board, &x, &why));

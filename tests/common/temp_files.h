@@ -20,7 +20,7 @@ inline std::string Slurp(const std::string& path) {
 
 // testing::TempDir()/<prefix><name>, removed if it exists (not created).
 inline std::string FreshTempDir(const std::string& prefix, const std::string& name) {
-  const std::string dir = testing::TempDir() + prefix + name;
+  std::string dir = testing::TempDir() + prefix + name;
   std::filesystem::remove_all(dir);
   return dir;
 }

@@ -80,8 +80,8 @@ bool TagRegionInImage(const AprilGrid& grid, int t, const CameraIntrinsics& k,
                       const Rigid3& cam_from_board) {
   constexpr double kInsidePx = 4.0;  // The detector's border margin (2 px) and the blur's reach.
   const double gap = grid.tag_size_m * grid.tag_spacing, s = grid.tag_size_m;
-  const double x0 = (t % grid.tag_cols) * grid.Pitch() - gap,
-               y0 = (t / grid.tag_cols) * grid.Pitch() - gap;
+  const int col = t % grid.tag_cols, row = t / grid.tag_cols;
+  const double x0 = col * grid.Pitch() - gap, y0 = row * grid.Pitch() - gap;
   const double side = s + 2 * gap;
   for (int e = 0; e < 4; ++e) {
     for (int i = 0; i < 8; ++i) {

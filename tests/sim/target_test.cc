@@ -51,6 +51,7 @@ TEST(AprilGrid, CornersAreKalibrsInTagOrder) {
   ASSERT_EQ(corners.size(), 4u * 15);
   // Kalibr's point (R, C) of the 6 x 10 grid: x = (C / 2) p + (C % 2) s, y likewise in R.
   auto kalibr = [&](int row, int col) {
+    // NOLINTNEXTLINE(bugprone-integer-division): Kalibr's formula counts whole pitches, C / 2.
     return Eigen::Vector3d((col / 2) * p + (col % 2) * s, (row / 2) * p + (row % 2) * s, 0);
   };
   for (int i = 0; i < grid.NumTags(); ++i) {
