@@ -2,7 +2,7 @@
 
 # Warnings for our own targets (never for third-party headers, which come in as SYSTEM).
 function(calibench_set_warnings target)
-  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wswitch-enum
                                            -Wno-unused-parameter)
 endfunction()
 
