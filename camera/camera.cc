@@ -65,7 +65,7 @@ std::string RangeProblem(const CameraIntrinsics& k) {
     if (range.upper != kNoUpperBound) {
       msg << "lie in [" << range.lower << ", " << range.upper << "]";
     } else {
-      msg << (range.lower_open ? "> " : ">= ") << range.lower;
+      msg << (range.lower_open ? "be > " : "be >= ") << range.lower;
     }
     msg << " for the " << info.name << " model" << range.note << ", got " << value;
     break;
