@@ -1,6 +1,7 @@
 #include "batch/projection_jacobian.h"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace calibench {
 namespace {
@@ -161,7 +162,7 @@ LensStepFunction LensStepOf(LensFamily family) {
     case LensFamily::kDoubleSphere:
       return DoubleSphereLens;
   }
-  return RadTanLens;
+  throw std::invalid_argument("LensStepOf: not a LensFamily enumerator");
 }
 
 PinholeStep::PinholeStep(const double* intrinsics)

@@ -48,19 +48,20 @@ struct LensBound {
   int index;  // Raw slot.
   double lower, upper;
 };
+// From the family's LensFamilyInfo::ranges (unified: xi >= 0; eucm: alpha in [0, 1], beta > 0;
+// double-sphere: xi > -1, alpha in [0, 1]).
 std::vector<LensBound> LensBounds(LensFamily family) {
-  switch (family) {
-    case LensFamily::kRadTan:
-    case LensFamily::kEquidistant:
-      return {};
-    case LensFamily::kUnified:  // xi >= 0.
-      return {{5, 0.0, kNoBound}};
-    case LensFamily::kEucm:  // alpha in [0, 1], beta > 0.
-      return {{5, 0.0, 1.0}, {6, kOpenBoundMargin, kNoBound}};
-    case LensFamily::kDoubleSphere:  // xi > -1, alpha in [0, 1].
-      return {{5, -1.0 + kOpenBoundMargin, kNoBound}, {6, 0.0, 1.0}};
+  const LensFamilyInfo& info = InfoOf(family);
+  std::vector<LensBound> bounds;
+  for (const LensParamRange& range : info.ranges) {
+    if (range.name == nullptr) continue;
+    for (int i = 0; i < 5; ++i) {
+      if (std::string(info.lens_params[i]) != range.name) continue;
+      bounds.push_back({5 + i, range.lower_open ? range.lower + kOpenBoundMargin : range.lower,
+                        range.upper == kNoUpperBound ? kNoBound : range.upper});
+    }
   }
-  return {};
+  return bounds;
 }
 
 void SetLensBounds(LensFamily family, double* intrinsics, ceres::Problem* problem) {

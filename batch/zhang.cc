@@ -1,5 +1,6 @@
 #include "batch/zhang.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -124,28 +125,27 @@ bool OpenCvPoints(const std::vector<View>& views, int stride,
 // cv::calibrateCamera's flags for a radtan `model` (the equidistant family goes to cv::fisheye).
 // False with *why for the omnidirectional families, which OpenCV cannot start.
 bool OpenCvFlags(LensModel model, int* flags, std::string* why) {
-  switch (model) {
-    case LensModel::kPinhole:
-      *flags = cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
-      break;
-    case LensModel::kPinholeK2:
-      *flags = cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
-      break;
-    case LensModel::kPinholeRadTan4:
-      *flags = cv::CALIB_FIX_K3;
-      break;
-    case LensModel::kPinholeRadTan5:
-    case LensModel::kPinholeEqui:  // Equidistant: cv::fisheye (CalibrateFisheye).
-      break;
-    case LensModel::kUnified:
-    case LensModel::kEucm:
-    case LensModel::kDoubleSphere: {
-      *why = std::string("zhang: OpenCV has no initialisation for the ") + ToString(model) +
-             " lens model (radtan and equidistant only); the wide start (batch/wide_init.h) "
-             "starts it";
-      return false;
+  const LensFamily family = FamilyOf(model);
+  if (!InfoOf(family).zhang_starts) {
+    std::string starts;  // The families with LensFamilyInfo::zhang_starts: radtan and equidistant.
+    for (const LensFamilyInfo& info : LensFamilies()) {
+      if (info.zhang_starts) starts += (starts.empty() ? "" : " and ") + std::string(info.name);
     }
+    *why = std::string("zhang: OpenCV has no initialisation for the ") + ToString(model) +
+           " lens model (" + starts + " only); the wide start (batch/wide_init.h) starts it";
+    return false;
   }
+  if (family != LensFamily::kRadTan) return true;  // Equidistant: cv::fisheye (CalibrateFisheye).
+  // The radtan coefficients the model keeps at 0 (slots 5 k1, 6 k2, 7 p1, 8 p2, 9 k3).
+  const std::vector<int> fixed = FixedIntrinsics(model, /*estimate_skew=*/true);
+  const auto is_fixed = [&](int slot) {
+    return std::find(fixed.begin(), fixed.end(), slot) != fixed.end();
+  };
+  *flags = 0;
+  if (is_fixed(5)) *flags |= cv::CALIB_FIX_K1;
+  if (is_fixed(6)) *flags |= cv::CALIB_FIX_K2;
+  if (is_fixed(9)) *flags |= cv::CALIB_FIX_K3;
+  if (is_fixed(7) && is_fixed(8)) *flags |= cv::CALIB_ZERO_TANGENT_DIST;
   return true;
 }
 

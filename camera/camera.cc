@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <sstream>
+#include <stdexcept>
 
 namespace calibench {
 namespace {
@@ -10,12 +11,12 @@ namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 
 // A lens field and its neutral value (what a family without it must hold).
-struct LensField {
+struct LensFieldRow {
   const char* name;  // As ParamNames() spells it.
   double CameraIntrinsics::*member;
   double neutral;
 };
-constexpr LensField kLensFields[] = {
+constexpr LensFieldRow kLensFields[] = {
     {"k1", &CameraIntrinsics::k1, 0},    {"k2", &CameraIntrinsics::k2, 0},
     {"p1", &CameraIntrinsics::p1, 0},    {"p2", &CameraIntrinsics::p2, 0},
     {"k3", &CameraIntrinsics::k3, 0},    {"k4", &CameraIntrinsics::k4, 0},
@@ -41,7 +42,7 @@ std::string FamilyFieldList(LensFamily family) {
 // A field k's family lacks, away from its neutral value: named with the family's own fields.
 std::string ForeignFieldProblem(const CameraIntrinsics& k) {
   std::ostringstream msg;
-  for (const LensField& f : kLensFields) {
+  for (const LensFieldRow& f : kLensFields) {
     if (k.*f.member == f.neutral || FamilyHas(k.family, f.name)) continue;
     msg << f.name << " is not a parameter of the " << ToString(k.family) << " model (it has "
         << FamilyFieldList(k.family) << "): " << f.name << " must be " << f.neutral << ", got "
@@ -51,21 +52,23 @@ std::string ForeignFieldProblem(const CameraIntrinsics& k) {
   return msg.str();
 }
 
-// xi, alpha, beta outside their ranges, where k's family has them.
+// A lens parameter outside its family's range (LensFamilyInfo::ranges); empty if none.
 std::string RangeProblem(const CameraIntrinsics& k) {
   std::ostringstream msg;
-  const char* family = ToString(k.family);
-  if (k.family == LensFamily::kUnified && !(k.xi >= 0)) {
-    msg << "xi must be >= 0 for the " << family << " model, got " << k.xi;
-  } else if (k.family == LensFamily::kDoubleSphere && !(k.xi > -1)) {
-    msg << "xi must be > -1 for the " << family
-        << " model (the second sphere's centre inside the "
-           "first), got "
-        << k.xi;
-  } else if (FamilyHas(k.family, "alpha") && !(k.alpha >= 0 && k.alpha <= 1)) {
-    msg << "alpha must lie in [0, 1] for the " << family << " model, got " << k.alpha;
-  } else if (FamilyHas(k.family, "beta") && !(k.beta > 0)) {
-    msg << "beta must be > 0 for the " << family << " model, got " << k.beta;
+  const LensFamilyInfo& info = InfoOf(k.family);
+  for (const LensParamRange& range : info.ranges) {
+    if (range.name == nullptr) continue;
+    const double value = *LensField(k, range.name);
+    const bool above = range.lower_open ? value > range.lower : value >= range.lower;
+    if (above && value <= range.upper) continue;
+    msg << range.name << " must ";
+    if (range.upper != kNoUpperBound) {
+      msg << "lie in [" << range.lower << ", " << range.upper << "]";
+    } else {
+      msg << (range.lower_open ? "be > " : "be >= ") << range.lower;
+    }
+    msg << " for the " << info.name << " model" << range.note << ", got " << value;
+    break;
   }
   return msg.str();
 }
@@ -73,7 +76,7 @@ std::string RangeProblem(const CameraIntrinsics& k) {
 // The lens fields' problem for k's family; empty if none.
 std::string LensFieldProblem(const CameraIntrinsics& k) {
   std::ostringstream msg;
-  for (const LensField& f : kLensFields) {
+  for (const LensFieldRow& f : kLensFields) {
     if (!std::isfinite(k.*f.member)) {
       msg << "lens field " << f.name << " must be finite, got " << k.*f.member;
       return msg.str();
@@ -164,7 +167,7 @@ bool CameraIntrinsics::DistortionIsMonotoneAt(double r2) const {
       return RadTanRadialSlope(k1, k2, 0, m * m) > 0;
     }
   }
-  return false;
+  throw std::invalid_argument("DistortionIsMonotoneAt: not a LensFamily enumerator");
 }
 
 bool CameraIntrinsics::DistortionIsMonotoneAlong(const Eigen::Vector3d& p) const {
@@ -183,24 +186,18 @@ bool CameraIntrinsics::DistortionIsMonotoneAlong(const Eigen::Vector3d& p) const
       return RadTanRadialSlope(k1, k2, 0, r2 / (den * den)) > 0;
     }
   }
-  return false;
+  throw std::invalid_argument("DistortionIsMonotoneAlong: not a LensFamily enumerator");
 }
 
 std::array<double, 10> CameraIntrinsics::Params() const {
   const double phi = phi_deg * kDegToRad;
-  switch (family) {
-    case LensFamily::kRadTan:
-      return {fku_px, fkv_px, phi, u0_px, v0_px, k1, k2, p1, p2, k3};
-    case LensFamily::kEquidistant:
-      return {fku_px, fkv_px, phi, u0_px, v0_px, k1, k2, k3, k4, 0};
-    case LensFamily::kUnified:
-      return {fku_px, fkv_px, phi, u0_px, v0_px, xi, k1, k2, p1, p2};
-    case LensFamily::kEucm:
-      return {fku_px, fkv_px, phi, u0_px, v0_px, alpha, beta, 0, 0, 0};
-    case LensFamily::kDoubleSphere:
-      return {fku_px, fkv_px, phi, u0_px, v0_px, xi, alpha, 0, 0, 0};
+  std::array<double, 10> params = {fku_px, fkv_px, phi, u0_px, v0_px, 0, 0, 0, 0, 0};
+  // Every field the family has, into the slot its LensFamilyInfo::lens_params gives it.
+  const auto& names = InfoOf(family).lens_params;
+  for (int i = 0; i < 5; ++i) {
+    if (const double* field = LensField(*this, names[i])) params[5 + i] = *field;
   }
-  return {};
+  return params;
 }
 
 CameraIntrinsics CameraIntrinsics::FromParams(const double* params, LensFamily family) {
@@ -211,55 +208,37 @@ CameraIntrinsics CameraIntrinsics::FromParams(const double* params, LensFamily f
   k.phi_deg = params[2] / kDegToRad;
   k.u0_px = params[3];
   k.v0_px = params[4];
-  // Every field the family has, from the slot ParamNames gives it.
-  for (int i = 5; i < 10; ++i) {
-    for (const LensField& f : kLensFields) {
-      if (std::string(f.name) == ParamNames(family)[i]) k.*f.member = params[i];
-    }
+  // Every field the family has, from the slot its LensFamilyInfo::lens_params gives it.
+  const auto& names = InfoOf(family).lens_params;
+  for (int i = 0; i < 5; ++i) {
+    if (double* field = LensField(&k, names[i])) *field = params[5 + i];
   }
   return k;
 }
 
-const char* ToString(LensFamily family) {
-  switch (family) {
-    case LensFamily::kRadTan:
-      return "radtan";
-    case LensFamily::kEquidistant:
-      return "equidistant";
-    case LensFamily::kUnified:
-      return "unified";
-    case LensFamily::kEucm:
-      return "eucm";
-    case LensFamily::kDoubleSphere:
-      return "double-sphere";
-  }
-  return "radtan";
-}
+const char* ToString(LensFamily family) { return InfoOf(family).name; }
 
 const std::array<const char*, 10>& ParamNames(LensFamily family) {
-  static const std::array<const char*, 10> radtan = {
-      "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "k1", "k2", "p1", "p2", "k3"};
-  static const std::array<const char*, 10> equidistant = {
-      "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "k1", "k2", "k3", "k4", "-"};
-  static const std::array<const char*, 10> unified = {
-      "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "xi", "k1", "k2", "p1", "p2"};
-  static const std::array<const char*, 10> eucm = {"fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px",
-                                                   "alpha",  "beta",   "-",       "-",     "-"};
-  static const std::array<const char*, 10> double_sphere = {
-      "fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px", "xi", "alpha", "-", "-", "-"};
-  switch (family) {
-    case LensFamily::kRadTan:
-      return radtan;
-    case LensFamily::kEquidistant:
-      return equidistant;
-    case LensFamily::kUnified:
-      return unified;
-    case LensFamily::kEucm:
-      return eucm;
-    case LensFamily::kDoubleSphere:
-      return double_sphere;
+  static const auto names = [] {
+    std::array<std::array<const char*, 10>, kLensFamilies.size()> all;
+    for (size_t f = 0; f < kLensFamilies.size(); ++f) {
+      all[f] = {"fku_px", "fkv_px", "phi_deg", "u0_px", "v0_px"};
+      for (int i = 0; i < 5; ++i) all[f][5 + i] = kLensFamilies[f].lens_params[i];
+    }
+    return all;
+  }();
+  return names[static_cast<size_t>(family)];
+}
+
+const double* LensField(const CameraIntrinsics& k, const std::string& name) {
+  for (const LensFieldRow& f : kLensFields) {
+    if (name == f.name) return &(k.*f.member);
   }
-  return radtan;
+  return nullptr;
+}
+
+double* LensField(CameraIntrinsics* k, const std::string& name) {
+  return const_cast<double*>(LensField(*k, name));
 }
 
 bool ProjectPoint(const CameraIntrinsics& intrinsics, const Eigen::Vector3d& point_in_cam,
@@ -455,7 +434,7 @@ bool UndistortNormalized(const CameraIntrinsics& k, const Eigen::Vector2d& disto
       return true;
     }
   }
-  return false;
+  throw std::invalid_argument("UndistortNormalized: not a LensFamily enumerator");
 }
 
 bool operator==(const CameraIntrinsics& a, const CameraIntrinsics& b) {
@@ -480,7 +459,7 @@ LensFamily FamilyOf(LensModel model) {
   for (const LensModelInfo& info : LensModels()) {
     if (info.model == model) return info.family;
   }
-  return LensFamily::kRadTan;
+  throw std::invalid_argument("FamilyOf: a LensModel without a row in LensModels()");
 }
 
 LensModel FullModelOf(LensFamily family) {
@@ -499,7 +478,7 @@ const char* ToString(LensModel model) {
   for (const LensModelInfo& info : LensModels()) {
     if (info.model == model) return info.name;
   }
-  return "pinhole";
+  throw std::invalid_argument("ToString: a LensModel without a row in LensModels()");
 }
 
 bool ParseLensModel(const std::string& name, LensModel* model) {

@@ -71,7 +71,8 @@
 //     eucm (EucmCamera):                   [..., alpha, beta, 0, 0, 0]
 //     double-sphere (DoubleSphereCamera):  [..., xi, alpha, 0, 0, 0]
 // phi is in radians in the raw array (the Jet-friendly form) and in degrees in CameraIntrinsics.
-// ProjectLens<T>(family, ...) dispatches between them.
+// The camera types are declared, with each family's facts, in camera/lens_families.h;
+// VisitLensFamily picks one for a batch of points, ProjectLens<T>(family, ...) for one point.
 //
 // Lens models (LensModel, the table LensModels() in camera.cc) name the family and which of those
 // parameters an estimator frees; the others stay at their neutral value (0, beta = 1, or phi = 90
@@ -84,35 +85,20 @@
 //   1. Within an existing family (as pinhole-k2 in radtan): an enumerator of LensModel and its row
 //      in LensModels() (name, free slots); the table test of tests/camera/camera_test.cc takes it.
 //      `calibrate --model` and the methods' `model:` option read the table. 2 files + 1 test.
-//   2. A new family (as unified, eucm, double-sphere): in camera.h/.cc its LensFamily and
-//      ToString(), slots in Params()/FromParams()/ParamNames() (Check() refuses the coefficients
-//      a family lacks from ParamNames()), field ranges in Check(), a camera type with Project<T>
-//      and its case in ProjectLens<T>, its inverse in UnprojectToRay() (UndistortNormalized and
-//      UnprojectPixel follow), its meaning of DistortionIsMonotoneAt() and
-//      DistortionIsMonotoneAlong(); a model (step 1).
-//   3. Each place outside camera/ that knows the families takes the new one or refuses it with a
-//      message. -Wswitch warns (the tree has no -Werror) at every switch over LensFamily or
-//      LensModel without the new case; the places marked + are if-chains, tables or lists, which
-//      do not warn:
-//      sim/board_shader.h RaySpaceOf (the renderer's ray table: plane z = 1, or stereographic
-//      past 90 deg); batch/projection_jacobian.cc (the lens step and its Jacobians);
-//      batch/refine.cc SetLensBounds; batch/zhang.cc CalibrateZhang (OpenCV's flags or a
-//      refusal); batch/wide_init.cc (the family's start: FromProfile or its own);
-//      bench/config/camera_io_opencv.cc (+ distortion_model names) and camera_io_kalibr.cc
-//      (+ KalibrModels); bench/config/scenario_fields.cc (+ lens_family names, the xi/alpha/beta
-//      docs; then scripts/update_config_reference.sh);
-//      for rays past 90 deg: methods/method.cc RefuseWideLens (+) and bench/config/scenario.cc
-//      RenderingOptions (+);
-//      bench/app/model_select.cc AutoCandidates (+), the same list in --model's help
-//      (bench/app/main.cc), methods/zhang.cc's `model` option doc;
-//      bench/micro/calibrate_benchmark.cc (+ kModels and the argument ranges).
-//   4. The tests that go over every family (11 files), an example in configs/examples/, and the
-//      docs: camera-models.md, cli.md, outputs.md, methods.md, configuration.md (regenerated).
-//   Measured on double-sphere: 16 source files, 11 test files, 1 config, 5 doc pages.
-//   No case is needed in code that goes through UnprojectToRay and ProjectPoint only (the
-//   photometric fit's tangent plane, the frame detector's square painting), in
-//   bench/app/image_points.cc (curved tag edges for every family but radtan) or in the mrcal
-//   writer (it refuses every family but radtan by name).
+//   2. A new family: declared once, in the list of camera/lens_families.h (its enumerator, its
+//      camera type with Project<T> and the kInfo row: name, lens slots, ranges, sight past 90
+//      deg, ray space, camera-file names, example lens; its case in VisitLensFamily, its row in
+//      kLensFamilies). Everything else that needs a fact of a family reads the row. The
+//      behaviour still written per family is in exhaustive switches (-Wswitch-enum warns at each
+//      until it has the case): camera.cc (the inverse in RayOfDistorted/UndistortNormalized, the
+//      DistortionIsMonotone* tests; its model's row in LensModels()), this file (its LensModel,
+//      its math above, a field for a new parameter), batch/projection_jacobian.cc (the lens step
+//      and its Jacobians), batch/wide_init.cc (its start), bench/config/camera_io_opencv.cc (how
+//      the OpenCV file holds it); bench/config/scenario_fields.cc documents a new field; and
+//      docs/camera-models.md's tables. At most 8 files, tests and other docs included:
+//      tests/camera/lens_family_list_test.cc and tests/bench/lens_family_camera_files_test.cc
+//      loop over the list. Measured before the list on double-sphere: 16 source files, 11 test
+//      files, 1 config, 5 doc pages.
 #pragma once
 
 #include <Eigen/Core>
@@ -121,10 +107,10 @@
 #include <string>
 #include <vector>
 
+#include "camera/lens_families.h"
+
 namespace calibench {
 
-// How the five lens slots are read (see the parameter order above).
-enum class LensFamily { kRadTan, kEquidistant, kUnified, kEucm, kDoubleSphere };
 // "radtan", "equidistant", "unified", "eucm", "double-sphere".
 const char* ToString(LensFamily family);
 
@@ -177,193 +163,10 @@ struct CameraIntrinsics {
 
 // Names of the raw slots 0..9 for `family` ("-" for an unused slot), e.g. for reports.
 const std::array<const char*, 10>& ParamNames(LensFamily family);
-
-// pixel = A (xd, yd, 1): the pinhole slots 0..4 (fku, fkv, phi_rad, u0, v0) of every family.
-template <typename T>
-void ApplyIntrinsicMatrix(const T* params, const T& xd, const T& yd, T* pixel) {
-  using std::cos;
-  using std::sin;
-  const T sin_phi = sin(params[2]);
-  const T cos_phi = cos(params[2]);
-  pixel[0] = params[0] * (xd - yd * cos_phi / sin_phi) + params[3];
-  pixel[1] = params[1] * yd / sin_phi + params[4];
-}
-
-// OpenCV's radial-tangential distortion of normalised (x, y) (header comment): radtan and unified.
-// xd, yd must not alias x, y.
-template <typename T>
-void ApplyRadTan(const T& k1, const T& k2, const T& p1, const T& p2, const T& k3, const T& x,
-                 const T& y, T* xd, T* yd) {
-  const T r2 = x * x + y * y;
-  const T d = T(1) + r2 * (k1 + r2 * (k2 + r2 * k3));
-  const T xy = x * y;
-  *xd = d * x + T(2) * p1 * xy + p2 * (r2 + T(2) * x * x);
-  *yd = d * y + p1 * (r2 + T(2) * y * y) + T(2) * p2 * xy;
-}
-
-// d(xd, yd) / d(x, y) of ApplyRadTan: the inverse's Newton step (camera.cc) and the refinement's
-// analytic Jacobians (batch/projection_jacobian.cc).
-inline Eigen::Matrix2d RadTanJacobian(double k1, double k2, double p1, double p2, double k3,
-                                      double x, double y) {
-  const double r2 = x * x + y * y;
-  const double d = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
-  const double dd_dr2 = k1 + r2 * (2.0 * k2 + 3.0 * k3 * r2);
-  const double cross = 2.0 * x * y * dd_dr2 + 2.0 * p1 * x + 2.0 * p2 * y;
-  Eigen::Matrix2d j;
-  j << d + 2.0 * x * x * dd_dr2 + 2.0 * p1 * y + 6.0 * p2 * x, cross,  //
-      cross, d + 2.0 * y * y * dd_dr2 + 6.0 * p1 * y + 2.0 * p2 * x;
-  return j;
-}
-
-struct PinholeSkewCamera {
-  static constexpr int kNumParams = 10;
-  static constexpr const char* kName = "pinhole-skew-radtan5";
-
-  // Projects point_in_cam (3 values) to pixel (2 values). Returns false, leaving pixel untouched,
-  // when the point is not strictly in front of the camera (Z <= 0). Never throws.
-  template <typename T>
-  static bool Project(const T* params, const T* point_in_cam, T* pixel) {
-    if (!(point_in_cam[2] > T(0))) return false;
-    const T x = point_in_cam[0] / point_in_cam[2];
-    const T y = point_in_cam[1] / point_in_cam[2];
-    T xd, yd;
-    ApplyRadTan(params[5], params[6], params[7], params[8], params[9], x, y, &xd, &yd);
-    ApplyIntrinsicMatrix(params, xd, yd, pixel);
-    return true;
-  }
-};
-
-// The equidistant (Kannala-Brandt) fisheye; same pinhole slots, distortion slots k1..k4.
-struct PinholeEquiCamera {
-  static constexpr int kNumParams = 10;
-  static constexpr const char* kName = "pinhole-skew-equidistant";
-
-  template <typename T>
-  static bool Project(const T* params, const T* point_in_cam, T* pixel) {
-    using std::atan;
-    using std::sqrt;
-    if (!(point_in_cam[2] > T(0))) return false;
-    const T x = point_in_cam[0] / point_in_cam[2];
-    const T y = point_in_cam[1] / point_in_cam[2];
-    const T r2 = x * x + y * y;
-    // theta_d / r; at r -> 0 it tends to 1 (and its derivatives in x, y to 0): sqrt would give the
-    // Jet an infinite derivative there.
-    T scale(1);
-    if (r2 > T(1e-24)) {
-      const T r = sqrt(r2);
-      const T theta = atan(r);
-      const T t2 = theta * theta;
-      const T theta_d =
-          theta * (T(1) + t2 * (params[5] + t2 * (params[6] + t2 * (params[7] + t2 * params[8]))));
-      scale = theta_d / r;
-    }
-    ApplyIntrinsicMatrix(params, scale * x, scale * y, pixel);
-    return true;
-  }
-};
-
-// The omnidirectional cameras below return false, leaving pixel untouched, for a point outside
-// their valid region (header comment; this includes parameters outside their ranges and the
-// origin). Every square root taken for a valid point is of a positive number (finite Jets).
-
-// w of the eucm edge Z > -w d for weight alpha (also the double sphere's w1); alpha in [0, 1].
-template <typename T>
-T EucmEdgeWeight(const T& alpha) {
-  return alpha > T(0.5) ? (T(1) - alpha) / alpha : alpha / (T(1) - alpha);
-}
-
-// Mei's unified model with radtan (k1, k2, p1, p2) on the sphere's image.
-struct UnifiedCamera {
-  static constexpr int kNumParams = 10;
-  static constexpr const char* kName = "pinhole-skew-unified";
-
-  template <typename T>
-  static bool InRegion(const T& xi, const T& z, const T& rho) {
-    const T w = xi > T(1) ? T(1) / xi : xi;
-    return z > -w * rho;
-  }
-  template <typename T>
-  static bool Project(const T* params, const T* point_in_cam, T* pixel) {
-    using std::sqrt;
-    const T &x = point_in_cam[0], &y = point_in_cam[1], &z = point_in_cam[2];
-    const T rho = sqrt(x * x + y * y + z * z);
-    if (!InRegion(params[5], z, rho)) return false;
-    const T den = z + params[5] * rho;
-    T xd, yd;
-    ApplyRadTan(params[6], params[7], params[8], params[9], T(0), x / den, y / den, &xd, &yd);
-    ApplyIntrinsicMatrix(params, xd, yd, pixel);
-    return true;
-  }
-};
-
-// The extended unified model (alpha, beta).
-struct EucmCamera {
-  static constexpr int kNumParams = 10;
-  static constexpr const char* kName = "pinhole-skew-eucm";
-
-  template <typename T>
-  static bool InRegion(const T& alpha, const T& beta, const T& z, const T& d) {
-    if (!(alpha >= T(0) && alpha <= T(1) && beta > T(0))) return false;
-    return z > -EucmEdgeWeight(alpha) * d;
-  }
-  template <typename T>
-  static bool Project(const T* params, const T* point_in_cam, T* pixel) {
-    using std::sqrt;
-    const T &x = point_in_cam[0], &y = point_in_cam[1], &z = point_in_cam[2];
-    const T &alpha = params[5], &beta = params[6];
-    const T d = sqrt(beta * (x * x + y * y) + z * z);
-    if (!InRegion(alpha, beta, z, d)) return false;
-    const T den = alpha * d + (T(1) - alpha) * z;
-    ApplyIntrinsicMatrix(params, x / den, y / den, pixel);
-    return true;
-  }
-};
-
-// The double sphere model (xi, alpha).
-struct DoubleSphereCamera {
-  static constexpr int kNumParams = 10;
-  static constexpr const char* kName = "pinhole-skew-double-sphere";
-
-  template <typename T>
-  static bool InRegion(const T& xi, const T& alpha, const T& z, const T& d1) {
-    using std::sqrt;
-    if (!(alpha >= T(0) && alpha <= T(1))) return false;
-    const T w1 = EucmEdgeWeight(alpha), u = T(1) - w1 * w1;
-    const T w2 = xi > T(1) ? T(1) / xi : xi * u + w1 * sqrt(T(1) - xi * xi * u);
-    return z > -w2 * d1;
-  }
-  template <typename T>
-  static bool Project(const T* params, const T* point_in_cam, T* pixel) {
-    using std::sqrt;
-    const T &x = point_in_cam[0], &y = point_in_cam[1], &z = point_in_cam[2];
-    const T &xi = params[5], &alpha = params[6];
-    const T r2 = x * x + y * y;
-    const T d1 = sqrt(r2 + z * z);
-    if (!InRegion(xi, alpha, z, d1)) return false;
-    const T k = xi * d1 + z;
-    const T den = alpha * sqrt(r2 + k * k) + (T(1) - alpha) * k;
-    ApplyIntrinsicMatrix(params, x / den, y / den, pixel);
-    return true;
-  }
-};
-
-// Project<T> of `family`'s camera type.
-template <typename T>
-bool ProjectLens(LensFamily family, const T* params, const T* point_in_cam, T* pixel) {
-  switch (family) {
-    case LensFamily::kRadTan:
-      return PinholeSkewCamera::Project(params, point_in_cam, pixel);
-    case LensFamily::kEquidistant:
-      return PinholeEquiCamera::Project(params, point_in_cam, pixel);
-    case LensFamily::kUnified:
-      return UnifiedCamera::Project(params, point_in_cam, pixel);
-    case LensFamily::kEucm:
-      return EucmCamera::Project(params, point_in_cam, pixel);
-    case LensFamily::kDoubleSphere:
-      return DoubleSphereCamera::Project(params, point_in_cam, pixel);
-  }
-  return false;
-}
+// The field of `k` a lens slot's name stands for ("k1", "xi", "beta", ...; ParamNames); nullptr for
+// "-" and for names that are no lens field.
+const double* LensField(const CameraIntrinsics& k, const std::string& name);
+double* LensField(CameraIntrinsics* k, const std::string& name);
 
 // One value per entry of the raw parameter array (e.g. standard deviations; phi in radians).
 using IntrinsicsArray = std::array<double, PinholeSkewCamera::kNumParams>;

@@ -3,7 +3,7 @@
 # Warnings for our own targets (never for third-party headers, which come in as SYSTEM); errors
 # with CALIBENCH_WERROR (CI).
 function(calibench_set_warnings target)
-  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wswitch-enum
                                            -Wno-unused-parameter)
   if(CALIBENCH_WERROR)
     target_compile_options(${target} PRIVATE -Werror)

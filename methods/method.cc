@@ -8,10 +8,7 @@
 namespace calibench {
 
 bool RefuseWideLens(const MethodInput& input, const std::string& method, MethodResult* result) {
-  if (input.lens != LensFamily::kUnified && input.lens != LensFamily::kEucm &&
-      input.lens != LensFamily::kDoubleSphere) {
-    return false;
-  }
+  if (!InfoOf(input.lens).sees_past_90) return false;
   result->status = MethodStatus::kFailed;
   result->message = method + " assumes a pinhole projection; the camera's lens is " +
                     ToString(input.lens) +

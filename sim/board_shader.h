@@ -44,20 +44,10 @@ inline int FloorSmall(double x) {
 // edge came out +0.0018 px outwards on average (max error 0.0067 px); in stereographic
 // coordinates, which grow as tan(theta / 2), -0.0002 px (max 0.0027;
 // tests/detect/wide_angle_test.cc).
-enum class RaySpace { kPlane, kStereographic };
+// Each family declares its space (LensFamilyInfo::ray_space, camera/lens_families.h).
+using RaySpace = LensRaySpace;
 
-inline RaySpace RaySpaceOf(LensFamily family) {
-  switch (family) {
-    case LensFamily::kRadTan:
-      return RaySpace::kPlane;
-    case LensFamily::kEquidistant:
-    case LensFamily::kUnified:
-    case LensFamily::kEucm:
-    case LensFamily::kDoubleSphere:
-      return RaySpace::kStereographic;
-  }
-  return RaySpace::kStereographic;
-}
+inline RaySpace RaySpaceOf(LensFamily family) { return InfoOf(family).ray_space; }
 inline bool IsPlaneFamily(LensFamily family) { return RaySpaceOf(family) == RaySpace::kPlane; }
 
 // The pixel of `point_in_cam` for an image bound: false where it does not project (radtan and

@@ -65,7 +65,7 @@ WideInitResult WideStart(const PointData& data, LensModel model) {
 // wide start for the omnidirectional families, which OpenCV cannot start.
 ZhangResult StartFromScratch(const PointData& data, LensModel model, std::string* initial_name) {
   const LensFamily family = FamilyOf(model);
-  if (family != LensFamily::kRadTan && family != LensFamily::kEquidistant) {
+  if (!InfoOf(family).zhang_starts) {
     *initial_name = "wide start";
     return FromWideStart(WideStart(data, model));
   }

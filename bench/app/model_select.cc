@@ -155,9 +155,12 @@ std::string Shown(double value, const char* format) {
 }  // namespace
 
 const std::vector<LensModel>& AutoCandidates() {
-  static const std::vector<LensModel> candidates = {
-      LensModel::kPinholeRadTan4, LensModel::kPinholeRadTan5, LensModel::kPinholeEqui,
-      LensModel::kUnified,        LensModel::kEucm,           LensModel::kDoubleSphere};
+  // pinhole-radtan4, then every family's full model (camera/lens_families.h).
+  static const std::vector<LensModel> candidates = [] {
+    std::vector<LensModel> models = {LensModel::kPinholeRadTan4};
+    for (const LensFamilyInfo& info : LensFamilies()) models.push_back(FullModelOf(info.family));
+    return models;
+  }();
   return candidates;
 }
 

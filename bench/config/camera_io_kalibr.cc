@@ -6,52 +6,51 @@
 namespace calibench {
 namespace camera_io_internal {
 // Kalibr's camera_model names and intrinsics order for each family (Kalibr's
-// kalibr_common/ConfigReader.py, AslamCamera): the lens parameters first, then fu fv pu pv.
+// kalibr_common/ConfigReader.py, AslamCamera; LensFamilyInfo::kalibr): the lens parameters first,
+// then fu fv pu pv.
 struct KalibrModel {
   LensFamily family;
   const char* camera_model;
   std::vector<const char*> lens;  // The fields before fu fv pu pv.
 };
 const std::vector<KalibrModel>& KalibrModels() {
-  static const std::vector<KalibrModel> models = {
-      {LensFamily::kRadTan, "pinhole", {}},
-      {LensFamily::kEquidistant, "pinhole", {}},
-      {LensFamily::kUnified, "omni", {"xi"}},
-      {LensFamily::kEucm, "eucm", {"alpha", "beta"}},
-      {LensFamily::kDoubleSphere, "ds", {"xi", "alpha"}},
-  };
+  static const std::vector<KalibrModel> models = [] {
+    std::vector<KalibrModel> rows;
+    for (const LensFamilyInfo& info : LensFamilies()) {
+      if (info.kalibr.camera_model == nullptr) continue;  // Kalibr cannot store it.
+      KalibrModel row{info.family, info.kalibr.camera_model, {}};
+      for (const char* field : info.kalibr.lens) {
+        if (field != nullptr) row.lens.push_back(field);
+      }
+      rows.push_back(row);
+    }
+    return rows;
+  }();
   return models;
 }
 
-double& LensField(CameraIntrinsics* k, const std::string& name) {
-  return name == "xi" ? k->xi : name == "alpha" ? k->alpha : k->beta;
+// The lens fields Kalibr's distortion_coeffs hold for k's family, in Kalibr's order.
+std::vector<const char*> KalibrCoefficientNames(LensFamily family) {
+  std::vector<const char*> names;
+  for (const char* name : InfoOf(family).kalibr.coefficients) {
+    if (name != nullptr) names.push_back(name);
+  }
+  return names;
 }
 
 // distortion_model and its coefficients for a family.
 void KalibrDistortion(const CameraIntrinsics& k, std::string* model, std::vector<double>* coeffs) {
-  switch (k.family) {
-    case LensFamily::kRadTan:
-    case LensFamily::kUnified:
-      *model = "radtan";
-      *coeffs = {k.k1, k.k2, k.p1, k.p2};
-      return;
-    case LensFamily::kEquidistant:
-      *model = "equidistant";
-      *coeffs = {k.k1, k.k2, k.k3, k.k4};
-      return;
-    case LensFamily::kEucm:
-    case LensFamily::kDoubleSphere:
-      *model = "none";
-      coeffs->clear();
-      return;
-  }
+  *model = InfoOf(k.family).kalibr.distortion_model;
+  coeffs->clear();
+  for (const char* name : KalibrCoefficientNames(k.family)) coeffs->push_back(*LensField(k, name));
 }
 
-const KalibrModel& KalibrModelOf(LensFamily family) {
+// nullptr for a family Kalibr has no camera_model for.
+const KalibrModel* KalibrModelOf(LensFamily family) {
   for (const KalibrModel& m : KalibrModels()) {
-    if (m.family == family) return m;
+    if (m.family == family) return &m;
   }
-  return KalibrModels()[0];
+  return nullptr;
 }
 
 bool WriteKalibr(const std::string& path, const CameraFile& camera, std::string* why) {
@@ -64,7 +63,11 @@ bool WriteKalibr(const std::string& path, const CameraFile& camera, std::string*
     return Fail(why, path + ": kalibr: Kalibr's radtan model has k1 k2 r1 r2, no k3 (k3 " +
                          Number(k.k3) + "); use --model pinhole-radtan4 or write opencv/mrcal");
   }
-  const KalibrModel& m = KalibrModelOf(k.family);
+  if (KalibrModelOf(k.family) == nullptr) {
+    return Fail(why, path + ": kalibr: Kalibr has no camera model for the " +
+                         std::string(InfoOf(k.family).known_as) + " lens; write opencv");
+  }
+  const KalibrModel& m = *KalibrModelOf(k.family);
   std::string distortion;
   std::vector<double> coeffs;
   KalibrDistortion(k, &distortion, &coeffs);
@@ -73,7 +76,7 @@ bool WriteKalibr(const std::string& path, const CameraFile& camera, std::string*
   out << YAML::BeginMap << YAML::Key << "cam0" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "camera_model" << YAML::Value << m.camera_model;
   out << YAML::Key << "intrinsics" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  for (const char* field : m.lens) out << LensField(&k, field);
+  for (const char* field : m.lens) out << *LensField(k, field);
   out << k.fku_px << k.fkv_px << k.u0_px << k.v0_px << YAML::EndSeq;
   out << YAML::Key << "distortion_model" << YAML::Value << distortion;
   out << YAML::Key << "distortion_coeffs" << YAML::Value << YAML::Flow << YAML::BeginSeq;
@@ -112,24 +115,22 @@ bool ReadKalibrDistortion(const YAML::Node& cam, const std::string& at, const Ka
   const std::string name = m.camera_model;
   std::vector<double> d;
   if (model == "none") return KalibrNumbers(cam, at, "distortion_coeffs", 0, &d, why);
-  const bool takes_radtan = name == "pinhole" || name == "omni";
-  if (model == "radtan" && takes_radtan) {
-    if (!KalibrNumbers(cam, at, "distortion_coeffs", 4, &d, why)) return false;
-    k->k1 = d[0], k->k2 = d[1], k->p1 = d[2], k->p2 = d[3];
-    return true;
-  }
-  if (model == "equidistant" && name == "pinhole") {
-    if (!KalibrNumbers(cam, at, "distortion_coeffs", 4, &d, why)) return false;
-    k->family = LensFamily::kEquidistant;
-    k->k1 = d[0], k->k2 = d[1], k->k3 = d[2], k->k4 = d[3];
+  // The family of this camera_model whose distortion_model it is (pinhole + equidistant: the
+  // equidistant family).
+  std::string supported;
+  for (const KalibrModel& row : KalibrModels()) {
+    const char* distortion = InfoOf(row.family).kalibr.distortion_model;
+    if (name != row.camera_model || std::string(distortion) == "none") continue;
+    supported += std::string(distortion) + ", ";
+    if (model != distortion) continue;
+    const std::vector<const char*> fields = KalibrCoefficientNames(row.family);
+    if (!KalibrNumbers(cam, at, "distortion_coeffs", fields.size(), &d, why)) return false;
+    k->family = row.family;
+    for (size_t i = 0; i < fields.size(); ++i) *LensField(k, fields[i]) = d[i];
     return true;
   }
   return Fail(why, at + "distortion_model: '" + model + "' is not supported with camera_model " +
-                       name + " (" +
-                       (name == "pinhole" ? "radtan, equidistant, none"
-                        : takes_radtan    ? "radtan, none"
-                                          : "none") +
-                       ")");
+                       name + " (" + supported + "none)");
 }
 
 bool ReadKalibr(const std::string& path, const YAML::Node& root, CameraFile* camera,
@@ -142,9 +143,14 @@ bool ReadKalibr(const std::string& path, const YAML::Node& root, CameraFile* cam
     if (name == candidate.camera_model && m == nullptr) m = &candidate;
   }
   if (m == nullptr) {
+    std::string names;  // pinhole, omni, eucm, ds.
+    for (const KalibrModel& candidate : KalibrModels()) {
+      if (names.find(candidate.camera_model) == std::string::npos) {
+        names += (names.empty() ? "" : ", ") + std::string(candidate.camera_model);
+      }
+    }
     return Fail(why, at + "camera_model: '" + name +
-                         "' is not a Kalibr camera model calibench reads (pinhole, omni, eucm, "
-                         "ds)");
+                         "' is not a Kalibr camera model calibench reads (" + names + ")");
   }
   std::vector<double> intr, res;
   if (!KalibrNumbers(cam, at, "intrinsics", m->lens.size() + 4, &intr, why) ||
@@ -153,7 +159,7 @@ bool ReadKalibr(const std::string& path, const YAML::Node& root, CameraFile* cam
   }
   CameraIntrinsics k;
   k.family = m->family;
-  for (size_t i = 0; i < m->lens.size(); ++i) LensField(&k, m->lens[i]) = intr[i];
+  for (size_t i = 0; i < m->lens.size(); ++i) *LensField(&k, m->lens[i]) = intr[i];
   const double* pinhole = intr.data() + m->lens.size();
   k.fku_px = pinhole[0], k.fkv_px = pinhole[1], k.u0_px = pinhole[2], k.v0_px = pinhole[3];
   if (!ReadKalibrDistortion(cam, at, *m, &k, why)) return false;

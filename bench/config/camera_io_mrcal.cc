@@ -12,12 +12,8 @@ bool WriteMrcal(const std::string& path, const CameraFile& camera, std::string* 
     return Fail(why, path + ": mrcal: mrcal's lens models have no skew (phi_deg " +
                          Number(k.phi_deg) + "); calibrate without --skew or write opencv");
   }
-  if (k.family != LensFamily::kRadTan) {
-    const std::string model =
-        k.family == LensFamily::kEquidistant
-            ? "Kannala-Brandt (equidistant)"
-            : std::string(ToString(k.family)) + (k.family == LensFamily::kUnified ? " (Mei)" : "");
-    return Fail(why, path + ": mrcal: mrcal 2.2 has no " + model +
+  if (!InfoOf(k.family).mrcal_stores) {
+    return Fail(why, path + ": mrcal: mrcal 2.2 has no " + std::string(InfoOf(k.family).known_as) +
                          " lens model (LENSMODEL_PINHOLE, STEREOGRAPHIC, LONLAT, LATLON, "
                          "OPENCV4/5/8/12, CAHVOR, CAHVORE, SPLINED_STEREOGRAPHIC); write opencv "
                          "or kalibr");

@@ -78,22 +78,19 @@ bool ParseOpenCvFamily(const std::string& path, const cv::FileStorage& in, LensF
   in["distortion_model"] >> name;
   if (name.empty()) {
     *family = in["xi"].empty() ? LensFamily::kRadTan : LensFamily::kUnified;
-  } else if (name == "radtan" || name == "plumb_bob") {
-    *family = LensFamily::kRadTan;
-  } else if (name == "equidistant" || name == "fisheye") {
-    *family = LensFamily::kEquidistant;
-  } else if (name == "unified" || name == "omnidir") {
-    *family = LensFamily::kUnified;
-  } else if (name == "eucm") {
-    *family = LensFamily::kEucm;
-  } else if (name == "double-sphere") {
-    *family = LensFamily::kDoubleSphere;
-  } else {
-    return Fail(why, path + ": distortion_model: unknown '" + name +
-                         "' (radtan, plumb_bob, equidistant, fisheye, unified, omnidir, eucm, "
-                         "double-sphere)");
+    return true;
   }
-  return true;
+  std::string known;  // Every family's name and OpenCV's alias (LensFamilyInfo::opencv_alias).
+  for (const LensFamilyInfo& info : LensFamilies()) {
+    const bool alias = info.opencv_alias != nullptr;
+    if (name == info.name || (alias && name == info.opencv_alias)) {
+      *family = info.family;
+      return true;
+    }
+    known += (known.empty() ? "" : ", ") + std::string(info.name);
+    if (alias) known += ", " + std::string(info.opencv_alias);
+  }
+  return Fail(why, path + ": distortion_model: unknown '" + name + "' (" + known + ")");
 }
 
 // A scalar lens field of the family (xi, alpha, beta): present and a number.

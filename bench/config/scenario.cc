@@ -73,8 +73,7 @@ RenderedSourceOptions ScenarioConfig::RenderingOptions() const {
   // camera's lens (the truth's, as calibrate --images draws its last pass through its estimate),
   // unless the scenario gives a camera.
   const LensFamily lens = truth.intrinsics.family;
-  if (!o.detection.camera && (lens == LensFamily::kUnified || lens == LensFamily::kEucm ||
-                              lens == LensFamily::kDoubleSphere)) {
+  if (!o.detection.camera && InfoOf(lens).sees_past_90) {
     o.detection.camera = truth.intrinsics;
   }
   return o;

@@ -2,6 +2,7 @@
 // member's initializer), unit, doc and check. The parser, the writer, equality, the key lists of
 // "did you mean", the sweepable keys and docs/configuration.md are derived from these functions.
 // How the measurements are made (noise, rendering, detection, diagnostics): source_fields.cc.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -30,13 +31,14 @@ const EnumNames<CalibrationCase>& CaseNames() {
   return names;
 }
 
+// Every family of the list (camera/lens_families.h), by its name.
 const EnumNames<LensFamily>& ScenarioLensFamilies() {
-  static const EnumNames<LensFamily> names{{{LensFamily::kRadTan, "radtan"},
-                                            {LensFamily::kEquidistant, "equidistant"},
-                                            {LensFamily::kUnified, "unified"},
-                                            {LensFamily::kEucm, "eucm"},
-                                            {LensFamily::kDoubleSphere, "double-sphere"}},
-                                           "lens family"};
+  static const EnumNames<LensFamily> names = [] {
+    EnumNames<LensFamily> n{{}, "lens family"};
+    for (const LensFamilyInfo& info : LensFamilies())
+      n.entries.emplace_back(info.family, info.name);
+    return n;
+  }();
   return names;
 }
 
@@ -330,9 +332,13 @@ void Visit(FieldVisitor& v, CameraIntrinsics& k) {
   v.Field({"alpha", "", "eucm and double-sphere: the weight α of the last projection.", "in [0, 1]",
            nullptr, kOmitUnset},
           &k.alpha);
-  // Written for eucm only (its default 1 is the sphere), so that other families' files stay short.
+  // Written for the families that have it only (its default 1 is the sphere), so that other
+  // families' files stay short.
+  const auto& lens = InfoOf(k.family).lens_params;
+  const bool has_beta =
+      std::any_of(lens.begin(), lens.end(), [](const char* n) { return std::string(n) == "beta"; });
   v.Field({"beta", "", "eucm only: the ellipsoid's shape β (1: a sphere).", "> 0", nullptr,
-           k.family == LensFamily::kEucm ? 0u : kNotWritten},
+           has_beta ? 0u : kNotWritten},
           &k.beta);
   v.Check(nullptr, [&k](std::string* why) { return k.Check(why); });
 }

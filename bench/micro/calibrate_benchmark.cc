@@ -37,33 +37,36 @@ namespace {
 constexpr int kWidth = 960, kHeight = 600;
 constexpr double kAxisFocalPx = 330;
 
-// The models timed, by benchmark argument.
-const LensModel kModels[] = {LensModel::kPinholeRadTan4, LensModel::kPinholeEqui,
-                             LensModel::kUnified, LensModel::kEucm, LensModel::kDoubleSphere};
+// The models timed, by benchmark argument: pinhole-radtan4, then the full model of every family
+// but radtan (camera/lens_families.h).
+const std::vector<LensModel>& Models() {
+  static const std::vector<LensModel> models = [] {
+    std::vector<LensModel> m = {LensModel::kPinholeRadTan4};
+    for (const LensFamilyInfo& info : LensFamilies()) {
+      if (info.family != LensFamily::kRadTan) m.push_back(FullModelOf(info.family));
+    }
+    return m;
+  }();
+  return models;
+}
 
+// 0 .. Models().size() - 1: the benchmark argument that picks the model.
+std::vector<int64_t> ModelIndices() {
+  std::vector<int64_t> indices;
+  for (size_t i = 0; i < Models().size(); ++i) indices.push_back(static_cast<int64_t>(i));
+  return indices;
+}
+
+// The family's example lens (LensFamilyInfo::example_lens) at about the same image size.
 CameraIntrinsics Truth(LensFamily family) {
+  const LensFamilyInfo& info = InfoOf(family);
   CameraIntrinsics k;
   k.family = family;
   k.fku_px = kAxisFocalPx, k.fkv_px = 1.002 * kAxisFocalPx, k.u0_px = 482, k.v0_px = 297;
-  switch (family) {
-    case LensFamily::kRadTan:
-      k.k1 = -0.25, k.k2 = 0.07, k.p1 = 2e-4, k.p2 = -1e-4;
-      break;
-    case LensFamily::kEquidistant:
-      k.k1 = 0.02, k.k2 = -0.01, k.k3 = 0.004, k.k4 = -8e-4;
-      break;
-    case LensFamily::kUnified:  // gamma = f (1 + xi).
-      k.xi = 0.9, k.k1 = -0.05, k.k2 = 0.01, k.p1 = 2e-4, k.p2 = -1e-4;
-      k.fku_px *= 1.9, k.fkv_px *= 1.9;
-      break;
-    case LensFamily::kEucm:
-      k.alpha = 0.6, k.beta = 1.1;
-      break;
-    case LensFamily::kDoubleSphere:  // f (1 + xi) on the axis.
-      k.xi = -0.2, k.alpha = 0.6;
-      k.fku_px *= 0.8, k.fkv_px *= 0.8;
-      break;
+  for (int i = 0; i < 5; ++i) {
+    if (double* field = LensField(&k, info.lens_params[i])) *field = info.example_lens[i];
   }
+  k.fku_px *= info.example_focal_scale, k.fkv_px *= info.example_focal_scale;
   return k;
 }
 
@@ -93,7 +96,7 @@ PointData AsPointData(const SyntheticBoardViews& data) {
 }
 
 void BM_Calibrate(benchmark::State& state) {
-  const LensModel model = kModels[state.range(0)];
+  const LensModel model = Models()[state.range(0)];
   const PointData data = AsPointData(Views(FamilyOf(model), static_cast<int>(state.range(1))));
   CalibrateOptions options;
   options.model = model;
@@ -105,7 +108,7 @@ void BM_Calibrate(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Calibrate)
-    ->ArgsProduct({{0, 1, 2, 3, 4}, {30, 100, 300}})
+    ->ArgsProduct({ModelIndices(), {30, 100, 300}})
     ->Unit(benchmark::kMillisecond);
 
 struct OpenCvPoints {
@@ -188,7 +191,7 @@ BENCHMARK(BM_OpenCvOmnidirCalibrateOnce)->Arg(300)->Iterations(1)->Unit(benchmar
 // The refinement alone (header comment): args model index, views, jet (0 analytic, 1 ceres::Jet
 // with DENSE_SVD covariance), covariance (0: none, the per-iteration figure; 1: as calibrate).
 void BM_CeresRefine(benchmark::State& state) {
-  const LensModel model = kModels[state.range(0)];
+  const LensModel model = Models()[state.range(0)];
   const SyntheticBoardViews& data = Views(FamilyOf(model), static_cast<int>(state.range(1)));
   std::vector<Rigid3> poses = data.cam_from_board;
   for (Rigid3& p : poses) {
@@ -217,7 +220,7 @@ void BM_CeresRefine(benchmark::State& state) {
   state.counters["cpu_ms_per_iteration"] = cpu_ms / static_cast<double>(std::max(1L, iterations));
 }
 BENCHMARK(BM_CeresRefine)
-    ->ArgsProduct({{0, 1, 2, 3, 4}, {29, 100}, {0, 1}, {0, 1}})
+    ->ArgsProduct({ModelIndices(), {29, 100}, {0, 1}, {0, 1}})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

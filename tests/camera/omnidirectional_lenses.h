@@ -136,9 +136,11 @@ inline RadialImage Radial(const CameraIntrinsics& k, double theta) {
       return EucmRadial(k.alpha, k.beta, theta);
     case LensFamily::kDoubleSphere:
       return DoubleSphereRadial(k.xi, k.alpha, theta);
-    default:
+    case LensFamily::kRadTan:  // Not used for these (the pinhole's image, for completeness).
+    case LensFamily::kEquidistant:
       return {std::tan(theta), 1.0};
   }
+  return {std::tan(theta), 1.0};
 }
 
 // Where the angle form stops being valid: the first theta with den <= 0 or dm/dtheta <= 0, found
