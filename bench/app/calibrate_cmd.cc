@@ -2,8 +2,8 @@
 
 #include <iostream>
 
-#include "bench/app/calibrate.h"
-#include "bench/app/model_select.h"
+#include "calib/calibrate.h"
+#include "calib/model_select.h"
 
 namespace calibench {
 

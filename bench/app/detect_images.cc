@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <sstream>
 
-#include "bench/app/image_points.h"
 #include "bench/run/csv.h"
+#include "calib/image_points.h"
 #include "detect/chessboard.h"
 
 namespace calibench {

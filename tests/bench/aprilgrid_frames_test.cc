@@ -10,10 +10,10 @@
 #include <map>
 #include <opencv2/calib3d.hpp>
 
-#include "bench/app/calibrate.h"
 #include "bench/app/detect_images.h"
-#include "bench/app/image_points.h"
-#include "bench/app/model_select.h"
+#include "calib/calibrate.h"
+#include "calib/image_points.h"
+#include "calib/model_select.h"
 #include "tests/common/test_data.h"
 
 namespace calibench {

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "bench/config/camera_io.h"
+#include "io/camera_io.h"
 #include "sim/synthetic.h"
 #include "util/random.h"
 

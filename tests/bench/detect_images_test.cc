@@ -8,8 +8,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
-#include "bench/app/image_points.h"
 #include "bench/run/csv.h"
+#include "calib/image_points.h"
 #include "sim/render.h"
 #include "sim/synthetic.h"
 #include "tests/common/temp_files.h"

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "bench/app/calibrate.h"
 #include "bench/app/calibrate_cmd.h"
-#include "bench/app/image_points.h"
-#include "bench/config/target_io.h"
+#include "calib/calibrate.h"
+#include "calib/image_points.h"
+#include "io/target_io.h"
 
 namespace calibench {
 

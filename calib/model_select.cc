@@ -1,4 +1,4 @@
-#include "bench/app/model_select.h"
+#include "calib/model_select.h"
 
 #include <algorithm>
 #include <cmath>

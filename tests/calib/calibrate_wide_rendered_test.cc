@@ -19,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "bench/app/calibrate.h"
 #include "bench/app/calibrate_cmd.h"
-#include "bench/app/image_points.h"
+#include "calib/calibrate.h"
+#include "calib/image_points.h"
 #include "sim/render.h"
 #include "sim/synthetic.h"
 #include "tests/common/calibrate_folder.h"

@@ -2,7 +2,7 @@
 // Ceres log a WARNING, a start it cannot evaluate an ERROR ("Terminating: ..."); quiet by default
 // neither reaches stderr (calibench reports the failure itself), with verbose both do. The solve
 // itself is unchanged (the step is retried either way).
-#include "bench/app/solver_logging.h"
+#include "calib/solver_logging.h"
 
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>

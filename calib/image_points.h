@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "bench/app/points_io.h"
-#include "bench/config/target_io.h"
 #include "detect/frame_detector.h"
+#include "io/points_io.h"
+#include "io/target_io.h"
 #include "sim/render.h"
 
 namespace calibench {

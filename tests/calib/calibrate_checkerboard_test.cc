@@ -3,9 +3,9 @@
 // lens (IterateCornersThroughTheLens, detect/x_junction.h).
 #include <gtest/gtest.h>
 
-#include "bench/app/calibrate.h"
-#include "bench/app/image_points.h"
-#include "bench/config/target_io.h"
+#include "calib/calibrate.h"
+#include "calib/image_points.h"
+#include "io/target_io.h"
 #include "tests/common/calibrate_folder.h"
 #include "tests/common/rendered_folder.h"
 

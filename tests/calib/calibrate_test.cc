@@ -1,6 +1,6 @@
 // Regression on published calibration data (CTest label "data"), bundled in data/: Zhang's points
 // (data/zhang) and OpenCV's calib1.dat (data/opencv-calib1).
-#include "bench/app/calibrate.h"
+#include "calib/calibrate.h"
 
 #include <gtest/gtest.h>
 

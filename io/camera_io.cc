@@ -1,4 +1,4 @@
-#include "bench/config/camera_io.h"
+#include "io/camera_io.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "bench/config/camera_io_formats.h"
+#include "io/camera_io_formats.h"
 
 namespace calibench {
 namespace camera_io_internal {

@@ -1,11 +1,12 @@
 // Config I/O for AprilTag targets and rendering (scenario sections and Kalibr target files).
+#include "io/target_io.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <string>
 #include <utility>
 
-#include "bench/config/config_parsers.h"
-#include "bench/config/target_io.h"
+#include "io/yaml_reader.h"
 #include "sim/tag_family.h"
 #include "util/format.h"
 

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "bench/app/calibrate.h"
+#include "calib/calibrate.h"
 #include "tests/common/calibrate_folder.h"
 #include "tests/common/test_data.h"
 

@@ -1,4 +1,4 @@
-#include "bench/app/image_points.h"
+#include "calib/image_points.h"
 
 #include <algorithm>
 #include <cctype>

@@ -2,7 +2,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "bench/config/camera_io_formats.h"
+#include "io/camera_io_formats.h"
 
 namespace calibench {
 namespace camera_io_internal {

@@ -2,7 +2,7 @@
 #include <filesystem>
 #include <opencv2/core.hpp>
 
-#include "bench/config/camera_io_formats.h"
+#include "io/camera_io_formats.h"
 
 namespace calibench {
 namespace camera_io_internal {

@@ -1,6 +1,6 @@
 // Camera files (bench/config/camera_io.h): exact round trips through opencv, kalibr and mrcal,
 // mrcal's own projection of our .cameramodel against ours, and the refusals with their reasons.
-#include "bench/config/camera_io.h"
+#include "io/camera_io.h"
 
 #include <gtest/gtest.h>
 

@@ -8,9 +8,9 @@
 #include <fstream>
 #include <opencv2/calib3d.hpp>
 
-#include "bench/app/calibrate.h"
-#include "bench/app/image_points.h"
-#include "bench/config/target_io.h"
+#include "calib/calibrate.h"
+#include "calib/image_points.h"
+#include "io/target_io.h"
 #include "tests/common/rendered_folder.h"
 
 namespace calibench {

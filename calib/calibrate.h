@@ -19,9 +19,9 @@
 #include "batch/jackknife.h"
 #include "batch/refine.h"
 #include "batch/zhang.h"
-#include "bench/app/image_points.h"
-#include "bench/app/points_io.h"
-#include "bench/config/camera_io.h"
+#include "calib/image_points.h"
+#include "io/camera_io.h"
+#include "io/points_io.h"
 
 namespace calibench {
 

@@ -1,4 +1,4 @@
-#include "bench/app/points_io.h"
+#include "io/points_io.h"
 
 #include <filesystem>
 #include <fstream>

@@ -1,4 +1,4 @@
-#include "bench/app/solver_logging.h"
+#include "calib/solver_logging.h"
 
 #include <glog/logging.h>
 

@@ -1,4 +1,4 @@
-#include "bench/app/calibrate.h"
+#include "calib/calibrate.h"
 
 #include <algorithm>
 #include <array>

@@ -39,7 +39,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/app/calibrate.h"
+#include "calib/calibrate.h"
 
 namespace calibench {
 

@@ -1,7 +1,7 @@
 #include <cmath>
 #include <vector>
 
-#include "bench/config/camera_io_formats.h"
+#include "io/camera_io_formats.h"
 
 namespace calibench {
 namespace camera_io_internal {

@@ -1,6 +1,6 @@
 // calibrate --model auto (bench/app/model_select.h) on synthetic data: the pick is within noise of
 // the truth's family, and the table says why.
-#include "bench/app/model_select.h"
+#include "calib/model_select.h"
 
 #include <gtest/gtest.h>
 

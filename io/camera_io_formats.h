@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "bench/config/camera_io.h"
+#include "io/camera_io.h"
 
 namespace calibench {
 namespace camera_io_internal {

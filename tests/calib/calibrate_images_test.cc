@@ -9,9 +9,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
-#include "bench/app/calibrate.h"
-#include "bench/app/image_points.h"
-#include "bench/config/target_io.h"
+#include "calib/calibrate.h"
+#include "calib/image_points.h"
+#include "io/target_io.h"
 #include "sim/render.h"
 #include "sim/synthetic.h"
 #include "tests/common/calibrate_folder.h"
