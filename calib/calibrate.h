@@ -19,14 +19,17 @@
 #include "batch/jackknife.h"
 #include "batch/refine.h"
 #include "batch/zhang.h"
+#include "calib/camera_file.h"
 #include "calib/image_points.h"
-#include "io/camera_io.h"
-#include "io/points_io.h"
+#include "calib/point_data.h"
 
 namespace calibench {
 
 struct CalibrateOptions {
   LensModel model = LensModel::kPinholeK2;
+  // The model chosen among the candidates instead (calibrate_camera.h; model_select.h); not with
+  // init. CalibrateFromPoints ignores it.
+  bool select_model = false;
   bool estimate_skew = false;
   std::optional<CameraFile> init;  // A given camera: the initial guess instead of zhang.
   std::string init_path;           // Its file, for the report.
@@ -35,6 +38,12 @@ struct CalibrateOptions {
   // at most kJackknifeAutoMaxViews views (each view costs one more refinement).
   enum class Jackknife { kAuto, kOn, kOff };
   Jackknife jackknife = Jackknife::kAuto;
+  // CalibrateImages (calibrate_camera.h): at most this many re-fits of the corners through the
+  // estimate (IterateCornersThroughTheLens); 0: none.
+  int corner_iterations = 4;
+  // False with *why when the options contradict each other (select_model or evaluate_only with
+  // init / without init, negative corner_iterations).
+  bool Check(std::string* why) const;
 };
 constexpr int kJackknifeAutoMaxViews = 30;
 // The formal std is flagged when the jackknife's is this many times larger for a parameter.
@@ -96,18 +105,10 @@ void IterateCornersThroughTheLens(const std::string& dir, const CalibrationTarge
                                   const ImagePointOptions& images, const CalibrateOptions& options,
                                   int max_iterations, ImageCalibration* state, std::ostream& log);
 
-// Human-readable report: intrinsics +- std for ceres (and the jackknife std when computed) beside
-// zhang, RMS, per-view RMS.
-std::string FormatCalibrateReport(const CalibrateReport& report, const PointData& data);
-
-// Per image: used or why not, points, per-view RMS and an outlier flag (view RMS above
-// kOutlierFactor times the median view RMS). `used_index` maps data views to report images.
-constexpr double kOutlierFactor = 3.0;
-// A calibration whose reprojection RMS exceeds this is flagged: detected corners are good to
-// ~0.1 px and real lenses fit to < 0.5 px with a matching model, so > 1 px means the target
-// geometry (spacing, size) or the lens model does not match the images.
+// A calibration whose reprojection RMS exceeds this is flagged (and cv::fisheye's start is not
+// trusted): detected corners are good to ~0.1 px and real lenses fit to < 0.5 px with a matching
+// model, so > 1 px means the target geometry (spacing, size) or the lens model does not match the
+// images.
 constexpr double kHighReprojectionPx = 1.0;
-std::string FormatImageReport(const ImageFolderReport& images, const std::vector<int>& used_index,
-                              const CalibrateReport& report);
 
 }  // namespace calibench

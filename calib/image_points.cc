@@ -348,7 +348,7 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
   // detector order follows it (FindCheckerboard).
   const bool sector_based_first = !aprilgrid && options.lens != LensFamily::kRadTan;
   std::string source =
-      dir + "\n" + TargetYamlText(target) + (sector_based_first ? "\nsector-based first" : "");
+      dir + "\n" + TargetKey(target) + (sector_based_first ? "\nsector-based first" : "");
   for (const std::string& name : names) source += "\n" + name;
   // The same source holds the same files, one slot each.
   const bool reuse = cache && cache->filled && cache->source == source &&

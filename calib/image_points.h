@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "calib/calibration_target.h"
+#include "calib/point_data.h"
 #include "detect/frame_detector.h"
-#include "io/points_io.h"
-#include "io/target_io.h"
 #include "sim/render.h"
 
 namespace calibench {

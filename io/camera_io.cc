@@ -98,10 +98,6 @@ using camera_io_internal::WriteOpenCv;
 
 }  // namespace
 
-std::string CameraFile::ModelName() const {
-  return std::string(ToString(lens_model)) + (estimate_skew ? "+skew" : "");
-}
-
 const char* ToString(CameraFormat format) {
   switch (format) {
     case CameraFormat::kOpenCv:

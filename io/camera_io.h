@@ -39,23 +39,10 @@
 #pragma once
 
 #include <string>
-#include <vector>
 
-#include "camera/camera.h"
+#include "calib/camera_file.h"
 
 namespace calibench {
-
-struct CameraFile {
-  CameraIntrinsics intrinsics;
-  IntrinsicsArray intrinsics_std{};  // Raw order, phi in radians (written as std_phi_deg); NaN:
-                                     // fixed or unknown. Only the opencv format keeps them.
-  int image_width = 0, image_height = 0;
-  double rms_reproj_px = 0.0;
-  std::vector<double> view_rms_px;
-  LensModel lens_model = LensModel::kPinholeK2;  // The model it was estimated with.
-  bool estimate_skew = false;
-  std::string ModelName() const;  // e.g. "pinhole-k2" or "pinhole-k2+skew".
-};
 
 enum class CameraFormat { kOpenCv, kKalibr, kMrcal };
 const char* ToString(CameraFormat format);

@@ -9,25 +9,11 @@
 // The camera files calibrate writes are bench/config/camera_io.h's.
 #pragma once
 
-#include <optional>
 #include <string>
-#include <vector>
 
-#include "camera/camera.h"
-#include "camera/view.h"
+#include "calib/point_data.h"
 
 namespace calibench {
-
-struct PointData {
-  std::string format;  // "zhang" or "opencv-calib"
-  std::vector<View> views;
-  // What each view is called in messages: its file ("data3.txt", "view07.png"); empty (an OpenCV
-  // .dat file, one file for every view): "view <index>".
-  std::vector<std::string> view_names;
-  int image_width = 640;
-  int image_height = 480;
-  std::optional<CameraIntrinsics> reference;  // Carried by the file (OpenCV format).
-};
 
 // `path`: a Zhang folder or an OpenCV .dat file. On failure, *why names the file and the reason.
 bool LoadPointData(const std::string& path, PointData* data, std::string* why);

@@ -17,23 +17,15 @@
 
 #include <string>
 
-#include "sim/target.h"
+#include "calib/calibration_target.h"
 
 namespace calibench {
 
-struct CalibrationTarget {
-  enum class Type { kAprilGrid, kCheckerboard } type = Type::kAprilGrid;
-  AprilGrid grid;  // aprilgrid (grid.corner_squares: true unless the YAML says otherwise).
-  // checkerboard: inner corners, corner (r, c) at (c * col_spacing_m, r * row_spacing_m, 0).
-  int cols = 0, rows = 0;
-  double row_spacing_m = 0, col_spacing_m = 0;
-};
-
 bool LoadTargetYaml(const std::string& path, CalibrationTarget* target, std::string* why);
-// Same, from YAML text (`path` names it in messages).
 // The Kalibr target YAML of `target` (every field explicit; LoadTargetYamlFromString reads it
 // back to an equal target).
 std::string TargetYamlText(const CalibrationTarget& target);
+// LoadTargetYaml from YAML text (`path` names it in messages).
 bool LoadTargetYamlFromString(const std::string& yaml, const std::string& path,
                               CalibrationTarget* target, std::string* why);
 

@@ -12,6 +12,7 @@
 
 #include "bench/app/detect_images.h"
 #include "calib/calibrate.h"
+#include "calib/calibrate_report.h"
 #include "calib/image_points.h"
 #include "calib/model_select.h"
 #include "tests/common/test_data.h"

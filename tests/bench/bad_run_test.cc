@@ -14,6 +14,7 @@
 #include "bench/run/run_dir.h"
 #include "bench/run/runner.h"
 #include "calib/calibrate.h"
+#include "calib/calibrate_report.h"
 #include "calib/image_points.h"
 #include "io/target_io.h"
 #include "tests/common/rendered_folder.h"

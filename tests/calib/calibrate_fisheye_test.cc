@@ -9,6 +9,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "calib/calibrate.h"
+#include "calib/calibrate_report.h"
 #include "calib/image_points.h"
 #include "io/target_io.h"
 #include "tests/common/rendered_folder.h"

@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <opencv2/core.hpp>
 
+#include "calib/calibrate_report.h"
+#include "io/camera_io.h"
+#include "io/points_io.h"
 #include "tests/common/test_data.h"
 #include "util/random.h"
 

@@ -19,7 +19,6 @@
 #include <string>
 #include <vector>
 
-#include "bench/app/calibrate_cmd.h"
 #include "calib/calibrate.h"
 #include "calib/image_points.h"
 #include "sim/render.h"
