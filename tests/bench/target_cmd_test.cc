@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <regex>
 
-#include "bench/app/detect_images.h"
+#include "calib/detect_images.h"
 #include "calib/image_points.h"
 #include "tests/common/temp_files.h"
 

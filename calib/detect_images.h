@@ -14,15 +14,14 @@
 // calibrate --images finds it) tag_id is empty and corner is the inner corner's index r cols + c,
 // the corner at (c colSpacing, r rowSpacing) on the board; u_px, v_px in calibench's pixel
 // convention, which is OpenCV's (the centre of pixel (i, j) is at (i, j)). Rows are sorted by
-// image, then tag id, then corner. The file is written atomically (bench/run/csv.h): complete or
-// not at all.
+// image, then tag id, then corner (bench/app/corners_csv.h writes the file, atomically).
 #pragma once
 
 #include <limits>
 #include <string>
 #include <vector>
 
-#include "io/target_io.h"
+#include "calib/calibration_target.h"
 
 namespace calibench {
 
@@ -51,9 +50,6 @@ struct ImageCorners {
 // image; unreadable images are listed, not fatal.
 bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
                         std::vector<ImageCorners>* images, std::string* why);
-
-// The CSV text described above (header first).
-std::string ImageCornersCsv(const std::vector<ImageCorners>& images);
 
 // One line per image: file, tags found of the grid's (a checkerboard: corners found of its
 // pattern's), and the ids or notes worth knowing; then a total.

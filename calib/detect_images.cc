@@ -1,10 +1,9 @@
-#include "bench/app/detect_images.h"
+#include "calib/detect_images.h"
 
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
 
-#include "bench/run/csv.h"
 #include "calib/image_points.h"
 #include "detect/chessboard.h"
 
@@ -63,18 +62,6 @@ bool DetectImageCorners(const std::string& dir, const CalibrationTarget& target,
     images->push_back(std::move(image));
   }
   return true;
-}
-
-std::string ImageCornersCsv(const std::vector<ImageCorners>& images) {
-  std::string csv = CsvLine({"image", "tag_id", "corner", "u_px", "v_px", "crlb_px"});
-  for (const ImageCorners& image : images) {
-    for (const ImageCorners::Corner& c : image.corners) {
-      csv += CsvLine({image.file, c.tag_id >= 0 ? std::to_string(c.tag_id) : "",
-                      std::to_string(c.corner), FormatNumber(c.u_px), FormatNumber(c.v_px),
-                      FormatNumber(c.crlb_px)});
-    }
-  }
-  return csv;
 }
 
 std::string FormatImageCorners(const std::vector<ImageCorners>& images,

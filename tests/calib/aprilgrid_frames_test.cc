@@ -10,11 +10,12 @@
 #include <map>
 #include <opencv2/calib3d.hpp>
 
-#include "bench/app/detect_images.h"
 #include "calib/calibrate.h"
 #include "calib/calibrate_report.h"
+#include "calib/detect_images.h"
 #include "calib/image_points.h"
 #include "calib/model_select.h"
+#include "io/target_io.h"
 #include "tests/common/test_data.h"
 
 namespace calibench {
