@@ -5,7 +5,7 @@
 // start (batch/wide_init.h) when cv::fisheye does not fit; the wide start for unified, eucm and
 // double-sphere, which OpenCV cannot start.
 //
-// With a given camera (`calibrate --init FILE`, any format of bench/config/camera_io.h) the
+// With a given camera (`calibrate --init FILE`, any format of io/camera_io.h) the
 // initial guess is that camera, each view's pose comes from it (batch/board_pose.h), and ceres
 // either refines it (the file's lens model unless another is asked for) or, with evaluate_only,
 // keeps every intrinsic fixed and moves only the poses: the per-image reprojection RMS of a given

@@ -1,6 +1,6 @@
 // The camera file formats of camera_io.h, one source file each (camera_io_opencv.cc,
 // camera_io_kalibr.cc, camera_io_mrcal.cc), and the helpers they share (camera_io.cc). Internal to
-// bench/config: callers use camera_io.h.
+// io/: callers use camera_io.h.
 #pragma once
 
 #include <yaml-cpp/yaml.h>

@@ -6,7 +6,7 @@
 //    size, view count, flags, object points per view, image points per view, then the reference
 //    fx fy / cx cy / k1 k2 p1 p2 that the file carries (kept as `reference`).
 //
-// The camera files calibrate writes are bench/config/camera_io.h's.
+// The views are calib/point_data.h's; the camera files calibrate writes are io/camera_io.h's.
 #pragma once
 
 #include <string>
