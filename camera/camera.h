@@ -93,10 +93,10 @@
 //      until it has the case): camera.cc (the inverse in RayOfDistorted/UndistortNormalized, the
 //      DistortionIsMonotone* tests; its model's row in LensModels()), this file (its LensModel,
 //      its math above, a field for a new parameter), batch/projection_jacobian.cc (the lens step
-//      and its Jacobians), batch/wide_init.cc (its start), bench/config/camera_io_opencv.cc (how
+//      and its Jacobians), batch/wide_init.cc (its start), io/camera_io_opencv.cc (how
 //      the OpenCV file holds it); bench/config/scenario_fields.cc documents a new field; and
 //      docs/camera-models.md's tables. At most 8 files, tests and other docs included:
-//      tests/camera/lens_family_list_test.cc and tests/bench/lens_family_camera_files_test.cc
+//      tests/camera/lens_family_list_test.cc and tests/io/lens_family_camera_files_test.cc
 //      loop over the list. Measured before the list on double-sphere: 16 source files, 11 test
 //      files, 1 config, 5 doc pages.
 #pragma once

@@ -69,7 +69,7 @@ struct LensFamilyInfo {
                       // renderer's detector draws its photometric fit through the lens.
   LensRaySpace ray_space;
   bool zhang_starts;  // OpenCV's calibrateCamera / fisheye::calibrate can start it (batch/zhang).
-  // Camera files (bench/config/camera_io*): the OpenCV file's distortion_model is `name`;
+  // Camera files (io/camera_io*): the OpenCV file's distortion_model is `name`;
   // `opencv_alias` is read as well (OpenCV's own name; nullptr: none).
   const char* opencv_alias;
   KalibrNames kalibr;

@@ -10,8 +10,8 @@
 #include <cstdio>
 #include <string>
 
-#include "bench/config/target_io.h"
 #include "fuzz/fuzz_check.h"
+#include "io/target_io.h"
 
 namespace {
 

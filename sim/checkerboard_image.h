@@ -3,7 +3,7 @@
 //
 // The board (CheckerboardPattern): cols x rows inner corners, inner corner (r, c) at
 // (c * square_m, r * square_m, 0) in the board frame (the target YAML's convention,
-// bench/app/image_points.cc). Its (cols + 1) x (rows + 1) squares cover
+// calib/image_points.cc). Its (cols + 1) x (rows + 1) squares cover
 // [-square_m, cols * square_m] x [-square_m, rows * square_m]; square (i, j) (i, j >= -1, the
 // square whose lower corner is (i s, j s)) is black when i + j is even, so the square at the
 // board origin's upper right is black. A white margin of one square surrounds them; beyond it is

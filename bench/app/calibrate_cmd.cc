@@ -2,8 +2,10 @@
 
 #include <iostream>
 
-#include "bench/app/calibrate.h"
-#include "bench/app/model_select.h"
+#include "calib/calibrate_report.h"
+#include "io/camera_io.h"
+#include "io/points_io.h"
+#include "io/target_io.h"
 
 namespace calibench {
 
@@ -30,30 +32,10 @@ int FinishCalibration(const CalibrateReport& report, const std::string& out_path
   return 0;
 }
 
-// CalibrateFromPoints; with --model auto, the model selection (its table printed) and its pick,
-// which *options then holds. False when auto picks nothing.
-bool FitCamera(const PointData& data, bool auto_model, CalibrateOptions* options,
-               CalibrateReport* report) {
-  if (!auto_model) {
-    *report = CalibrateFromPoints(data, *options);
-    return true;
-  }
-  ModelSelectOptions select;
-  select.estimate_skew = options->estimate_skew;
-  const ModelSelection selection = SelectLensModel(data, select);
-  std::cout << FormatModelSelection(selection) << "\n";
-  if (!selection.IsUsable()) return false;
-  const ModelScore& chosen = selection.scores[selection.chosen];
-  options->model = chosen.model;
-  *report = chosen.report;
-  return true;
-}
-
-// calibrate --images: the target's corners in the images, the fit (FitCamera), the corners re-fit
-// through the lens (a lens that distorts; tags: with the photometric fit), the reports and the
-// camera file.
-int CalibrateImages(const CalibrateArgs& args, bool auto_model, CalibrateOptions options,
-                    CameraFormat format) {
+// calibrate --images: the target read (io/target_io.h), the flags of the corner search, then
+// CalibrateImages (its corner passes' lines on stderr as they run).
+int CalibrateImageFolder(const CalibrateArgs& args, const CalibrateOptions& options,
+                         CalibrateResult* result) {
   CalibrationTarget target;
   std::string why;
   if (args.target_path.empty()) {
@@ -65,17 +47,8 @@ int CalibrateImages(const CalibrateArgs& args, bool auto_model, CalibrateOptions
     std::cerr << "calibench: --target: " << why << "\n";
     return 2;
   }
-  // With --init, the given camera's lens draws the corner fit from the first pass.
   ImagePointOptions image_options;
   image_options.predict_missing_tags = !args.no_tag_prediction;
-  // --model auto: the candidates include wide lenses, whose bent tag edges need the curved fit; a
-  // checkerboard is found as OpenCV's procedure finds it (the classic search first), since a
-  // pinhole pick keeps those corners.
-  const bool aprilgrid = target.type == CalibrationTarget::Type::kAprilGrid;
-  image_options.lens = !auto_model ? FamilyOf(options.model)
-                       : aprilgrid ? LensFamily::kUnified
-                                   : LensFamily::kRadTan;
-  if (options.init) image_options.camera = options.init->intrinsics;
   image_options.threads = args.threads;
   if (!args.corner_refinement.empty()) {
     CornerRefinement refinement;
@@ -86,33 +59,15 @@ int CalibrateImages(const CalibrateArgs& args, bool auto_model, CalibrateOptions
     }
     image_options.refinement = refinement;
   }
-  const bool photometric = image_options.refinement.value_or(CornerRefinement::kPhotometric) ==
-                           CornerRefinement::kPhotometric;
-  ImageCalibration state;
-  image_options.detection_cache = &state.detections;
-  if (!LoadImagePoints(args.images_dir, target, &state.data, &state.images, &state.used_index, &why,
-                       image_options)) {
-    std::cerr << "calibench: --images: " << why << "\n";
+  *result = CalibrateImages(args.images_dir, target, image_options, options, &std::cerr);
+  const char* bad_input = result->status == CalibrateResult::Status::kBadImages ? "--images"
+                          : result->status == CalibrateResult::Status::kBadInit ? "--init"
+                                                                                : nullptr;
+  if (bad_input) {
+    std::cerr << "calibench: " << bad_input << ": " << result->message << "\n";
     return 2;
   }
-  if (options.init &&
-      !CheckInitImageSize(*options.init, args.init_path, state.data, args.images_dir, &why)) {
-    std::cerr << "calibench: --init: " << why << "\n";
-    return 2;
-  }
-  if (!FitCamera(state.data, auto_model, &options, &state.report)) return 4;
-  // The tags' re-fit through the lens is the photometric fit's; a checkerboard's is its own.
-  const bool refits = !aprilgrid || photometric;
-  if (!args.evaluate && options.model != LensModel::kPinhole && args.corner_iterations > 0 &&
-      refits) {
-    IterateCornersThroughTheLens(args.images_dir, target, image_options, options,
-                                 args.corner_iterations, &state, std::cerr);
-  }
-  AddJackknife(state.data, options, &state.report);
-  const CalibrateReport& report = state.report;
-  std::cout << FormatCalibrateReport(report, state.data);
-  std::cout << FormatImageReport(state.images, state.used_index, report);
-  return FinishCalibration(report, args.out_path, format);
+  return 0;
 }
 
 }  // namespace
@@ -131,7 +86,9 @@ int Calibrate(const CalibrateArgs& args) {
                  "one camera (name its --model, or drop --init)\n";
     return 2;
   }
+  options.select_model = auto_model;
   options.estimate_skew = args.skew;
+  options.corner_iterations = args.corner_iterations;
   if (args.jackknife == "on") options.jackknife = CalibrateOptions::Jackknife::kOn;
   if (args.jackknife == "off") options.jackknife = CalibrateOptions::Jackknife::kOff;
   CameraFormat format = CameraFormatFromPath(args.out_path);
@@ -155,17 +112,20 @@ int Calibrate(const CalibrateArgs& args) {
     std::cerr << "calibench: --evaluate needs --init CAMERA_FILE (the calibration to evaluate)\n";
     return 2;
   }
-  if (!args.images_dir.empty()) return CalibrateImages(args, auto_model, options, format);
-  PointData data;
-  if (!LoadPointData(args.points_path, &data, &why)) {
-    std::cerr << "calibench: --points: " << why << "\n";
-    return 2;
+  CalibrateResult result;
+  if (!args.images_dir.empty()) {
+    const int status = CalibrateImageFolder(args, options, &result);
+    if (status != 0) return status;
+  } else {
+    PointData data;
+    if (!LoadPointData(args.points_path, &data, &why)) {
+      std::cerr << "calibench: --points: " << why << "\n";
+      return 2;
+    }
+    result = CalibratePoints(data, options);
   }
-  CalibrateReport report;
-  if (!FitCamera(data, auto_model, &options, &report)) return 4;
-  AddJackknife(data, options, &report);
-  std::cout << FormatCalibrateReport(report, data);
-  return FinishCalibration(report, args.out_path, format);
+  std::cout << FormatCalibrateReport(result);
+  return FinishCalibration(result.calibration, args.out_path, format);
 }
 
 }  // namespace calibench

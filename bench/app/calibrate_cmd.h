@@ -1,7 +1,7 @@
 // `calibench calibrate`: a camera from point files (--points) or from a folder of images of a
-// target (--images, bench/app/image_points.h), optionally from or against a given camera (--init,
-// --evaluate), or with the lens model chosen (--model auto, model_select.h); the report on stdout,
-// the camera file written atomically (camera_io.h).
+// target (--images, calib/image_points.h), optionally from or against a given camera (--init,
+// --evaluate), or with the lens model chosen (--model auto): the flags into calib/'s options,
+// calib/calibrate_report.h's text on stdout, the camera file written by io/camera_io.h.
 #pragma once
 
 #include <string>

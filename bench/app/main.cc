@@ -15,10 +15,8 @@
 
 #include "bench/app/calibrate_cmd.h"
 #include "bench/app/corner_bias_cmd.h"
-#include "bench/app/detect_images.h"
+#include "bench/app/corners_csv.h"
 #include "bench/app/frames_io.h"
-#include "bench/app/model_select.h"
-#include "bench/app/solver_logging.h"
 #include "bench/app/target_cmd.h"
 #include "bench/config/config_io.h"
 #include "bench/config/config_reference.h"
@@ -26,6 +24,9 @@
 #include "bench/run/run_dir.h"
 #include "bench/run/runner.h"
 #include "bench/run/table.h"
+#include "calib/detect_images.h"
+#include "calib/model_select.h"
+#include "calib/solver_logging.h"
 #include "util/opencv_threads.h"
 
 namespace {

@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/config/target_io.h"
+#include "io/target_io.h"
 
 namespace calibench {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "bench/config/config_parsers.h"
-#include "bench/config/yaml_reader.h"
+#include "io/yaml_reader.h"
 
 namespace calibench {
 namespace config_internal {

@@ -14,7 +14,7 @@
 #include <stdexcept>
 
 #include "bench/config/config_parsers.h"
-#include "bench/config/yaml_reader.h"
+#include "io/yaml_reader.h"
 #include "metrics/tracking.h"
 #include "sim/synthetic.h"
 #include "util/random.h"

@@ -9,7 +9,7 @@
 
 #include "bench/config/fields.h"
 #include "bench/config/scenario.h"
-#include "bench/config/yaml_reader.h"
+#include "io/yaml_reader.h"
 
 namespace calibench {
 namespace config_internal {

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "bench/config/scenario.h"
-#include "bench/config/yaml_reader.h"
+#include "io/yaml_reader.h"
 #include "methods/method.h"
 #include "util/format.h"
 

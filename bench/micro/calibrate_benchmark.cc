@@ -26,7 +26,7 @@
 
 #include "batch/refine.h"
 #include "batch/zhang.h"
-#include "bench/app/calibrate.h"
+#include "calib/calibrate.h"
 #include "sim/synthetic.h"
 #include "util/opencv_threads.h"
 #include "util/random.h"

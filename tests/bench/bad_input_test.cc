@@ -9,7 +9,7 @@
 #include <fstream>
 
 #include "bench/config/config_io.h"
-#include "bench/config/target_io.h"
+#include "io/target_io.h"
 #include "tests/common/scenario_yaml.h"
 
 namespace calibench {

@@ -9,13 +9,14 @@
 #include <filesystem>
 #include <fstream>
 
-#include "bench/app/calibrate.h"
 #include "bench/app/frames_io.h"
-#include "bench/app/image_points.h"
 #include "bench/config/config_io.h"
-#include "bench/config/target_io.h"
 #include "bench/run/run_dir.h"
 #include "bench/run/runner.h"
+#include "calib/calibrate.h"
+#include "calib/calibrate_report.h"
+#include "calib/image_points.h"
+#include "io/target_io.h"
 #include "tests/common/rendered_folder.h"
 
 namespace calibench {

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "bench/config/camera_io.h"
+#include "io/camera_io.h"
 #include "sim/synthetic.h"
 #include "util/random.h"
 
@@ -19,7 +19,7 @@ namespace {
 
 std::string Temp(const std::string& name) { return ::testing::TempDir() + "/" + name; }
 
-// The views as OpenCV's calib.dat (bench/app/points_io.h): size, pattern, views, flags, object
+// The views as OpenCV's calib.dat (io/points_io.h): size, pattern, views, flags, object
 // points per view, image points per view.
 void WriteCalibDat(const std::string& path, const SyntheticBoardViews& data, int side, int rows,
                    int cols) {

@@ -1,6 +1,6 @@
-// detect --images (bench/app/detect_images.h) on rendered Kalibr AprilGrids written as 8-bit and
+// detect --images (calib/detect_images.h) on rendered Kalibr AprilGrids written as 8-bit and
 // as 16-bit PNGs: every tag found, corners at the exact projections, the CSV as documented.
-#include "bench/app/detect_images.h"
+#include "calib/detect_images.h"
 
 #include <gtest/gtest.h>
 
@@ -8,8 +8,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
-#include "bench/app/image_points.h"
+#include "bench/app/corners_csv.h"
 #include "bench/run/csv.h"
+#include "calib/image_points.h"
+#include "io/target_io.h"
 #include "sim/render.h"
 #include "sim/synthetic.h"
 #include "tests/common/temp_files.h"

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <regex>
 
-#include "bench/app/detect_images.h"
-#include "bench/app/image_points.h"
+#include "calib/detect_images.h"
+#include "calib/image_points.h"
 #include "tests/common/temp_files.h"
 
 namespace calibench {

@@ -1,5 +1,5 @@
 // calibrate --images on a folder with a Kalibr target given as YAML text: shared by
-// calibrate_images_test.cc (bundled and rendered folders) and shared_data_test.cc.
+// the tests of tests/calib (bundled, rendered and shared folders).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -9,10 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "bench/app/calibrate.h"
-#include "bench/app/calibrate_cmd.h"
-#include "bench/app/image_points.h"
-#include "bench/config/target_io.h"
+#include "calib/calibrate.h"
+#include "calib/image_points.h"
+#include "io/target_io.h"
 
 namespace calibench {
 
@@ -56,7 +55,7 @@ struct FolderCalibration {
 };
 inline FolderCalibration CalibrateFolderThroughTheLens(
     const std::string& dir, const CalibrationTarget& target, LensModel model,
-    int passes = CalibrateArgs().corner_iterations) {
+    int passes = CalibrateOptions().corner_iterations) {
   FolderCalibration out;
   ImageCalibration& state = out.last;
   ImagePointOptions image_options;

@@ -1,0 +1,52 @@
+// The camera file formats of camera_io.h, one source file each (camera_io_opencv.cc,
+// camera_io_kalibr.cc, camera_io_mrcal.cc), and the helpers they share (camera_io.cc). Internal to
+// io/: callers use camera_io.h.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+
+#include "io/camera_io.h"
+
+namespace calibench {
+namespace camera_io_internal {
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+// *why = message; false.
+bool Fail(std::string* why, const std::string& message);
+// phi differs from 90 deg beyond what a fit without skew leaves.
+bool HasSkew(const CameraIntrinsics& k);
+// A double written with 17 significant digits.
+std::string Number(double value);
+// A temporary beside `path` with the same extension (cv::FileStorage picks YAML/XML/JSON by it),
+// and its rename onto `path` (removed on failure): the files are written atomically.
+std::string TemporaryBeside(const std::string& path);
+bool RenameInto(const std::string& tmp, const std::string& path, std::string* why);
+// `text` into `path` through a temporary.
+bool WriteText(const std::string& path, const std::string& text, std::string* why);
+// lens_model (the smallest model of the family holding every non-zero coefficient) and
+// estimate_skew from the intrinsics.
+void InferModel(CameraFile* camera);
+// A camera read from a format that holds no standard deviations (kalibr, mrcal): its intrinsics
+// and image size, every std NaN, the model inferred.
+void SetCameraWithoutStd(const CameraIntrinsics& k, double width, double height,
+                         CameraFile* camera);
+// std_<name> of raw slot i in the family's order (ParamNames: std_k1, std_xi, std_alpha, ..);
+// empty for an unused slot.
+std::string StdName(LensFamily family, int i);
+
+bool WriteOpenCv(const std::string& path, const CameraFile& camera, std::string* why);
+bool ReadOpenCv(const std::string& path, CameraFile* camera, std::string* why);
+bool WriteKalibr(const std::string& path, const CameraFile& camera, std::string* why);
+// `root`: the file's YAML, a map with cam0.
+bool ReadKalibr(const std::string& path, const YAML::Node& root, CameraFile* camera,
+                std::string* why);
+bool WriteMrcal(const std::string& path, const CameraFile& camera, std::string* why);
+// `raw`: the file's text.
+bool ReadMrcal(const std::string& path, const std::string& raw, CameraFile* camera,
+               std::string* why);
+
+}  // namespace camera_io_internal
+}  // namespace calibench
