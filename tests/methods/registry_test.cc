@@ -211,7 +211,9 @@ TEST(Registry, CheckOutputsRefusesAnUndeclaredOutput) {
   of_adaptive.SetOutput(adaptive->Outputs().front(), 0.5);
   for (const MethodType& t : MethodTypes()) {  // A type that declares none refuses another's.
     const std::unique_ptr<Method> m = t.create();
-    if (m->Outputs().empty()) EXPECT_FALSE(CheckOutputs(*m, of_adaptive, &why)) << t.name;
+    if (m->Outputs().empty()) {
+      EXPECT_FALSE(CheckOutputs(*m, of_adaptive, &why)) << t.name;
+    }
   }
 }
 
