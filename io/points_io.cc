@@ -26,9 +26,7 @@ bool ReadNumbers(const std::string& path, std::vector<double>* numbers, std::str
       if (used != token.size()) throw std::invalid_argument(token);
     } catch (const std::exception&) {
       if (numbers->empty() || path.size() < 4 || path.substr(path.size() - 4) != ".dat") {
-        if (why)
-          *why = path + ": '" + token +
-                 "' is not a number";  // NOLINT(performance-inefficient-string-concatenation)
+        if (why) *why = path + ": '" + token + "' is not a number";
         return false;
       }
       break;  // calib1.dat ends with free text after its numbers.

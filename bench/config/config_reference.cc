@@ -36,7 +36,7 @@ std::string OneOf(const std::vector<std::string>& names) {
 
 struct Row {
   std::string key, type, default_value;
-  std::string unit = "", doc = "";
+  std::string unit, doc;
 };
 
 // The table of a mapping's keys or of a method type's options.

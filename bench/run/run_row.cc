@@ -296,6 +296,7 @@ namespace {
 
 std::vector<std::string> NamesOf(const std::vector<ColumnInfo>& columns) {
   std::vector<std::string> names;
+  names.reserve(columns.size());
   for (const ColumnInfo& c : columns) names.push_back(c.name);
   return names;
 }
