@@ -9,6 +9,12 @@
 namespace calibench {
 
 std::string FormatCalibrateReport(const CalibrateResult& result) {
+  // Refused before any fit (bad images, a camera for another size, options that fail Check).
+  const bool refused = result.status == CalibrateResult::Status::kBadImages ||
+                       result.status == CalibrateResult::Status::kBadInit ||
+                       (!result.selection && result.calibration.ceres.message.empty() &&
+                        !result.calibration.ceres.IsUsable() && !result.message.empty());
+  if (refused) return "calibration refused: " + result.message + "\n";
   std::string text;
   if (result.selection) {
     text += FormatModelSelection(*result.selection) + "\n";

@@ -12,7 +12,8 @@ namespace calibench {
 
 // The whole report: the model selection's table (select_model), the calibration
 // (FormatCalibrateReport below) and, from images, the images' table (FormatImageReport). A
-// result with bad input (kBadImages, kBadInit) has none of them: its message says why.
+// result refused before any fit (kBadImages, kBadInit, options that fail Check) is one line,
+// "calibration refused: " and its message.
 std::string FormatCalibrateReport(const CalibrateResult& result);
 
 // The calibration: intrinsics +- std for ceres (and the jackknife std when computed) beside the

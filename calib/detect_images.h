@@ -14,7 +14,7 @@
 // calibrate --images finds it) tag_id is empty and corner is the inner corner's index r cols + c,
 // the corner at (c colSpacing, r rowSpacing) on the board; u_px, v_px in calibench's pixel
 // convention, which is OpenCV's (the centre of pixel (i, j) is at (i, j)). Rows are sorted by
-// image, then tag id, then corner (bench/app/corners_csv.h writes the file, atomically).
+// image, then tag id, then corner (the CLI writes the file, atomically).
 #pragma once
 
 #include <limits>

@@ -1,4 +1,4 @@
-// Readers for published calibration point files, and the camera.yaml writer.
+// Readers for published calibration point files.
 //
 //  - Zhang's format (MSR-TR-98-71): a folder with Model.txt (the board's corners, x y per corner,
 //    4 corners a line, z = 0) and data1.txt, data2.txt, ... (the detected pixels, same order).

@@ -92,7 +92,8 @@ const std::vector<OutputSpec>& DeclaredOutputs() {
 
 bool CheckOutputs(const Method& method, const MethodResult& result, std::string* why) {
   const std::vector<OutputSpec> declared = method.Outputs();
-  for (const auto& [name, value] : result.outputs) {
+  for (const auto& output : result.outputs) {
+    const std::string& name = output.first;  // Not a structured binding: the lambda captures it.
     const bool known = std::any_of(declared.begin(), declared.end(),
                                    [&](const OutputSpec& o) { return name == o.name; });
     if (!known) {

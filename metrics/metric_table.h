@@ -34,7 +34,7 @@ namespace calibench {
 
 // Every quantity of the table, in its order (with the method outputs after kMethodOutputsAfter:
 // the order of summary.csv's metrics and of the report's quantities). runs.csv's column order is
-// its own (run_row.cc): columns are only ever appended there.
+// its own (run_row.cc): columns are only ever appended there, but for the method outputs' slot.
 enum class Metric {
   kFku,
   kFkv,

@@ -89,6 +89,7 @@ void CheckSweptMethod(const Reader& r, const YAML::Node& at, const std::string& 
                       const std::string& name, const ScenarioConfig& swept);
 
 // One axis of `sweep:`: a dotted scenario field and its values (YAML nodes, any type).
+// NOLINTNEXTLINE(bugprone-exception-escape): YAML::Node's copy may throw (bad_alloc), as any.
 struct SweepAxis {
   std::string field;
   YAML::Node field_node;          // Where the axis names its field (for messages).

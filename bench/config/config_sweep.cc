@@ -68,6 +68,7 @@ std::vector<YAML::Node> RangeValues(const Reader& r, const YAML::Node& range,
     const double factor = r.Double(range["log_step"], field + ".log_step");
     if (!(factor > 1)) r.Fail(range["log_step"], field + ".log_step", "must be > 1");
     if (!(from > 0)) r.Fail(range["from"], field + ".from", "must be > 0 with log_step");
+    // NOLINTNEXTLINE(clang-analyzer-security.FloatLoopCounter): the values are this product.
     for (double v = from; v <= to * (1 + 1e-9); v *= factor) {
       if (static_cast<int>(values.size()) >= kMaxValues)
         r.Fail(range, field, "more than 10000 values");
@@ -89,7 +90,7 @@ bool IsIndex(const std::string& key) {
 }
 
 // Sets `path` inside `node`, creating mappings on the way; numeric components index sequences.
-void SetPath(YAML::Node node, const std::vector<std::string>& path, size_t from,
+void SetPath(const YAML::Node& node, const std::vector<std::string>& path, size_t from,
              const YAML::Node& value) {
   YAML::Node current = node;
   for (size_t i = from; i + 1 < path.size(); ++i) {

@@ -164,7 +164,7 @@ def read(directory):
 
 def merge(schemas):
     """One Schema of several run directories: their quantities must agree (one calibench), their
-    sweeps are concatenated."""
+    sweeps are concatenated, their method types united."""
     if not schemas:
         return Schema(quantities=(), sweeps=(), files={})
     first = schemas[0]
@@ -173,5 +173,11 @@ def merge(schemas):
             raise SchemaError("the run directories were written by calibench versions with "
                               "different metric tables; report them separately")
     sweeps = tuple(s for schema in schemas for s in schema.sweeps)
+    # Every directory's method types, each once (a directory written before types declared their
+    # outputs lists none).
+    methods = {}
+    for schema in schemas:
+        for t in schema.methods:
+            methods.setdefault(t.name, t)
     return Schema(quantities=first.quantities, sweeps=sweeps, files=first.files,
-                  methods=first.methods)
+                  methods=tuple(methods.values()))

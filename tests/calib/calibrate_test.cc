@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <opencv2/core.hpp>
 
+#include "calib/calibrate_camera.h"
 #include "calib/calibrate_report.h"
 #include "io/camera_io.h"
 #include "io/points_io.h"
@@ -220,6 +221,24 @@ TEST(CalibrateFromPoints, AGivenCameraInEveryFormatEvaluatesAndRefinesToTheSameO
           << file << " " << ParamNames(LensFamily::kRadTan)[i];
     }
   }
+}
+
+// Options that fail Check are refused before any fit, and the report says so in one line (the
+// library's users print it as the CLI does).
+TEST(CalibratePoints, OptionsThatFailCheckAreRefusedInOneLine) {
+  PointData data;
+  std::string why;
+  ASSERT_TRUE(LoadPointData(BundledData("zhang"), &data, &why)) << why;
+  CalibrateOptions options;
+  options.evaluate_only = true;  // Without init: nothing to evaluate.
+  const CalibrateResult result = CalibratePoints(data, options);
+  EXPECT_FALSE(result.IsUsable());
+  EXPECT_EQ(FormatCalibrateReport(result),
+            "calibration refused: evaluate_only needs init (the calibration to evaluate)\n");
+  options.evaluate_only = false;
+  const CalibrateResult fitted = CalibratePoints(data, options);
+  ASSERT_TRUE(fitted.IsUsable()) << fitted.message;
+  EXPECT_EQ(FormatCalibrateReport(fitted).rfind("data: ", 0), 0u);  // The full report.
 }
 
 TEST(LoadPointData, BadPathsAreNamed) {

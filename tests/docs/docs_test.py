@@ -5,8 +5,8 @@ Checks, from the sources (regular expressions, no compilation):
   (a) every subcommand and long flag of the CLI (CLI11 add_subcommand / add_option / add_flag in
       bench/app/*.cc) appears in docs/cli.md;
   (b) every YAML key the scenario and target parsers accept (the field declarations, CheckKeys
-      lists and key vectors of bench/config/*.cc, and the method options of VisitOptions in
-      methods/*.cc) appears in docs/configuration.md (its reference part is generated:
+      lists and key vectors of bench/config/*.cc and io/*.cc, and the method options of
+      VisitOptions in methods/*.cc) appears in docs/configuration.md (its reference part is generated:
       tests/docs/config_reference_test.sh checks that it is current);
   (c) every CSV column (the metric table's quantities and their err_/std_/crlb_/est_/true_
       columns, metrics/metric_table.cc; the outputs the method types declare, the OutputSpec
@@ -111,7 +111,7 @@ def cli_names():
 
 def config_keys():
     keys = set()
-    for path in sources("bench/config/*.cc"):
+    for path in sources("bench/config/*.cc") + sources("io/*.cc"):
         text = strip_comments(read(path))
         # CheckKeys(node, field, {"a", "b"}), ParseCamera's extra keys, and the vectors / sets
         # handed to them.
@@ -141,7 +141,7 @@ def config_keys():
     # The declarations of the scenario format (Visit per struct, scenario_fields.cc and
     # source_fields.cc): the key of
     # every FieldSpec handed to a visitor.
-    for path in sources("bench/config/*.cc"):
+    for path in sources("bench/config/*.cc") + sources("io/*.cc"):
         text = strip_comments(read(path))
         keys.update(re.findall(
             r"\b(?:Field|Section|List|VisitEnum|VisitSection|VisitList|Refused)\s*\(\s*"

@@ -309,8 +309,10 @@ def windup_instances(config_text, schema):
         for m in s.get("methods", []):
             t = schema.method_type(m.get("type"))
             law = t.windup if t else None
-            if law and not any(m.get(o) for o in law.only_when_zero):
-                out.setdefault(s["name"], {})[m["name"]] = float(m[law.exponent])
+            exponent = m.get(law.exponent) if law else None
+            if (isinstance(exponent, (int, float)) and not isinstance(exponent, bool)
+                    and not any(m.get(o) for o in law.only_when_zero)):
+                out.setdefault(s["name"], {})[m["name"]] = float(exponent)
     return out
 
 
