@@ -345,6 +345,21 @@ constexpr bool LensFamiliesInEnumeratorOrder() {
   return true;
 }
 static_assert(LensFamiliesInEnumeratorOrder(), "kLensFamilies[i] must be LensFamily(i)'s row");
+// True for every enumerator: -Wswitch-enum makes a new one add its case here, and then the
+// static_assert below fails until kLensFamilies has its row (InfoOf would index past the end).
+constexpr bool IsLensFamily(LensFamily family) {
+  switch (family) {
+    case LensFamily::kRadTan:
+    case LensFamily::kEquidistant:
+    case LensFamily::kUnified:
+    case LensFamily::kEucm:
+    case LensFamily::kDoubleSphere:
+      return true;
+  }
+  return false;
+}
+static_assert(!IsLensFamily(static_cast<LensFamily>(kLensFamilies.size())),
+              "every LensFamily enumerator needs its row in kLensFamilies");
 
 // The row of `family`.
 inline const LensFamilyInfo& InfoOf(LensFamily family) {

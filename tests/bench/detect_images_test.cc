@@ -156,9 +156,9 @@ TEST(DetectImages, CheckerboardCornersAreCalibratesInRowMajorOrder) {
       EXPECT_EQ(c.corner, static_cast<int>(k));
       EXPECT_EQ(Eigen::Vector2d(c.u_px, c.v_px), data.views[view].pixels[k]);
       // Corner k is (c colSpacing, r rowSpacing) with k = r cols + c.
+      const int col = static_cast<int>(k) % target.cols, row = static_cast<int>(k) / target.cols;
       EXPECT_EQ(data.views[view].points[k],
-                Eigen::Vector3d((k % target.cols) * target.col_spacing_m,
-                                (k / target.cols) * target.row_spacing_m, 0));
+                Eigen::Vector3d(col * target.col_spacing_m, row * target.row_spacing_m, 0));
     }
     ++view;
   }

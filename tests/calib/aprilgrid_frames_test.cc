@@ -46,7 +46,7 @@ constexpr double kEurocHomographyRmsPx = 0.35;
 // A folder (under the test's temp dir) of links to the five 1024 x 1024 TUM VI frames:
 // calibrate needs one image size.
 std::string TumViFolder(const std::string& name) {
-  const std::string dir = testing::TempDir() + "/" + name;
+  std::string dir = testing::TempDir() + "/" + name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   for (const char* frame : {"TUM_VI.png", "r45.png", "right.png", "top.png", "top_right.png"}) {

@@ -262,7 +262,7 @@ TEST(CalibrateImages, BadFoldersAndTargetsGiveClearErrors) {
   EXPECT_FALSE(LoadImagePoints(empty, target, &data, &report, &used, &why));
   EXPECT_NE(why.find("no images"), std::string::npos) << why;
   // A zero-byte and a truncated "image" are listed as unreadable, and nothing is found.
-  std::ofstream(empty + "/zero.png");
+  { std::ofstream zero(empty + "/zero.png"); }
   std::ofstream(empty + "/truncated.jpg") << "\xff\xd8\xff\xe0 not really a jpeg";
   EXPECT_FALSE(LoadImagePoints(empty, target, &data, &report, &used, &why));
   ASSERT_EQ(report.images.size(), 2u);

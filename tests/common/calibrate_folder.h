@@ -17,7 +17,7 @@ namespace calibench {
 
 // Writes `yaml` to the test's temporary directory as `name`; returns its path.
 inline std::string WriteTarget(const std::string& name, const std::string& yaml) {
-  const std::string path = testing::TempDir() + "/" + name;
+  std::string path = testing::TempDir() + "/" + name;
   std::ofstream(path) << yaml;
   return path;
 }

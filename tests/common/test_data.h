@@ -19,7 +19,7 @@ inline const std::string kSharedDataDir = CALIBENCH_DATA_DIR;
 // The path of a bundled file or folder, e.g. BundledData("opencv-left"). Records a failure (the
 // test goes on and fails where it reads the path) when it is absent: that is a broken checkout.
 inline std::string BundledData(const std::string& sub) {
-  const std::string path = kBundledDataDir + "/" + sub;
+  std::string path = kBundledDataDir + "/" + sub;
   if (!std::filesystem::exists(path)) {
     ADD_FAILURE() << "bundled data " << path << " is missing (it is part of the repository)";
   }
@@ -27,9 +27,9 @@ inline std::string BundledData(const std::string& sub) {
 }
 
 // Use as the first statement of a test labelled shared-data: REQUIRE_SHARED_DATA("zhang");
-#define REQUIRE_SHARED_DATA(sub)                                           \
-  if (!std::filesystem::exists(kSharedDataDir + "/" + sub))                \
-  GTEST_SKIP() << "shared data directory " << kSharedDataDir << "/" << sub \
+#define REQUIRE_SHARED_DATA(sub)                                             \
+  if (!std::filesystem::exists(kSharedDataDir + "/" + (sub)))                \
+  GTEST_SKIP() << "shared data directory " << kSharedDataDir << "/" << (sub) \
                << " is absent (set CALIBENCH_DATA_DIR); CI always has it"
 
 }  // namespace calibench

@@ -73,7 +73,8 @@ TEST(Chessboard, CornersOfADrawnBoardAreFoundWhereTheyAre) {
   Eigen::Vector2d mean_error = Eigen::Vector2d::Zero();
   for (int i = 0; i < 54; ++i) {
     const int k = forward < reverse ? i : 53 - i;
-    mean_error += (corners[k] - to_pixel(i % 9 + 1, i / 9 + 1)) / 54;
+    const int col = i % 9 + 1, row = i / 9 + 1;
+    mean_error += (corners[k] - to_pixel(col, row)) / 54;
   }
   std::printf("mean corner error (%.4f, %.4f) px\n", mean_error.x(), mean_error.y());
   EXPECT_LT(mean_error.norm(), kMeanErrorTolPx);

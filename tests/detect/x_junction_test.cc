@@ -55,10 +55,12 @@ std::vector<Eigen::Vector2d> CornerSubPix(const GrayImage& image,
                                           const std::vector<Eigen::Vector2d>& starts) {
   const cv::Mat mat(image.height, image.width, CV_8UC1, const_cast<uint8_t*>(image.pixels.data()));
   std::vector<cv::Point2f> points;
+  points.reserve(starts.size());
   for (const Eigen::Vector2d& s : starts) points.emplace_back(s.x(), s.y());
   cv::cornerSubPix(mat, points, cv::Size(5, 5), cv::Size(-1, -1),
                    cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.1));
   std::vector<Eigen::Vector2d> out;
+  out.reserve(points.size());
   for (const cv::Point2f& p : points) out.emplace_back(p.x, p.y);
   return out;
 }
@@ -79,6 +81,7 @@ std::vector<Eigen::Vector2d> Refine(const GrayImage& image, const CameraIntrinsi
 std::vector<Eigen::Vector2d> Starts(const std::vector<Eigen::Vector2d>& truth, uint64_t seed) {
   Rng rng(seed);
   std::vector<Eigen::Vector2d> starts;
+  starts.reserve(truth.size());
   for (const Eigen::Vector2d& t : truth) {
     starts.push_back(t + Eigen::Vector2d(rng.Uniform(-0.7, 0.7), rng.Uniform(-0.7, 0.7)));
   }

@@ -223,7 +223,7 @@ TEST(CameraFile, BadFilesAreRefusedNamingTheFieldAndReason) {
   const size_t at = text.find("cols: 4");
   ASSERT_NE(at, std::string::npos);
   text.replace(at, 7, "cols: 5");
-  const size_t data = text.find("]", text.find("distortion_coefficients"));
+  const size_t data = text.find(']', text.find("distortion_coefficients"));
   text.insert(data, ", 0.001");
   std::ofstream(Temp("fish5.yaml")) << text;
   CameraFile camera;

@@ -36,7 +36,7 @@ struct Call {
 
 // A solve that records its call, tags its estimate with its call number (in f*ku) and fails the
 // calls listed in `fail`.
-WindowSolve Stub(std::vector<Call>* calls, std::vector<int> fail = {}) {
+WindowSolve Stub(std::vector<Call>* calls, const std::vector<int>& fail = {}) {
   return [calls, fail](const MethodInput& window, const CameraEstimate* warm) {
     const int number = static_cast<int>(calls->size()) + 1;
     calls->push_back({window.window_from_s, window.window_to_s, window.Frames().times_s,

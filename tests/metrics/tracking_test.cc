@@ -96,6 +96,7 @@ TEST(Tracking, NeesOfErrorsDrawnFromTheReportedCovariance) {
     track.Add(k, e);
     times.push_back(k);
   }
+  // NOLINTNEXTLINE(performance-no-automatic-move): truth is the test's, captured by reference.
   const std::vector<TrackPoint> points = track.Sample(times, [&](double) { return truth; });
   double nees = 0, nees_rotation = 0;
   for (const TrackPoint& q : points) nees += q.nees, nees_rotation += q.nees_rotation;
