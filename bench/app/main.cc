@@ -1,14 +1,9 @@
 // calibench: the command-line entry point. Thin: parses arguments and calls the bench library.
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
-#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -17,6 +12,7 @@
 #include "bench/app/corner_bias_cmd.h"
 #include "bench/app/corners_csv.h"
 #include "bench/app/frames_io.h"
+#include "bench/app/report_cmd.h"
 #include "bench/app/target_cmd.h"
 #include "bench/config/config_io.h"
 #include "bench/config/config_reference.h"
@@ -102,138 +98,6 @@ int Merge(const std::vector<std::string>& dirs, const std::string& out_dir) {
   }
   std::cerr << "calibench: merged " << dirs.size() << " shards into " << out_dir << "\n";
   return 0;
-}
-
-// The report is the Python package calibench_report (python/; numpy, scipy, pandas, matplotlib,
-// statsmodels, tabulate, PyYAML), run by a small bootstrap that names a module it cannot import.
-// The interpreter: --python, else $CALIBENCH_PYTHON, else python3 on PATH and, when that one
-// cannot import the report or its modules, /usr/bin/python3 (Debian's python3-* modules are
-// visible to it alone). The package: $CALIBENCH_REPORT_PYTHONPATH, else the build tree's copy
-// (python/ beside or above the executable's directory: python/CMakeLists.txt), else the installed
-// one (pip install ./python). No source path is compiled in.
-constexpr int kCannotImport = 120;  // The bootstrap's exit code when an import fails.
-constexpr int kCannotExec = 127;    // The child's, when the interpreter cannot be run.
-constexpr const char* kBootstrap =
-    "import sys\n"
-    "last = sys.argv.pop(1) == '1'\n"
-    "try:\n"
-    "    from calibench_report.cli import main\n"
-    "except ImportError as e:\n"
-    "    if last:\n"
-    "        print(f'calibench report: {sys.executable} cannot import {e.name or e} ({e})',\n"
-    "              file=sys.stderr)\n"
-    "    sys.exit(120)\n"  // kCannotImport.
-    "sys.exit(main())\n";
-
-struct ReportArgs {
-  std::vector<std::string> dirs;
-  std::string out, python;
-};
-
-// The executable file `name` in a directory of $PATH, or "".
-std::string FindOnPath(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path != nullptr ? path : "";
-  size_t start = 0;
-  while (start <= dirs.size()) {
-    size_t end = dirs.find(':', start);
-    if (end == std::string::npos) end = dirs.size();
-    const std::string dir = end > start ? dirs.substr(start, end - start) : ".";
-    std::string candidate = dir + "/" + name;
-    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
-    start = end + 1;
-  }
-  return "";
-}
-
-// The directory holding calibench_report for PYTHONPATH, or "" (then an installed one is used).
-std::string ReportPackageDir(const char* argv0, std::string* why) {
-  const auto holds = [](const std::filesystem::path& dir) {
-    std::error_code ec;
-    return std::filesystem::exists(dir / "calibench_report" / "__main__.py", ec);
-  };
-  if (const char* env = std::getenv("CALIBENCH_REPORT_PYTHONPATH")) {
-    if (holds(env)) return env;
-    *why = std::string(env) + "/calibench_report: not found (CALIBENCH_REPORT_PYTHONPATH)";
-    return "";
-  }
-  std::error_code ec;
-  std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (ec) exe = std::filesystem::absolute(argv0, ec);
-  for (const std::filesystem::path& dir :
-       {exe.parent_path() / "python", exe.parent_path().parent_path() / "python"}) {
-    if (holds(dir)) return dir.lexically_normal().string();
-  }
-  return "";
-}
-
-// Runs `python` on the bootstrap; its exit code, kCannotImport or kCannotExec.
-int RunReportPython(const std::string& python, bool last, const std::vector<std::string>& args) {
-  std::vector<std::string> argv = {python, "-c", kBootstrap, last ? "1" : "0"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  std::vector<char*> c_argv;
-  c_argv.reserve(argv.size() + 1);
-  for (std::string& a : argv) c_argv.push_back(a.data());
-  c_argv.push_back(nullptr);
-  std::cout.flush();
-  const pid_t pid = ::fork();
-  if (pid < 0) return kCannotExec;
-  if (pid == 0) {
-    ::execvp(c_argv[0], c_argv.data());
-    ::_exit(kCannotExec);
-  }
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return kCannotExec;
-  }
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-  return WEXITSTATUS(status);
-}
-
-int Report(const ReportArgs& a, const char* argv0) {
-  std::string why;
-  const std::string package_dir = ReportPackageDir(argv0, &why);
-  if (!why.empty()) {
-    std::cerr << "calibench: report: " << why << "\n";
-    return 2;
-  }
-  if (!package_dir.empty()) {
-    const char* python_path = std::getenv("PYTHONPATH");
-    const std::string path =
-        package_dir +
-        (python_path != nullptr && *python_path ? ":" + std::string(python_path) : "");
-    ::setenv("PYTHONPATH", path.c_str(), 1);
-  }
-  std::vector<std::string> pythons;  // Tried in order.
-  const char* env = std::getenv("CALIBENCH_PYTHON");
-  if (!a.python.empty()) {
-    pythons = {a.python};
-  } else if (env != nullptr && *env) {
-    pythons = {env};
-  } else {
-    const std::string on_path = FindOnPath("python3");
-    std::error_code ec;
-    if (!on_path.empty()) pythons.push_back(on_path);
-    if (on_path.empty() || !std::filesystem::equivalent(on_path, "/usr/bin/python3", ec)) {
-      if (std::filesystem::exists("/usr/bin/python3", ec)) pythons.push_back("/usr/bin/python3");
-    }
-  }
-  std::vector<std::string> args = {"--out", a.out};
-  args.insert(args.end(), a.dirs.begin(), a.dirs.end());
-  std::string tried;
-  for (size_t i = 0; i < pythons.size(); ++i) {
-    const int code = RunReportPython(pythons[i], i + 1 == pythons.size(), args);
-    if (code != kCannotImport && code != kCannotExec) return code;
-    tried += (tried.empty() ? "" : ", ") + pythons[i] +
-             (code == kCannotExec ? " (cannot be run)" : " (cannot import the report)");
-  }
-  std::cerr << "calibench: report: no Python interpreter runs the report: "
-            << (tried.empty() ? "python3 is not on PATH" : "tried " + tried)
-            << ". It needs python3 with numpy, scipy, pandas, matplotlib, statsmodels, tabulate "
-               "and PyYAML, and the package calibench_report (the build tree's python/, "
-               "CALIBENCH_REPORT_PYTHONPATH, or pip install --no-deps ./python); choose the "
-               "interpreter with --python or CALIBENCH_PYTHON (docs/install.md)\n";
-  return 2;
 }
 
 struct FramesArgs {
@@ -509,7 +373,7 @@ CLI::App* AddMergeCommand(CLI::App* app, DirsArgs* a) {
   return merge;
 }
 
-CLI::App* AddReportCommand(CLI::App* app, ReportArgs* a) {
+CLI::App* AddReportCommand(CLI::App* app, calibench::ReportArgs* a) {
   CLI::App* report = app->add_subcommand(
       "report", "Plots and paired tests of run directories (report.md + PNGs; Python)");
   report->add_option("dirs", a->dirs, "Run output directories")
@@ -574,7 +438,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   CLI::App* run = AddRunCommand(&app, &run_args);
   DirsArgs merge_args;
   CLI::App* merge = AddMergeCommand(&app, &merge_args);
-  ReportArgs report_args;
+  calibench::ReportArgs report_args;
   CLI::App* report = AddReportCommand(&app, &report_args);
   calibench::CalibrateArgs cal;
   CLI::App* calibrate = AddCalibrateCommand(&app, &cal);
@@ -600,7 +464,7 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
     if (merge->parsed()) return Merge(merge_args.dirs, merge_args.out);
     if (report->parsed()) {
       if (report_args.out.empty()) report_args.out = report_args.dirs[0] + "/report";
-      return Report(report_args, argv[0]);
+      return calibench::Report(report_args, argv[0]);
     }
     if (render->parsed()) return RenderOrDetect(render_args, true);
     if (detect->parsed()) {
