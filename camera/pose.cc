@@ -37,6 +37,17 @@ Eigen::Matrix3d ExpSO3(const Eigen::Vector3d& w) {
   return Eigen::Matrix3d::Identity() + a * k + b * k * k;
 }
 
+Eigen::Vector3d LogSO3(const Eigen::Matrix3d& r) {
+  // Eigen's quaternion from a rotation matrix is stable at every angle (Shepperd's method); the
+  // angle from atan2 of the vector and scalar parts is accurate near 0 and near pi alike.
+  Eigen::Quaterniond q(r);
+  if (q.w() < 0) q.coeffs() = -q.coeffs();
+  const double sin_half = q.vec().norm();
+  if (sin_half < 1e-12) return 2.0 * q.vec();  // angle ~ 2 sin(angle / 2): error O(angle^3).
+  const double angle = 2.0 * std::atan2(sin_half, q.w());
+  return q.vec() * (angle / sin_half);
+}
+
 bool CheckRotation(const Eigen::Matrix3d& r, double tol, bool allow_improper, std::string* why) {
   std::ostringstream msg;
   if (!r.allFinite()) {

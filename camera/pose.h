@@ -46,6 +46,9 @@ inline bool operator!=(const Rigid3& a, const Rigid3& b) { return !(a == b); }
 Eigen::Matrix3d Hat(const Eigen::Vector3d& w);
 // Exponential map of so(3) (Rodrigues), exact for any |w| including 0.
 Eigen::Matrix3d ExpSO3(const Eigen::Vector3d& w);
+// Its inverse: the rotation vector (axis times angle, radians, |w| <= pi) of a proper rotation,
+// ExpSO3(LogSO3(r)) = r; accurate near 0 and near pi.
+Eigen::Vector3d LogSO3(const Eigen::Matrix3d& r);
 
 // True when `r` is orthogonal to `tol` (max |R^T R - I| entry) and det(r) = +1 (or -1 when
 // `allow_improper`). On false, *why (if given) says which test failed and by how much.
