@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
+#include <set>
 
 #include "detect/chessboard.h"
 #include "detect/x_junction.h"
@@ -327,6 +328,20 @@ bool LoadImagePoints(const std::string& dir, const CalibrationTarget& target, Po
                      const ImagePointOptions& options) {
   std::vector<std::string> names;
   if (!ListImageFiles(dir, &names, why)) return false;
+  if (!options.files.empty()) {
+    const std::set<std::string> wanted(options.files.begin(), options.files.end());
+    names.erase(std::remove_if(names.begin(), names.end(),
+                               [&](const std::string& name) {
+                                 return wanted.count(fs::path(name).filename().string()) == 0;
+                               }),
+                names.end());
+    if (names.size() != wanted.size()) {
+      if (why)
+        *why = dir + ": " + std::to_string(wanted.size() - names.size()) +
+               " of the images asked for are not image files of the folder";
+      return false;
+    }
+  }
   const std::vector<fs::path> files(names.begin(), names.end());
   const bool aprilgrid = target.type == CalibrationTarget::Type::kAprilGrid;
   // One detector per worker (FrameDetector is not thread-safe).
