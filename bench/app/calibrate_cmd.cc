@@ -59,7 +59,7 @@ int CalibrateImageFolder(const CalibrateArgs& args, const CalibrateOptions& opti
     }
     image_options.refinement = refinement;
   }
-  *result = CalibrateImages(args.images_dir, target, image_options, options, &std::cerr);
+  *result = CalibrateImages(args.images[0], target, image_options, options, &std::cerr);
   const char* bad_input = result->status == CalibrateResult::Status::kBadImages ? "--images"
                           : result->status == CalibrateResult::Status::kBadInit ? "--init"
                                                                                 : nullptr;
@@ -73,6 +73,7 @@ int CalibrateImageFolder(const CalibrateArgs& args, const CalibrateOptions& opti
 }  // namespace
 
 int Calibrate(const CalibrateArgs& args) {
+  if (args.images.size() >= 2) return CalibrateRig(args);
   CalibrateOptions options;
   std::string why;
   const bool auto_model = args.model == "auto";
@@ -113,7 +114,7 @@ int Calibrate(const CalibrateArgs& args) {
     return 2;
   }
   CalibrateResult result;
-  if (!args.images_dir.empty()) {
+  if (!args.images.empty()) {
     const int status = CalibrateImageFolder(args, options, &result);
     if (status != 0) return status;
   } else {

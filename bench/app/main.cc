@@ -219,7 +219,10 @@ CLI::App* AddCalibrateCommand(CLI::App* app, calibench::CalibrateArgs* cal) {
   CLI::Option* points_option = calibrate->add_option(
       "--points", cal->points_path, "Zhang folder (Model.txt, data*.txt) or OpenCV .dat");
   CLI::Option* images_option = calibrate->add_option(
-      "--images", cal->images_dir, "Folder of PNG/JPG/TIF images of the target (needs --target)");
+      "--images", cal->images,
+      "Folder of PNG/JPG/TIF images of the target (needs --target). A rig: one --images per "
+      "camera, each a folder or a quoted glob ('dir/left*.jpg'); images paired by the number "
+      "(else the stem) in their names");
   points_option->excludes(images_option);
   calibrate->add_option("--target", cal->target_path,
                         "Kalibr target YAML (target_type: aprilgrid or checkerboard)");
@@ -231,7 +234,8 @@ CLI::App* AddCalibrateCommand(CLI::App* app, calibench::CalibrateArgs* cal) {
                         "Lens model: " + calibench::LensModelList() +
                             ", or auto (fit pinhole-radtan4/5, pinhole-equi, unified, eucm, "
                             "double-sphere; pick the simplest within noise of the best "
-                            "held-out RMS)");
+                            "held-out RMS). A rig: one model for every camera, or a "
+                            "comma-separated list, one per --images");
   calibrate->add_flag("--skew", cal->skew, "Estimate the skew angle phi too");
   calibrate
       ->add_option("--init", cal->init_path,
@@ -273,7 +277,12 @@ CLI::App* AddCalibrateCommand(CLI::App* app, calibench::CalibrateArgs* cal) {
       ->capture_default_str();
   calibrate->add_flag("--evaluate", cal->evaluate,
                       "With --init: keep that camera fixed, fit only each image's pose, report "
-                      "the reprojection RMS per image and flag outliers");
+                      "the reprojection RMS per image and flag outliers. A rig (--init a "
+                      "camchain): keep the rig fixed, report its reprojection and epipolar errors");
+  calibrate->add_option("--rectified", cal->rectified_path,
+                        "A rig: write the first two cameras' rectified images of the first frame "
+                        "both saw side by side with horizontal lines (default: beside --out, "
+                        "<stem>-rectified.png)");
   return calibrate;
 }
 
@@ -414,11 +423,12 @@ int Methods(const std::string& type) {
 }
 
 int CalibrateCommand(const CLI::App& calibrate, calibench::CalibrateArgs* cal) {
-  if (cal->points_path.empty() && cal->images_dir.empty()) {
+  if (cal->points_path.empty() && cal->images.empty()) {
     std::cerr << "calibench: calibrate: give --points FILE or --images DIR --target T.yaml\n";
     return 2;
   }
   cal->model_given = calibrate.get_option("--model")->count() > 0;
+  cal->out_given = calibrate.get_option("--out")->count() > 0;
   return calibench::Calibrate(*cal);
 }
 
