@@ -70,7 +70,8 @@ TEST(RigInit, StereoRigFromExactFrames) {
   EXPECT_TRUE(summary.outlier_frames[1].empty());
   ExpectRigNear(rig, truth, kExactDeg, kExactM);
   for (size_t f = 0; f < s.frames.size(); ++f) {
-    EXPECT_LT(RotationAngleDeg(rig_from_board[f].rotation, s.rig_from_board[f].rotation), kExactDeg);
+    EXPECT_LT(RotationAngleDeg(rig_from_board[f].rotation, s.rig_from_board[f].rotation),
+              kExactDeg);
     EXPECT_LT((rig_from_board[f].translation - s.rig_from_board[f].translation).norm(), kExactM);
   }
 }
