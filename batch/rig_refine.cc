@@ -191,9 +191,9 @@ int BuildProblem(const std::vector<RigFrame>& frames, const RigRefineOptions& op
       if (!fixed.empty()) problem->SetManifold(intrinsics, new ceres::SubsetManifold(kN, fixed));
       refine_internal::SetIntrinsicsBounds(FamilyOf(options.models[c]), intrinsics, problem);
     }
-    if (c == 0) {  // The rig frame: the gauge.
-      problem->SetParameterBlockConstant(params->cam_q[0].data());
-      problem->SetParameterBlockConstant(params->cam_t[0].data());
+    if (c == 0 || options.fix_extrinsics) {  // Camera 0 is the rig frame: the gauge.
+      problem->SetParameterBlockConstant(params->cam_q[c].data());
+      problem->SetParameterBlockConstant(params->cam_t[c].data());
     } else {
       problem->SetManifold(params->cam_q[c].data(), new ceres::EigenQuaternionManifold);
     }
@@ -237,11 +237,12 @@ RigPoseUncertainty PoseUncertaintyOf(const Eigen::Matrix<double, 6, 6>& covarian
 }
 
 // sigma^2 (J^T J)^-1 of the rig parameters (every camera's free intrinsics, then [d, t] of cameras
-// 1..N-1) with the frame poses marginalised: J in the tangents R' = Exp(d) R (rotations) and t' =
-// t + dt, from the analytic projection Jacobians; each frame's 6 x 6 block D_f eliminated by the
-// Schur complement S = A - sum_f B_f D_f^-1 B_f^T (a residual sees one frame pose). Dense: a rig
-// has at most a few dozen such parameters. Fills intrinsics_std, intrinsics_covariance and
-// pose_uncertainty of *out (the loss is not applied: at a robust optimum the inliers' curvature).
+// 1..N-1 unless fix_extrinsics) with the frame poses marginalised: J in the tangents R' = Exp(d) R
+// (rotations) and t' = t + dt, from the analytic projection Jacobians; each frame's 6 x 6 block D_f
+// eliminated by the Schur complement S = A - sum_f B_f D_f^-1 B_f^T (a residual sees one frame
+// pose). Dense: a rig has at most a few dozen such parameters. Fills intrinsics_std,
+// intrinsics_covariance and pose_uncertainty of *out (the loss is not applied: at a robust optimum
+// the inliers' curvature).
 bool FillRigCovariance(const std::vector<RigFrame>& frames, const RigParameters& params,
                        const RigRefineOptions& options, double sigma, RigRefineResult* out,
                        std::string* why) {
@@ -254,7 +255,9 @@ bool FillRigCovariance(const std::vector<RigFrame>& frames, const RigParameters&
     intrinsics_at[c] = size;
     size += static_cast<int>(free[c].size());
   }
-  for (int c = 1; c < num_cameras; ++c) pose_at[c] = size, size += 6;
+  if (!options.fix_extrinsics) {
+    for (int c = 1; c < num_cameras; ++c) pose_at[c] = size, size += 6;
+  }
   std::vector<Rigid3> cam_from_rig(num_cameras);
   std::vector<LensFamily> family(num_cameras);
   for (int c = 0; c < num_cameras; ++c) {
@@ -285,7 +288,7 @@ bool FillRigCovariance(const std::vector<RigFrame>& frames, const RigParameters&
         for (size_t k = 0; k < free[c].size(); ++k) {
           j_rig.col(intrinsics_at[c] + static_cast<int>(k)) = pj.d_intrinsics.col(free[c][k]);
         }
-        if (c > 0) {
+        if (pose_at[c] >= 0) {
           j_rig.block<2, 3>(0, pose_at[c]) = -pj.d_point * Hat(r_c * point_in_rig);
           j_rig.block<2, 3>(0, pose_at[c] + 3) = pj.d_point;
         }
@@ -305,14 +308,15 @@ bool FillRigCovariance(const std::vector<RigFrame>& frames, const RigParameters&
     }
     schur.noalias() -= b * ldlt.solve(b.transpose());
   }
+  out->intrinsics_std.assign(num_cameras, IntrinsicsArray{});
+  for (IntrinsicsArray& s : out->intrinsics_std) s.fill(kNaN);
+  out->intrinsics_covariance.assign(num_cameras, IntrinsicsCovariance::Zero());
+  out->pose_uncertainty.assign(num_cameras, RigPoseUncertainty());
+  if (size == 0) return true;  // Nothing of the rig is estimated.
   Eigen::MatrixXd inverse;
   if (!refine_internal::InvertInformationMatrix(schur, &inverse, why)) return false;
   const Eigen::MatrixXd covariance = sigma * sigma * inverse;
-  out->intrinsics_std.assign(num_cameras, IntrinsicsArray{});
-  out->intrinsics_covariance.assign(num_cameras, IntrinsicsCovariance::Zero());
-  out->pose_uncertainty.assign(num_cameras, RigPoseUncertainty());
   for (int c = 0; c < num_cameras; ++c) {
-    out->intrinsics_std[c].fill(kNaN);
     const int n = static_cast<int>(free[c].size());
     for (int i = 0; i < n; ++i) {
       for (int j = 0; j < n; ++j) {
@@ -322,7 +326,7 @@ bool FillRigCovariance(const std::vector<RigFrame>& frames, const RigParameters&
       out->intrinsics_std[c][free[c][i]] =
           std::sqrt(covariance(intrinsics_at[c] + i, intrinsics_at[c] + i));
     }
-    if (c > 0) {
+    if (pose_at[c] >= 0) {
       out->pose_uncertainty[c] =
           PoseUncertaintyOf(covariance.block<6, 6>(pose_at[c], pose_at[c]), cam_from_rig[c]);
     }
@@ -338,11 +342,18 @@ bool FillSolution(const std::vector<RigFrame>& frames, const CameraRig& initial,
   const int num_cameras = initial.NumCameras();
   result->rig = initial;
   for (int c = 0; c < num_cameras; ++c) {
+    // What was held is handed back as given (the quaternion round trip would move it by ~1e-16).
     RigCamera& camera = result->rig.cameras[c];
-    camera.intrinsics =
-        CameraIntrinsics::FromParams(params.intrinsics[c].data(), FamilyOf(options.models[c]));
+    const LensFamily family = FamilyOf(options.models[c]);
+    if (!options.fix_intrinsics || camera.intrinsics.family != family) {
+      camera.intrinsics = CameraIntrinsics::FromParams(params.intrinsics[c].data(), family);
+    }
     camera.lens_model = options.models[c];
-    camera.cam_from_rig = c == 0 ? Rigid3() : params.CamFromRig(c);
+    if (c == 0) {
+      camera.cam_from_rig = Rigid3();
+    } else if (!options.fix_extrinsics) {
+      camera.cam_from_rig = params.CamFromRig(c);
+    }
   }
   result->rig_from_board.clear();
   for (size_t f = 0; f < frames.size(); ++f) {
@@ -368,7 +379,7 @@ bool FillSolution(const std::vector<RigFrame>& frames, const CameraRig& initial,
     seen_frames += seen ? 1 : 0;
   }
   double sum_sq = 0;
-  int free_params = 6 * (num_cameras - 1) + 6 * seen_frames;
+  int free_params = (options.fix_extrinsics ? 0 : 6 * (num_cameras - 1)) + 6 * seen_frames;
   result->camera_rms_px.assign(num_cameras, kNaN);
   for (int c = 0; c < num_cameras; ++c) {
     sum_sq += camera_sq[c];

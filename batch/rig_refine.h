@@ -77,6 +77,9 @@ struct RigRefineOptions {
   // Keep every intrinsic at its initial value (a rig whose cameras were calibrated alone: only the
   // extrinsics and the frame poses move).
   bool fix_intrinsics = false;
+  // Keep every cam_from_rig at its initial value (with fix_intrinsics: a given rig evaluated on
+  // new frames, only the frame poses move).
+  bool fix_extrinsics = false;
   bool Check(std::string* why) const;
 };
 

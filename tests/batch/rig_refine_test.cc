@@ -190,6 +190,56 @@ TEST(RigRefine, FixedIntrinsicsMoveOnlyThePoses) {
   EXPECT_GT(result.pose_uncertainty[1].baseline_std_mm, 0.0);
 }
 
+// A given rig evaluated on new frames: intrinsics and extrinsics held, only the frame poses move;
+// nothing of the rig has a covariance.
+TEST(RigRefine, FixedRigMovesOnlyTheFramePoses) {
+  const CameraRig truth = StereoRig();
+  const SyntheticRigFrames s = Frames(truth, 8, 26);
+  CameraRig start = truth;
+  std::vector<Rigid3> start_poses = s.rig_from_board;
+  Perturb(&start, &start_poses);
+  start = truth;  // Only the frame poses are off.
+  RigRefineOptions o = OptionsFor(truth);
+  o.fix_intrinsics = o.fix_extrinsics = true;
+  const RigRefineResult result = RefineRig(s.frames, start, start_poses, o);
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  EXPECT_EQ(result.rig.cameras[1].cam_from_rig, truth.cameras[1].cam_from_rig);
+  EXPECT_EQ(result.rig.cameras[1].intrinsics, truth.cameras[1].intrinsics);
+  EXPECT_LT(result.rms_reproj_px, 1e-6);
+  for (size_t f = 0; f < s.frames.size(); ++f) {
+    EXPECT_LT(RotationAngleDeg(result.rig_from_board[f].rotation, s.rig_from_board[f].rotation),
+              kNoiseFreeRel);
+  }
+  EXPECT_EQ(result.pose_uncertainty[1].baseline_std_mm, 0.0);
+  EXPECT_TRUE(std::isnan(result.intrinsics_std[1][0]));
+}
+
+// One corner 40 px off in one view: the Huber loss (1 px) keeps the rig within a fraction of its
+// std of the clean solve's (the outlier's pull is capped at 1 px of 3000 corners' residuals),
+// where plain least squares is pulled several times farther.
+TEST(RigRefine, HuberLossResistsAnOutlierCorner) {
+  const CameraRig truth = StereoRig();
+  const SyntheticRigFrames s = Frames(truth, 16, 27, 0.3);
+  RigRefineOptions o = OptionsFor(truth);
+  const RigRefineResult clean = RefineRig(s.frames, truth, s.rig_from_board, o);
+  ASSERT_TRUE(clean.IsUsable()) << clean.message;
+  std::vector<RigFrame> frames = s.frames;
+  for (RigFrame& frame : frames) {
+    if (frame.views_by_camera[1].points.empty()) continue;
+    frame.views_by_camera[1].pixels[5] += Eigen::Vector2d(40, -30);
+    break;
+  }
+  const RigRefineResult plain = RefineRig(frames, truth, s.rig_from_board, o);
+  o.loss = RobustLoss::kHuber;
+  const RigRefineResult huber = RefineRig(frames, truth, s.rig_from_board, o);
+  ASSERT_TRUE(plain.IsUsable() && huber.IsUsable()) << plain.message << huber.message;
+  const double std_mm = clean.pose_uncertainty[1].baseline_std_mm;
+  const double plain_off = std::abs(plain.rig.BaselineM(1) - clean.rig.BaselineM(1)) * 1000;
+  const double huber_off = std::abs(huber.rig.BaselineM(1) - clean.rig.BaselineM(1)) * 1000;
+  EXPECT_LT(huber_off, 0.25 * std_mm);
+  EXPECT_LT(huber_off, plain_off);
+}
+
 TEST(RigRefine, RefusesACameraThatSeesNothing) {
   const CameraRig truth = StereoRig();
   SyntheticRigFrames s = Frames(truth, 6, 24);
