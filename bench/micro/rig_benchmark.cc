@@ -1,9 +1,9 @@
 // The rig solve against calibrating its cameras one by one: RefineRig (batch/rig_refine.h) on 24
-// synchronised frames of a two-camera pinhole-radtan4 rig (0.12 m baseline, ~1 deg relative turn;
-// a 6 x 8 board, 0.3 px noise, whole boards), and two RefineCalibration runs (batch/refine.h), one
-// per camera, on the same views with the same model. Both start from the truth with every pose
-// turned by ~0.5 deg and moved by ~5 mm and compute their covariance; the rig's target is at most
-// twice the two single-camera runs together. Counters: solver iterations.
+// synchronised frames of ExampleStereoRig (sim/example_rigs.h: two pinhole-radtan4 cameras, 0.12 m
+// baseline; a 6 x 8 board, 0.3 px noise, whole boards), and two RefineCalibration runs
+// (batch/refine.h), one per camera, on the same views with the same model. Both start from the
+// truth with every pose turned by ~0.5 deg and moved by ~5 mm and compute their covariance; the
+// rig's target is at most twice the two single-camera runs together. Counters: solver iterations.
 //
 // Run: calibench_micro_benchmarks --benchmark_filter='BM_(RigRefine|TwoSingleCameraRefines)'
 //      --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
@@ -11,6 +11,7 @@
 
 #include "batch/refine.h"
 #include "batch/rig_refine.h"
+#include "sim/example_rigs.h"
 #include "sim/rig_frames.h"
 #include "util/random.h"
 
@@ -18,23 +19,6 @@ namespace calibench {
 namespace {
 
 constexpr int kFrames = 24;
-
-CameraRig BenchRig() {
-  CameraRig rig;
-  for (int c = 0; c < 2; ++c) {
-    RigCamera camera;
-    camera.name = c == 0 ? "left" : "right";
-    camera.intrinsics = CameraIntrinsics{520.0 - 5 * c, 517.0 - 5 * c, 90.0, 322.0, 241.0,
-                                         -0.21,         0.06,          2e-4, -3e-4};
-    camera.lens_model = LensModel::kPinholeRadTan4;
-    camera.image_width = 640, camera.image_height = 480;
-    rig.cameras.push_back(camera);
-  }
-  const Eigen::Matrix3d rig_from_cam1 = ExpSO3(Eigen::Vector3d(0.3, 0.8, 0.4) * (M_PI / 180));
-  rig.cameras[1].cam_from_rig = {rig_from_cam1.transpose(),
-                                 -(rig_from_cam1.transpose() * Eigen::Vector3d(0.12, 0, 0))};
-  return rig;
-}
 
 Rigid3 Nudged(const Rigid3& pose) {
   return {ExpSO3(Eigen::Vector3d(0.004, -0.006, 0.005)) * pose.rotation,
@@ -54,7 +38,7 @@ struct BenchData {
 const BenchData& Data() {
   static const BenchData data = [] {
     BenchData d;
-    d.rig = BenchRig();
+    d.rig = ExampleStereoRig();
     RigFramesOptions o;
     o.num_frames = kFrames;
     o.pixel_sigma_px = 0.3;

@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
-#include "../common/synthetic_rigs.h"
 #include "batch/board_pose.h"
 #include "batch/rig_refine.h"
+#include "sim/example_rigs.h"
 #include "sim/rig_frames.h"
 
 namespace calibench {
@@ -56,7 +56,7 @@ SyntheticRigFrames ExactFrames(const CameraRig& rig, int num_frames, uint64_t se
 }
 
 TEST(RigInit, StereoRigFromExactFrames) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = ExactFrames(truth, 16, 1);
   ASSERT_EQ(s.frames.size(), 16u);
   const PerCameraPoses poses = PosesOf(s.frames, truth);
@@ -78,7 +78,7 @@ TEST(RigInit, StereoRigFromExactFrames) {
 
 // One camera's pose flipped by 20 degrees in one frame: dropped as an outlier, the rest exact.
 TEST(RigInit, DropsAPoseFarFromTheMedian) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = ExactFrames(truth, 12, 2);
   PerCameraPoses poses = PosesOf(s.frames, truth);
   int bad = -1;
@@ -99,7 +99,7 @@ TEST(RigInit, DropsAPoseFarFromTheMedian) {
 
 // Camera 2 never shares a frame with camera 0: it is chained through camera 1.
 TEST(RigInit, TriRigChainsTheSideCameraThroughTheWideOne) {
-  const CameraRig truth = MixedTriRig();
+  const CameraRig truth = ExampleMixedThreeCameraRig();
   const SyntheticRigFrames s = ExactFrames(truth, 30, 3);
   ASSERT_EQ(s.frames.size(), 30u);
   const PerCameraPoses poses = PosesOf(s.frames, truth);
@@ -115,7 +115,7 @@ TEST(RigInit, TriRigChainsTheSideCameraThroughTheWideOne) {
 }
 
 TEST(RigInit, DisconnectedGraphNamesTheCutOffCameras) {
-  const CameraRig truth = MixedTriRig();
+  const CameraRig truth = ExampleMixedThreeCameraRig();
   SyntheticRigFrames s = ExactFrames(truth, 20, 4);
   for (RigFrame& frame : s.frames) frame.views_by_camera[1] = View();  // The link is gone.
   const PerCameraPoses poses = PosesOf(s.frames, truth);
@@ -124,12 +124,12 @@ TEST(RigInit, DisconnectedGraphNamesTheCutOffCameras) {
   const RigInitSummary summary =
       InitRigExtrinsics(s.frames, poses.cam_from_board, poses.has_pose, &rig, &rig_from_board);
   ASSERT_FALSE(summary.IsUsable());
-  EXPECT_NE(summary.message.find("wide, side"), std::string::npos) << summary.message;
+  EXPECT_NE(summary.message.find("cam1, cam2"), std::string::npos) << summary.message;
   EXPECT_NE(summary.message.find("cut off"), std::string::npos) << summary.message;
 }
 
 TEST(RigInit, RefusesMismatchedInputs) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = ExactFrames(truth, 4, 5);
   CameraRig rig = truth;
   std::vector<Rigid3> rig_from_board;

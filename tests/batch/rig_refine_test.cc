@@ -6,8 +6,8 @@
 #include <cmath>
 #include <memory>
 
-#include "../common/synthetic_rigs.h"
 #include "batch/rig_reprojection_error.h"
+#include "sim/example_rigs.h"
 #include "sim/rig_frames.h"
 
 namespace calibench {
@@ -88,7 +88,7 @@ TEST(RigRefine, OptionsCheck) {
 // RigViewCostFunction's hand-written Jacobians against RigReprojectionError's ceres::Jet, for a
 // radtan and a double-sphere camera, at a rig pose and a frame pose away from the identity.
 TEST(RigRefine, AnalyticJacobiansMatchJets) {
-  const CameraRig rig = MixedTriRig();
+  const CameraRig rig = ExampleMixedThreeCameraRig();
   const Rigid3 rig_from_board = {ExpSO3(Eigen::Vector3d(0.2, 0.5, -0.1)),
                                  Eigen::Vector3d(0.3, -0.1, 0.6)};
   const std::vector<Eigen::Vector3d> points = {
@@ -132,7 +132,7 @@ TEST(RigRefine, AnalyticJacobiansMatchJets) {
 }
 
 TEST(RigRefine, StereoRigFromExactFrames) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = Frames(truth, 16, 21);
   ASSERT_EQ(s.frames.size(), 16u);
   CameraRig start = truth;
@@ -157,7 +157,7 @@ TEST(RigRefine, StereoRigFromExactFrames) {
 }
 
 TEST(RigRefine, TriRigWithDoubleSphereFromExactFrames) {
-  const CameraRig truth = MixedTriRig();
+  const CameraRig truth = ExampleMixedThreeCameraRig();
   const SyntheticRigFrames s = Frames(truth, 30, 22);
   ASSERT_EQ(s.frames.size(), 30u);
   CameraRig start = truth;
@@ -175,7 +175,7 @@ TEST(RigRefine, TriRigWithDoubleSphereFromExactFrames) {
 // Every intrinsic fixed: only the extrinsics and the frame poses move, and the pose of camera 1
 // is still recovered.
 TEST(RigRefine, FixedIntrinsicsMoveOnlyThePoses) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = Frames(truth, 10, 23);
   CameraRig start = truth;
   std::vector<Rigid3> start_poses = s.rig_from_board;
@@ -193,7 +193,7 @@ TEST(RigRefine, FixedIntrinsicsMoveOnlyThePoses) {
 // A given rig evaluated on new frames: intrinsics and extrinsics held, only the frame poses move;
 // nothing of the rig has a covariance.
 TEST(RigRefine, FixedRigMovesOnlyTheFramePoses) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = Frames(truth, 8, 26);
   CameraRig start = truth;
   std::vector<Rigid3> start_poses = s.rig_from_board;
@@ -218,7 +218,7 @@ TEST(RigRefine, FixedRigMovesOnlyTheFramePoses) {
 // std of the clean solve's (the outlier's pull is capped at 1 px of 3000 corners' residuals),
 // where plain least squares is pulled several times farther.
 TEST(RigRefine, HuberLossResistsAnOutlierCorner) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = Frames(truth, 16, 27, 0.3);
   RigRefineOptions o = OptionsFor(truth);
   const RigRefineResult clean = RefineRig(s.frames, truth, s.rig_from_board, o);
@@ -241,24 +241,24 @@ TEST(RigRefine, HuberLossResistsAnOutlierCorner) {
 }
 
 TEST(RigRefine, RefusesACameraThatSeesNothing) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   SyntheticRigFrames s = Frames(truth, 6, 24);
   for (RigFrame& frame : s.frames) frame.views_by_camera[1] = View();
   const RigRefineResult result = RefineRig(s.frames, truth, s.rig_from_board, OptionsFor(truth));
   EXPECT_FALSE(result.IsUsable());
-  EXPECT_NE(result.message.find("right sees the target in no frame"), std::string::npos)
+  EXPECT_NE(result.message.find("cam1 sees the target in no frame"), std::string::npos)
       << result.message;
 }
 
 TEST(RigRefine, BoundNeedsTheModelsFamily) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = Frames(truth, 6, 25);
   RigRefineOptions o = OptionsFor(truth);
   o.models[1] = LensModel::kPinholeEqui;
   RigRefineResult bound;
   std::string why;
   EXPECT_FALSE(RigCovarianceAt(s.frames, truth, s.rig_from_board, o, 0.5, &bound, &why));
-  EXPECT_NE(why.find("right"), std::string::npos) << why;
+  EXPECT_NE(why.find("cam1"), std::string::npos) << why;
 }
 
 // Monte Carlo against the Cramer-Rao bound: one geometry (24 frames of the stereo rig), kTrials
@@ -273,7 +273,7 @@ constexpr double kRatioLow = 0.75, kRatioHigh = 1.3;
 constexpr double kReportedStdRel = 0.05;
 
 TEST(RigRefine, MonteCarloMatchesTheCramerRaoBound) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames exact = Frames(truth, 24, 31);
   ASSERT_EQ(exact.frames.size(), 24u);
   constexpr double kSigmaPx = 0.5;

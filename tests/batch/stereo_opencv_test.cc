@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "../common/synthetic_rigs.h"
 #include "batch/rig_refine.h"
+#include "sim/example_rigs.h"
 #include "sim/rig_frames.h"
 
 namespace calibench {
@@ -54,7 +54,7 @@ void ExpectNearRig(const CameraRig& got, const CameraRig& truth) {
 }
 
 TEST(StereoOpenCv, RadTanRigFromExactFrames) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = Frames(truth, 16, 41, 0.0);
   const StereoOpenCvResult result = CalibrateStereoOpenCv(s.frames, RoughStart(truth), {});
   ASSERT_TRUE(result.IsUsable()) << result.message;
@@ -69,7 +69,7 @@ TEST(StereoOpenCv, RadTanRigFromExactFrames) {
 }
 
 TEST(StereoOpenCv, FixedIntrinsicsGiveThePoseOnly) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = Frames(truth, 10, 42, 0.0);
   CameraRig start = truth;
   start.cameras[1].cam_from_rig = Rigid3();
@@ -82,7 +82,7 @@ TEST(StereoOpenCv, FixedIntrinsicsGiveThePoseOnly) {
 }
 
 TEST(StereoOpenCv, EquidistantRigThroughCvFisheye) {
-  CameraRig truth = StereoRig();
+  CameraRig truth = ExampleStereoRig();
   for (RigCamera& camera : truth.cameras) {
     CameraIntrinsics k;
     k.family = LensFamily::kEquidistant;
@@ -103,7 +103,7 @@ TEST(StereoOpenCv, EquidistantRigThroughCvFisheye) {
 TEST(StereoOpenCv, RefusesOmnidirectionalModels) {
   StereoOpenCvOptions o;
   o.model = LensModel::kDoubleSphere;
-  const StereoOpenCvResult result = CalibrateStereoOpenCv({}, StereoRig(), o);
+  const StereoOpenCvResult result = CalibrateStereoOpenCv({}, ExampleStereoRig(), o);
   EXPECT_FALSE(result.IsUsable());
   EXPECT_NE(result.message.find("no double-sphere lens model"), std::string::npos)
       << result.message;
@@ -116,7 +116,7 @@ TEST(StereoOpenCv, RefusesOmnidirectionalModels) {
 constexpr double kAgreementShareOfStd = 0.01;
 
 TEST(StereoOpenCv, AgreesWithRefineRigWithinItsStd) {
-  const CameraRig truth = StereoRig();
+  const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = Frames(truth, 24, 44, 0.5);
   const CameraRig start = RoughStart(truth);
   const StereoOpenCvResult cv_result = CalibrateStereoOpenCv(s.frames, start, {});

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../common/synthetic_rigs.h"
+#include "sim/example_rigs.h"
 
 namespace calibench {
 namespace {
@@ -24,7 +24,7 @@ TEST(RigFrames, OptionsCheckNamesTheField) {
 }
 
 TEST(RigFrames, StereoFramesAreSeenWholeByBothAndProjectExactly) {
-  const CameraRig rig = StereoRig();
+  const CameraRig rig = ExampleStereoRig();
   RigFramesOptions o;
   o.num_frames = 12;
   Rng rng(7);
@@ -53,7 +53,7 @@ TEST(RigFrames, StereoFramesAreSeenWholeByBothAndProjectExactly) {
 }
 
 TEST(RigFrames, SameSeedSameFrames) {
-  const CameraRig rig = StereoRig();
+  const CameraRig rig = ExampleStereoRig();
   RigFramesOptions o;
   o.num_frames = 5;
   o.pixel_sigma_px = 0.3;
@@ -69,7 +69,7 @@ TEST(RigFrames, SameSeedSameFrames) {
 // The side camera looks 75 degrees off the front camera's axis: no frame reaches both, and every
 // frame the side camera sees is shared with the wide camera.
 TEST(RigFrames, TriRigSideCameraIsLinkedOnlyThroughTheWideOne) {
-  const CameraRig rig = MixedTriRig();
+  const CameraRig rig = ExampleMixedThreeCameraRig();
   std::string why;
   ASSERT_TRUE(rig.Check(&why)) << why;
   RigFramesOptions o;
@@ -91,7 +91,7 @@ TEST(RigFrames, TriRigSideCameraIsLinkedOnlyThroughTheWideOne) {
 }
 
 TEST(RigFrames, PartialBoardsKeepEnoughCorners) {
-  const CameraRig rig = MixedTriRig();
+  const CameraRig rig = ExampleMixedThreeCameraRig();
   RigFramesOptions o;
   o.num_frames = 10;
   o.whole_board = false;
