@@ -504,11 +504,19 @@ EpipolarErrors ComputeEpipolarErrors(const std::vector<RigFrame>& frames, const 
   EpipolarErrors out;
   out.camera_a = camera_a;
   out.camera_b = camera_b;
+  if (camera_a < 0 || camera_b < 0 || camera_a >= rig.NumCameras() ||
+      camera_b >= rig.NumCameras() || camera_a == camera_b) {
+    return out;  // No pair: no corner.
+  }
   const Rigid3 a_from_b = rig.CamFromCam(camera_a, camera_b);
   const CameraIntrinsics& ka = rig.cameras[camera_a].intrinsics;
   const CameraIntrinsics& kb = rig.cameras[camera_b].intrinsics;
   double total_sq = 0;
   for (const RigFrame& frame : frames) {
+    if (static_cast<int>(frame.views_by_camera.size()) != rig.NumCameras()) {
+      out.frame_rms_px.push_back(kNaN);
+      continue;
+    }
     const View& va = frame.views_by_camera[camera_a];
     const View& vb = frame.views_by_camera[camera_b];
     std::map<std::tuple<double, double, double>, size_t> in_a;
