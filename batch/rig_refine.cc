@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <memory>
@@ -393,6 +394,41 @@ bool FillSolution(const std::vector<RigFrame>& frames, const CameraRig& initial,
   return true;
 }
 
+// Where a failed solve is traced to, from its start: the first view (frame, camera) with a point
+// that does not project (behind the camera or outside the lens's region: Ceres cannot evaluate
+// it), else the view farthest from the start (largest RMS). Empty without views.
+std::string TraceFailure(const std::vector<RigFrame>& frames, const CameraRig& rig,
+                         const RigParameters& start, const RigRefineOptions& options) {
+  std::string worst;
+  double worst_rms = -1;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const std::string frame =
+        frames[f].name.empty() ? "frame " + std::to_string(f) : "frame " + frames[f].name;
+    for (int c = 0; c < rig.NumCameras(); ++c) {
+      const View& view = frames[f].views_by_camera[c];
+      if (view.points.empty()) continue;
+      const CameraIntrinsics k =
+          CameraIntrinsics::FromParams(start.intrinsics[c].data(), FamilyOf(options.models[c]));
+      double sum_sq = 0;
+      const std::string where = frame + ", " + CameraName(rig, c);
+      if (!ViewSquaredErrorPx2(
+              view, k, start.CamFromRig(c) * start.RigFromBoard(static_cast<int>(f)), &sum_sq)) {
+        return where +
+               ": a point does not project at the start (behind the camera or outside the lens's "
+               "region)";
+      }
+      const double rms = std::sqrt(sum_sq / static_cast<double>(view.points.size()));
+      if (rms > worst_rms) {
+        worst_rms = rms;
+        char line[64];
+        std::snprintf(line, sizeof(line), " (RMS %.3g px)", rms);
+        worst = where + ": the view farthest from the start" + line;
+      }
+    }
+  }
+  return worst;
+}
+
 }  // namespace
 
 bool RigRefineOptions::Check(std::string* why) const {
@@ -432,6 +468,7 @@ RigRefineResult RefineRig(const std::vector<RigFrame>& frames, const CameraRig& 
   }
   params.cam_q[0] = {0, 0, 0, 1};
   params.cam_t[0] = {0, 0, 0};
+  const RigParameters start = params;
   ceres::Problem problem;
   result.num_points = BuildProblem(frames, options, &params, &problem);
   ceres::Solver::Options solver_options;
@@ -447,7 +484,9 @@ RigRefineResult RefineRig(const std::vector<RigFrame>& frames, const CameraRig& 
   ceres::Solve(solver_options, &problem, &summary);
   result.iterations = static_cast<long>(summary.iterations.size());
   if (!summary.IsSolutionUsable() || summary.termination_type == ceres::NO_CONVERGENCE) {
-    return finish(MethodStatus::kFailed, "ceres: " + summary.message);
+    const std::string traced = TraceFailure(frames, initial, start, options);
+    return finish(MethodStatus::kFailed,
+                  "ceres: " + summary.message + (traced.empty() ? "" : " Traced to " + traced));
   }
   if (!FillSolution(frames, initial, params, options, &result)) {
     return finish(MethodStatus::kFailed, "fewer residuals than free parameters");

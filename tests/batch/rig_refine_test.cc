@@ -264,6 +264,25 @@ TEST(RigRefine, EpipolarErrorsSeeAWrongRig) {
   EXPECT_EQ(ComputeEpipolarErrors(s.frames, truth, 0, 5).num_points, 0);  // No such camera.
 }
 
+// A frame pose that puts the board behind camera 1 at the start: Ceres cannot evaluate it, and
+// the message names the frame and the camera.
+TEST(RigRefine, FailureNamesTheViewThatCannotProject) {
+  const CameraRig truth = ExampleStereoRig();
+  const SyntheticRigFrames s = Frames(truth, 6, 29);
+  std::vector<Rigid3> start = s.rig_from_board;
+  int bad = -1;
+  for (size_t f = 0; f < s.frames.size() && bad < 0; ++f) {
+    if (!s.frames[f].views_by_camera[1].points.empty()) bad = static_cast<int>(f);
+  }
+  ASSERT_GE(bad, 0);
+  start[bad].translation.z() = -start[bad].translation.z();  // Behind both cameras.
+  const RigRefineResult result = RefineRig(s.frames, truth, start, OptionsFor(truth));
+  ASSERT_FALSE(result.IsUsable());
+  EXPECT_NE(result.message.find("Traced to frame " + s.frames[bad].name + ", cam0"),
+            std::string::npos)
+      << result.message;
+}
+
 TEST(RigRefine, RefusesACameraThatSeesNothing) {
   const CameraRig truth = ExampleStereoRig();
   SyntheticRigFrames s = Frames(truth, 6, 24);
