@@ -120,6 +120,31 @@ std::string InputError(const std::vector<RigFrame>& frames, const CameraRig& rig
     }
     if (seen[c] == 0) return CameraName(rig, c) + " sees the target in no frame";
   }
+  // Every camera must share frames with camera 0, directly or through others: a camera alone in
+  // its frames has a pose the data cannot tell from its frames' poses.
+  std::vector<bool> linked(num_cameras, false);
+  linked[0] = true;
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const RigFrame& frame : frames) {
+      bool any_linked = false;
+      for (int c = 0; c < num_cameras; ++c) {
+        any_linked |= linked[c] && !frame.views_by_camera[c].points.empty();
+      }
+      if (!any_linked) continue;
+      for (int c = 0; c < num_cameras; ++c) {
+        if (!linked[c] && !frame.views_by_camera[c].points.empty()) linked[c] = grew = true;
+      }
+    }
+  }
+  std::string cut;
+  for (int c = 0; c < num_cameras; ++c) {
+    if (!linked[c]) cut += (cut.empty() ? "" : ", ") + CameraName(rig, c);
+  }
+  if (!cut.empty()) {
+    return "no frame links " + cut + " to " + CameraName(rig, 0) +
+           " (directly or through other cameras): cut off from the rig";
+  }
   return "";
 }
 

@@ -283,6 +283,27 @@ TEST(RigRefine, FailureNamesTheViewThatCannotProject) {
       << result.message;
 }
 
+// Camera 1 of the three-camera rig removed from every frame: camera 2 shares no frame with
+// camera 0 any more, and the refinement says so instead of a rank-deficient covariance.
+TEST(RigRefine, RefusesACameraCutOffFromCameraZero) {
+  const CameraRig truth = ExampleMixedThreeCameraRig();
+  SyntheticRigFrames s = Frames(truth, 20, 30);
+  for (RigFrame& frame : s.frames) frame.views_by_camera[1] = View();
+  const RigRefineResult result = RefineRig(s.frames, truth, s.rig_from_board, OptionsFor(truth));
+  EXPECT_FALSE(result.IsUsable());
+  EXPECT_NE(result.message.find("cam1 sees the target in no frame"), std::string::npos)
+      << result.message;
+  // With camera 1 kept only in frames of its own, camera 2 is cut off.
+  s = Frames(truth, 20, 30);
+  for (RigFrame& frame : s.frames) {
+    if (!frame.views_by_camera[0].points.empty()) frame.views_by_camera[1] = View();
+  }
+  const RigRefineResult cut = RefineRig(s.frames, truth, s.rig_from_board, OptionsFor(truth));
+  EXPECT_FALSE(cut.IsUsable());
+  EXPECT_NE(cut.message.find("no frame links cam1, cam2 to cam0"), std::string::npos)
+      << cut.message;
+}
+
 TEST(RigRefine, RefusesACameraThatSeesNothing) {
   const CameraRig truth = ExampleStereoRig();
   SyntheticRigFrames s = Frames(truth, 6, 24);
