@@ -214,9 +214,10 @@ TEST(RigRefine, FixedRigMovesOnlyTheFramePoses) {
   EXPECT_TRUE(std::isnan(result.intrinsics_std[1][0]));
 }
 
-// One corner 40 px off in one view: the Huber loss (1 px) keeps the rig within a fraction of its
-// std of the clean solve's (the outlier's pull is capped at 1 px of 3000 corners' residuals),
-// where plain least squares is pulled several times farther.
+// One corner 50 px off in one view: the Huber loss (1 px) caps its pull at that of a 1 px
+// residual among ~1500 corners and keeps the baseline within kHuberShareOfStd of its std from
+// the clean solve's (measured 0.012), where plain least squares is pulled by ~1 std.
+constexpr double kHuberShareOfStd = 0.05;
 TEST(RigRefine, HuberLossResistsAnOutlierCorner) {
   const CameraRig truth = ExampleStereoRig();
   const SyntheticRigFrames s = Frames(truth, 16, 27, 0.3);
@@ -236,7 +237,9 @@ TEST(RigRefine, HuberLossResistsAnOutlierCorner) {
   const double std_mm = clean.pose_uncertainty[1].baseline_std_mm;
   const double plain_off = std::abs(plain.rig.BaselineM(1) - clean.rig.BaselineM(1)) * 1000;
   const double huber_off = std::abs(huber.rig.BaselineM(1) - clean.rig.BaselineM(1)) * 1000;
-  EXPECT_LT(huber_off, 0.25 * std_mm);
+  EXPECT_LT(huber_off, kHuberShareOfStd * std_mm);
+  std::printf("baseline off the clean solve: huber %.4f mm, plain %.4f mm (std %.4f mm)\n",
+              huber_off, plain_off, std_mm);
   EXPECT_LT(huber_off, plain_off);
 }
 
@@ -246,14 +249,15 @@ TEST(RigRefine, HuberLossResistsAnOutlierCorner) {
 // distance), so their mean too; the lens scales it locally (angle times fku against pixels,
 // k1 ~ -0.2 at the edges): within 30 %. A rig turned by 0.2 deg about camera 1's x axis (1.8 px
 // at f = 505 px) stands out above it.
+constexpr double kEpipolarLow = 0.7, kEpipolarHigh = 1.3;  // Times sqrt(2) sigma.
 TEST(RigRefine, EpipolarErrorsSeeAWrongRig) {
   const CameraRig truth = ExampleStereoRig();
   constexpr double kSigmaPx = 0.5;
   const SyntheticRigFrames s = Frames(truth, 12, 28, kSigmaPx);
   const EpipolarErrors good = ComputeEpipolarErrors(s.frames, truth, 0, 1);
   ASSERT_GT(good.num_points, 100);
-  EXPECT_GT(good.rms_px, 0.7 * std::sqrt(2.0) * kSigmaPx);
-  EXPECT_LT(good.rms_px, 1.3 * std::sqrt(2.0) * kSigmaPx);
+  EXPECT_GT(good.rms_px, kEpipolarLow * std::sqrt(2.0) * kSigmaPx);
+  EXPECT_LT(good.rms_px, kEpipolarHigh * std::sqrt(2.0) * kSigmaPx);
   CameraRig turned = truth;
   turned.cameras[1].cam_from_rig.rotation =
       ExpSO3(Eigen::Vector3d(0.2 * kDeg, 0, 0)) * turned.cameras[1].cam_from_rig.rotation;
