@@ -480,4 +480,10 @@ bool IntrinsicsCovarianceAt(const std::vector<View>& views, const CameraIntrinsi
                                 why);
 }
 
+namespace refine_internal {
+void SetIntrinsicsBounds(LensFamily family, double* intrinsics, ceres::Problem* problem) {
+  SetLensBounds(family, intrinsics, problem);
+}
+}  // namespace refine_internal
+
 }  // namespace calibench

@@ -185,5 +185,10 @@ bool PerViewIntrinsicsCovariance(ceres::Problem* problem, Parameters* params,
   return true;
 }
 
+bool InvertInformationMatrix(const Eigen::MatrixXd& information, Eigen::MatrixXd* inverse,
+                             std::string* why) {
+  return InvertInformation(information, inverse, why);
+}
+
 }  // namespace refine_internal
 }  // namespace calibench

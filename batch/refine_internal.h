@@ -48,5 +48,13 @@ bool PerViewIntrinsicsCovariance(ceres::Problem* problem, Parameters* params,
                                  const std::vector<int>& fixed, double scale,
                                  IntrinsicsCovariance* covariance, std::string* why);
 
+// The omnidirectional families' ranges as Ceres bounds on an intrinsics block (refine.cc's header
+// comment): what RefineCalibration sets, for the rig refinement (batch/rig_refine.cc).
+void SetIntrinsicsBounds(LensFamily family, double* intrinsics, ceres::Problem* problem);
+// The inverse of a symmetric information matrix, or false with *why when its condition number, on
+// the matrix scaled to a unit diagonal, passes 1e14 (refine_covariance.cc).
+bool InvertInformationMatrix(const Eigen::MatrixXd& information, Eigen::MatrixXd* inverse,
+                             std::string* why);
+
 }  // namespace refine_internal
 }  // namespace calibench

@@ -10,6 +10,8 @@
 // `whole_board` and every corner is inside (checkerboard detectors need the whole pattern) or, if
 // not whole_board, when at least min_visible_fraction of the corners are (the others dropped:
 // partial boards, as AprilGrids give). A frame seen by fewer than min_cameras cameras is redrawn.
+// A camera behind the board's plane (its back side) sees nothing, and so do points where the
+// camera's image folds over (CameraIntrinsics::DistortionIsMonotoneAlong).
 // Cameras whose fields never meet (a camera linked to camera 0 only through another) arise from the
 // rig's geometry alone: the board is where its anchor camera looks.
 //

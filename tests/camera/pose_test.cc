@@ -65,6 +65,39 @@ TEST(Rotation, ProjectionToSo3RemovesNoise) {
   EXPECT_GT(OrthogonalityDefect(noisy), 1e-4);
 }
 
+// LogSO3 inverts ExpSO3 at the ends of its range, where the rotation vector is read off an
+// almost-identity or an almost-half-turn matrix. The matrix entries carry ~1e-16 rounding, which
+// the quaternion (Shepperd) and atan2 pass on unamplified: 1e-12 (relative near 0, where it is
+// taken of max(angle, 1e-4) rad; absolute near pi) leaves room for rounding only.
+constexpr double kLogRoundTrip = 1e-12;
+
+TEST(Rotation, LogInvertsExpNearZero) {
+  Rng rng(13);
+  for (const double angle : {1e-2, 1e-5, 1e-8, 1e-11, 1e-14, 0.0}) {
+    const Eigen::Vector3d axis =
+        Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()).normalized();
+    const Eigen::Vector3d w = angle * axis;
+    EXPECT_LT((LogSO3(ExpSO3(w)) - w).norm(), kLogRoundTrip * std::max(angle, 1e-4))
+        << "angle " << angle;
+  }
+}
+
+TEST(Rotation, LogInvertsExpNearPi) {
+  Rng rng(17);
+  for (const double gap : {1e-2, 1e-5, 1e-8, 1e-11}) {
+    const Eigen::Vector3d axis =
+        Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()).normalized();
+    const Eigen::Vector3d w = (M_PI - gap) * axis;
+    EXPECT_LT((LogSO3(ExpSO3(w)) - w).norm(), kLogRoundTrip) << "pi - " << gap;
+  }
+  // At pi exactly, w and -w are one rotation: Log gives one of them, of length pi.
+  const Eigen::Vector3d w = M_PI * Eigen::Vector3d(1, -2, 2).normalized();
+  const Eigen::Vector3d log = LogSO3(ExpSO3(w));
+  EXPECT_NEAR(log.norm(), M_PI, kLogRoundTrip);
+  EXPECT_LT(std::min((log - w).norm(), (log + w).norm()), 1e-7);  // The axis: sqrt(eps) there.
+  EXPECT_LT((ExpSO3(log) - ExpSO3(w)).norm(), kLogRoundTrip);
+}
+
 TEST(Rigid3, ComposeAndInverse) {
   Rng rng(9);
   const Rigid3 b_from_a = RandomPose(5, &rng), c_from_b = RandomPose(5, &rng);
