@@ -21,15 +21,14 @@ bool SourcePixel(const RigCamera& camera, const Eigen::Vector3d& ray_in_cam, Eig
          q->y() <= camera.image_height - 0.5;
 }
 
-// Every sampled border pixel of the rectified image with focal length f has a source in both
-// cameras.
-bool BorderInside(const CameraRig& rig, const Rectification& r, double f, int samples) {
+// Every border pixel of the rectified image with focal length f has a source in both cameras.
+bool BorderInside(const CameraRig& rig, const Rectification& r, double f) {
   const RigCamera* cameras[2] = {&rig.cameras[r.camera_a], &rig.cameras[r.camera_b]};
   const Eigen::Matrix3d* rotations[2] = {&r.rect_from_cam_a, &r.rect_from_cam_b};
   const double w = r.width - 1, h = r.height - 1;
-  for (int i = 0; i <= samples; ++i) {
-    const double s = static_cast<double>(i) / samples;
-    const Eigen::Vector2d border[4] = {{s * w, 0}, {s * w, h}, {0, s * h}, {w, s * h}};
+  for (int i = 0; i <= std::max(r.width, r.height); ++i) {
+    const double u = std::min<double>(i, w), v = std::min<double>(i, h);
+    const Eigen::Vector2d border[4] = {{u, 0}, {u, h}, {0, v}, {w, v}};
     for (const Eigen::Vector2d& pixel : border) {
       const Eigen::Vector3d ray_rect((pixel.x() - r.cx_px) / f, (pixel.y() - r.cy_px) / f, 1.0);
       for (int c = 0; c < 2; ++c) {
@@ -51,7 +50,6 @@ bool RectifyOptions::Check(std::string* why) const {
   if (camera_a < 0 || camera_b < 0 || camera_a == camera_b) {
     return fail("camera_a, camera_b: two different camera indices");
   }
-  if (border_samples < 1) return fail("border_samples: at least 1");
   if (!(f_min_scale > 0 && f_max_scale > f_min_scale)) {
     return fail("f_min_scale, f_max_scale: 0 < f_min_scale < f_max_scale");
   }
@@ -133,18 +131,18 @@ RectifySummary RectifyPair(const CameraRig& rig, const RectifyOptions& options) 
   // The focal length rule (header comment): bisection on log f.
   const double f_mean = 0.5 * (a.intrinsics.fkv_px + b.intrinsics.fkv_px);
   double lo = std::log(options.f_min_scale * f_mean), hi = std::log(options.f_max_scale * f_mean);
-  if (!BorderInside(rig, r, std::exp(hi), options.border_samples)) {
+  if (!BorderInside(rig, r, std::exp(hi))) {
     summary.error = "rectify: no rectified view of " + std::to_string(r.width) + " x " +
                     std::to_string(r.height) +
                     " px lies inside both images (do the cameras look the same way?)";
     return summary;
   }
-  if (BorderInside(rig, r, std::exp(lo), options.border_samples)) {
+  if (BorderInside(rig, r, std::exp(lo))) {
     hi = lo;
   } else {
     for (int i = 0; i < 60 && hi - lo > 1e-9; ++i) {
       const double mid = 0.5 * (lo + hi);
-      (BorderInside(rig, r, std::exp(mid), options.border_samples) ? hi : lo) = mid;
+      (BorderInside(rig, r, std::exp(mid)) ? hi : lo) = mid;
     }
   }
   r.f_px = std::exp(hi);

@@ -15,11 +15,11 @@
 // The common pinhole P = [f 0 cx; 0 f cy; 0 0 1] of both rectified images (no skew, square
 // pixels, the same cx: OpenCV's CALIB_ZERO_DISPARITY), of the first camera's image size:
 //   cx, cy = the image centre ((w - 1) / 2, (h - 1) / 2);
-//   f = the smallest focal length (the widest view) for which every sampled pixel of the
-//       rectified image's border (RectifyOptions::border_samples per edge) of both cameras comes
-//       from inside its source image through its lens (ProjectPoint, the lens one-to-one there:
-//       DistortionIsMonotoneAlong): the rectified images hold only valid pixels (OpenCV's
-//       alpha = 0). Found by bisection on log f between f_min and f_max (RectifyOptions).
+//   f = the smallest focal length (the widest view) for which every pixel of the rectified
+//       image's border, in both cameras, comes from inside its source image through its lens
+//       (ProjectPoint, the lens one-to-one there: DistortionIsMonotoneAlong): the rectified
+//       images hold only valid pixels (OpenCV's alpha = 0). Found by bisection on log f between
+//       f_min_scale and f_max_scale times the cameras' mean fkv_px (RectifyOptions).
 //   P1 = [P | 0], P2 = [P | (f s |t|, 0, 0)^T] (OpenCV's P2(0, 3) = f T_x'), Q as OpenCV's:
 //   [1 0 0 -cx; 0 1 0 -cy; 0 0 0 f; 0 0 -1/Tx' 0], Tx' = s |t|.
 // For radtan, R1 and R2 are cv::stereoRectify's (same Bouguet split); its P differs (OpenCV's
@@ -38,7 +38,6 @@ namespace calibench {
 struct RectifyOptions {
   int camera_a = 0;           // The first (left) camera of the pair, an index into the rig.
   int camera_b = 1;           // The second (right) camera.
-  int border_samples = 64;    // Samples per edge of the rectified image for the focal-length rule.
   double f_min_scale = 0.05;  // f is searched in [f_min_scale, f_max_scale] x the cameras' mean
   double f_max_scale = 20.0;  // focal length (fkv_px).
   bool Check(std::string* why) const;
