@@ -88,7 +88,22 @@ bool WriteMrcalRig(const std::string& path, const RigFile& rig, std::string* why
   return true;
 }
 
-bool ReadMrcalRig(const std::string& path, RigFile* rig, std::string* why) {
+// The base of a rig's mrcal files: `path` itself, or for one of the files
+// (base-camera-3.cameramodel) its base (base.cameramodel).
+std::string MrcalBase(const std::string& path) {
+  const fs::path p(path);
+  const std::string stem = p.stem().string();
+  const size_t at = stem.rfind("-camera-");
+  std::error_code ec;
+  if (at == std::string::npos || at + 8 == stem.size() || !fs::is_regular_file(p, ec) ||
+      stem.find_first_not_of("0123456789", at + 8) != std::string::npos) {
+    return path;
+  }
+  return (p.parent_path() / (stem.substr(0, at) + ".cameramodel")).string();
+}
+
+bool ReadMrcalRig(const std::string& given_path, RigFile* rig, std::string* why) {
+  const std::string path = MrcalBase(given_path);
   std::vector<std::string> paths;
   for (int c = 0;; ++c) {
     const std::string p = MrcalRigPaths(path, c + 1).back();
@@ -135,6 +150,7 @@ std::vector<std::string> MrcalRigPaths(const std::string& path, int num_cameras)
   const bool ext = p.extension() == ".cameramodel";
   const std::string base = ext ? (p.parent_path() / p.stem()).string() : path;
   std::vector<std::string> paths;
+  paths.reserve(num_cameras);
   for (int c = 0; c < num_cameras; ++c) {
     paths.push_back(base + "-camera-" + std::to_string(c) + ".cameramodel");
   }

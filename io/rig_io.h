@@ -25,8 +25,8 @@
 //           = (Rodrigues r, t) of cam_from_rig: for the path base.cameramodel, the files
 //           base-camera-0.cameramodel, base-camera-1.cameramodel, .. (MrcalRigPaths). mrcal 2.2's
 //           families only (radtan without skew). Reading takes base-camera-0.. until one is
-//           missing; the reference of the files need not be camera 0 (cam_from_rig_c =
-//           cam_c_from_ref * cam_0_from_ref^-1).
+//           missing (given base.cameramodel or any one of the files); the reference of the files
+//           need not be camera 0 (cam_from_rig_c = cam_c_from_ref * cam_0_from_ref^-1).
 // Each camera's name reads back as "cam<i>" (the names are not stored); its lens model as the
 // one-camera reader gives it (opencv: model_<i>; kalibr, mrcal: the smallest of the family's
 // holding its coefficients). Numbers have 17 significant digits: intrinsics and (2 cameras) R, T

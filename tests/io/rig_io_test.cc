@@ -255,6 +255,9 @@ TEST(RigFile, MrcalRoundTripsEveryCameraFile) {
     ASSERT_TRUE(ReadRigFile(path, &back, &why)) << why;
     ExpectSameRig(rig, back, kChainedPoseTol, /*lens_model_kept=*/true,
                   "mrcal " + std::to_string(n));
+    RigFile from_one_file;  // Named by one of its files, the set reads the same.
+    ASSERT_TRUE(ReadRigFile(paths[1], &from_one_file, &why)) << why;
+    EXPECT_EQ(from_one_file.rig.NumCameras(), n);
     std::filesystem::remove(paths.back());  // Next loop: a 2-camera set reads as 2 cameras.
   }
   std::string why;
