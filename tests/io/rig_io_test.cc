@@ -327,6 +327,32 @@ TEST(RigFile, KalibrTransformDirection) {
   EXPECT_TRUE(again.rig.CamFromCam(1, 0) == rig.rig.CamFromCam(1, 0));
 }
 
+// A file as OpenCV's stereo_calib.cpp sample writes it (M1 D1 M2 D2 from intrinsics.yml, R T from
+// extrinsics.yml, in one file; none of calibench's fields): radtan cameras, p_cam2 = R p_cam1 + T.
+TEST(RigFile, OpenCvSampleStyleFileReads) {
+  const std::string path = Temp("sample_stereo.yml");
+  {
+    cv::FileStorage out(path, cv::FileStorage::WRITE);
+    out << "M1" << (cv::Mat_<double>(3, 3) << 530.5, 0, 338.2, 0, 530.1, 233.4, 0, 0, 1);
+    out << "D1" << (cv::Mat_<double>(1, 5) << -0.27, 0.02, 0.001, -0.0003, 0.1);
+    out << "M2" << (cv::Mat_<double>(3, 3) << 529.2, 0, 325.7, 0, 529.0, 248.1, 0, 0, 1);
+    out << "D2" << (cv::Mat_<double>(1, 8) << -0.29, 0.11, -0.0006, 0.0002, -0.03, 0, 0, 0);
+    out << "R" << cv::Mat::eye(3, 3, CV_64F);
+    out << "T" << (cv::Mat_<double>(3, 1) << -3.33, 0.04, -0.01);  // In squares, as the sample.
+  }
+  RigFile rig;
+  std::string why;
+  ASSERT_TRUE(ReadRigFile(path, &rig, &why)) << why;
+  ASSERT_EQ(rig.rig.NumCameras(), 2);
+  EXPECT_EQ(rig.rig.cameras[0].intrinsics.fku_px, 530.5);
+  EXPECT_EQ(rig.rig.cameras[0].intrinsics.k3, 0.1);
+  EXPECT_EQ(rig.rig.cameras[0].lens_model, LensModel::kPinholeRadTan5);
+  EXPECT_EQ(rig.rig.cameras[1].intrinsics.v0_px, 248.1);
+  EXPECT_EQ(rig.rig.cameras[1].cam_from_rig.translation, Eigen::Vector3d(-3.33, 0.04, -0.01));
+  EXPECT_GT(rig.rig.CentreInRig(1).x(), 3.3);    // The right camera, seen from the left one.
+  EXPECT_EQ(rig.rig.cameras[1].image_width, 0);  // The sample writes no image size.
+}
+
 TEST(RigFile, BadFilesNameFileFieldAndReason) {
   const std::string camera =
       "  camera_model: pinhole\n  intrinsics: [500, 500, 320, 240]\n"
