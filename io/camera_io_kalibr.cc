@@ -53,8 +53,7 @@ const KalibrModel* KalibrModelOf(LensFamily family) {
   return nullptr;
 }
 
-bool WriteKalibr(const std::string& path, const CameraFile& camera, std::string* why) {
-  CameraIntrinsics k = camera.intrinsics;
+bool CheckKalibrCamera(const std::string& path, const CameraIntrinsics& k, std::string* why) {
   if (HasSkew(k)) {
     return Fail(why, path + ": kalibr: Kalibr's cameras have no skew (phi_deg " +
                          Number(k.phi_deg) + "); calibrate without --skew or write opencv");
@@ -67,13 +66,16 @@ bool WriteKalibr(const std::string& path, const CameraFile& camera, std::string*
     return Fail(why, path + ": kalibr: Kalibr has no camera model for the " +
                          std::string(InfoOf(k.family).known_as) + " lens; write opencv");
   }
+  return true;
+}
+
+void EmitKalibrCamera(const CameraFile& camera, YAML::Emitter* out_emitter) {
+  YAML::Emitter& out = *out_emitter;
+  const CameraIntrinsics& k = camera.intrinsics;
   const KalibrModel& m = *KalibrModelOf(k.family);
   std::string distortion;
   std::vector<double> coeffs;
   KalibrDistortion(k, &distortion, &coeffs);
-  YAML::Emitter out;
-  out.SetDoublePrecision(17);
-  out << YAML::BeginMap << YAML::Key << "cam0" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "camera_model" << YAML::Value << m.camera_model;
   out << YAML::Key << "intrinsics" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (const char* field : m.lens) out << *LensField(k, field);
@@ -84,6 +86,14 @@ bool WriteKalibr(const std::string& path, const CameraFile& camera, std::string*
   out << YAML::EndSeq;
   out << YAML::Key << "resolution" << YAML::Value << YAML::Flow << YAML::BeginSeq
       << camera.image_width << camera.image_height << YAML::EndSeq;
+}
+
+bool WriteKalibr(const std::string& path, const CameraFile& camera, std::string* why) {
+  if (!CheckKalibrCamera(path, camera.intrinsics, why)) return false;
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap << YAML::Key << "cam0" << YAML::Value << YAML::BeginMap;
+  EmitKalibrCamera(camera, &out);
   out << YAML::EndMap << YAML::EndMap;
   return WriteText(path, std::string(out.c_str()) + "\n", why);
 }
@@ -133,10 +143,9 @@ bool ReadKalibrDistortion(const YAML::Node& cam, const std::string& at, const Ka
                        name + " (" + supported + "none)");
 }
 
-bool ReadKalibr(const std::string& path, const YAML::Node& root, CameraFile* camera,
-                std::string* why) {
-  const YAML::Node cam = root["cam0"];
-  const std::string at = path + ": cam0.";
+bool ReadKalibrCamera(const std::string& path, const YAML::Node& cam, const std::string& cam_name,
+                      CameraFile* camera, std::string* why) {
+  const std::string at = path + ": " + cam_name + ".";
   const std::string name = cam["camera_model"] ? cam["camera_model"].as<std::string>("") : "";
   const KalibrModel* m = nullptr;
   for (const KalibrModel& candidate : KalibrModels()) {
@@ -167,6 +176,11 @@ bool ReadKalibr(const std::string& path, const YAML::Node& root, CameraFile* cam
   if (!k.Check(&reason)) return Fail(why, at + "intrinsics: " + reason);
   SetCameraWithoutStd(k, res[0], res[1], camera);
   return true;
+}
+
+bool ReadKalibr(const std::string& path, const YAML::Node& root, CameraFile* camera,
+                std::string* why) {
+  return ReadKalibrCamera(path, root["cam0"], "cam0", camera, why);
 }
 
 }  // namespace camera_io_internal

@@ -16,25 +16,54 @@ std::string StdName(LensFamily family, int i) {
 // The lens fields: radtan and equidistant as distortion_coefficients (cv::calibrateCamera's and
 // cv::fisheye's); unified as cv::omnidir's (distortion_coefficients k1 k2 p1 p2 and a scalar xi,
 // the fields its omni_calibration sample writes); eucm and the double sphere as their own scalars.
-void WriteOpenCvLens(const CameraIntrinsics& k, cv::FileStorage* out) {
+void WriteOpenCvLens(const CameraIntrinsics& k, const OpenCvFieldName& name, cv::FileStorage* out) {
   switch (k.family) {
     case LensFamily::kRadTan:
-      *out << "distortion_coefficients" << (cv::Mat_<double>(1, 5) << k.k1, k.k2, k.p1, k.p2, k.k3);
+      *out << name("distortion_coefficients")
+           << (cv::Mat_<double>(1, 5) << k.k1, k.k2, k.p1, k.p2, k.k3);
       return;
     case LensFamily::kEquidistant:
-      *out << "distortion_coefficients" << (cv::Mat_<double>(1, 4) << k.k1, k.k2, k.k3, k.k4);
+      *out << name("distortion_coefficients") << (cv::Mat_<double>(1, 4) << k.k1, k.k2, k.k3, k.k4);
       return;
     case LensFamily::kUnified:
-      *out << "distortion_coefficients" << (cv::Mat_<double>(1, 4) << k.k1, k.k2, k.p1, k.p2);
-      *out << "xi" << k.xi;
+      *out << name("distortion_coefficients") << (cv::Mat_<double>(1, 4) << k.k1, k.k2, k.p1, k.p2);
+      *out << name("xi") << k.xi;
       return;
     case LensFamily::kEucm:
-      *out << "alpha" << k.alpha << "beta" << k.beta;
+      *out << name("alpha") << k.alpha << name("beta") << k.beta;
       return;
     case LensFamily::kDoubleSphere:
-      *out << "xi" << k.xi << "alpha" << k.alpha;
+      *out << name("xi") << k.xi << name("alpha") << k.alpha;
       return;
   }
+}
+
+std::string SameName(const std::string& field) { return field; }
+
+void WriteOpenCvCamera(const CameraFile& camera, bool with_fit, const OpenCvFieldName& name,
+                       cv::FileStorage* out_storage) {
+  cv::FileStorage& out = *out_storage;
+  const CameraIntrinsics& k = camera.intrinsics;
+  const Eigen::Matrix3d a = k.Matrix();
+  cv::Mat camera_matrix(3, 3, CV_64F);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) camera_matrix.at<double>(r, c) = a(r, c);
+  }
+  out << name("model") << camera.ModelName();
+  out << name("image_width") << camera.image_width << name("image_height") << camera.image_height;
+  out << name("camera_matrix") << camera_matrix;
+  out << name("distortion_model") << ToString(k.family);
+  WriteOpenCvLens(k, name, &out);
+  out << name("fku_px") << k.fku_px << name("fkv_px") << k.fkv_px << name("phi_deg") << k.phi_deg;
+  if (with_fit) out << name("rms_reproj_px") << camera.rms_reproj_px;
+  for (int i = 0; i < 10; ++i) {
+    const double s = camera.intrinsics_std[i];
+    const std::string std_name = StdName(k.family, i);
+    if (std::isfinite(s) && !std_name.empty()) {
+      out << name(std_name) << (i == 2 ? s * kRadToDeg : s);
+    }
+  }
+  if (with_fit) out << name("view_rms_px") << camera.view_rms_px;
 }
 
 bool WriteOpenCv(const std::string& path, const CameraFile& camera, std::string* why) {
@@ -42,25 +71,7 @@ bool WriteOpenCv(const std::string& path, const CameraFile& camera, std::string*
   try {
     cv::FileStorage out(tmp, cv::FileStorage::WRITE);
     if (!out.isOpened()) return Fail(why, path + ": cannot open for writing");
-    const CameraIntrinsics& k = camera.intrinsics;
-    const Eigen::Matrix3d a = k.Matrix();
-    cv::Mat camera_matrix(3, 3, CV_64F);
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) camera_matrix.at<double>(r, c) = a(r, c);
-    }
-    out << "model" << camera.ModelName();
-    out << "image_width" << camera.image_width << "image_height" << camera.image_height;
-    out << "camera_matrix" << camera_matrix;
-    out << "distortion_model" << ToString(k.family);
-    WriteOpenCvLens(k, &out);
-    out << "fku_px" << k.fku_px << "fkv_px" << k.fkv_px << "phi_deg" << k.phi_deg;
-    out << "rms_reproj_px" << camera.rms_reproj_px;
-    for (int i = 0; i < 10; ++i) {
-      const double s = camera.intrinsics_std[i];
-      const std::string name = StdName(k.family, i);
-      if (std::isfinite(s) && !name.empty()) out << name << (i == 2 ? s * kRadToDeg : s);
-    }
-    out << "view_rms_px" << camera.view_rms_px;
+    WriteOpenCvCamera(camera, /*with_fit=*/true, SameName, &out);
     out.release();
   } catch (const cv::Exception& e) {
     std::error_code ec;
@@ -72,12 +83,12 @@ bool WriteOpenCv(const std::string& path, const CameraFile& camera, std::string*
 
 // The family named by distortion_model; a file without one is radtan, or unified when it has a
 // scalar xi (cv::omnidir's omni_calibration output).
-bool ParseOpenCvFamily(const std::string& path, const cv::FileStorage& in, LensFamily* family,
-                       std::string* why) {
+bool ParseOpenCvFamily(const std::string& path, const cv::FileStorage& in,
+                       const OpenCvFieldName& field, LensFamily* family, std::string* why) {
   std::string name;
-  in["distortion_model"] >> name;
+  in[field("distortion_model")] >> name;
   if (name.empty()) {
-    *family = in["xi"].empty() ? LensFamily::kRadTan : LensFamily::kUnified;
+    *family = in[field("xi")].empty() ? LensFamily::kRadTan : LensFamily::kUnified;
     return true;
   }
   std::string known;  // Every family's name and OpenCV's alias (LensFamilyInfo::opencv_alias).
@@ -90,11 +101,12 @@ bool ParseOpenCvFamily(const std::string& path, const cv::FileStorage& in, LensF
     known += (known.empty() ? "" : ", ") + std::string(info.name);
     if (alias) known += ", " + std::string(info.opencv_alias);
   }
-  return Fail(why, path + ": distortion_model: unknown '" + name + "' (" + known + ")");
+  return Fail(why,
+              path + ": " + field("distortion_model") + ": unknown '" + name + "' (" + known + ")");
 }
 
 // A scalar lens field of the family (xi, alpha, beta): present and a number.
-bool ReadScalar(const std::string& path, const cv::FileStorage& in, const char* field,
+bool ReadScalar(const std::string& path, const cv::FileStorage& in, const std::string& field,
                 const char* family, double* value, std::string* why) {
   const cv::FileNode node = in[field];
   if (node.empty() || !(node.isReal() || node.isInt())) {
@@ -106,17 +118,17 @@ bool ReadScalar(const std::string& path, const cv::FileStorage& in, const char* 
 }
 
 // The radtan coefficients: OpenCV's 4, 5, 8, 12 or 14, the ones past k3 zero.
-bool ReadRadTanCoefficients(const std::string& path, const cv::Mat& d, CameraIntrinsics* k,
-                            std::string* why) {
+bool ReadRadTanCoefficients(const std::string& path, const std::string& field, const cv::Mat& d,
+                            CameraIntrinsics* k, std::string* why) {
   const int n = static_cast<int>(d.total());
   auto coeff = [&](int i) { return i < n ? d.at<double>(i) : 0.0; };
   if (n != 0 && n != 4 && n != 5 && n != 8 && n != 12 && n != 14) {
-    return Fail(why, path + ": distortion_coefficients: OpenCV has 4, 5, 8, 12 or 14, got " +
-                         std::to_string(n));
+    return Fail(why,
+                path + ": " + field + ": OpenCV has 4, 5, 8, 12 or 14, got " + std::to_string(n));
   }
   for (int i = 5; i < n; ++i) {
     if (coeff(i) != 0) {
-      return Fail(why, path + ": distortion_coefficients: coefficient " + std::to_string(i) +
+      return Fail(why, path + ": " + field + ": coefficient " + std::to_string(i) +
                            " (rational / thin-prism / tilt) is not zero; calibench's radtan "
                            "model has k1 k2 p1 p2 k3");
     }
@@ -126,11 +138,12 @@ bool ReadRadTanCoefficients(const std::string& path, const cv::Mat& d, CameraInt
 }
 
 // Exactly `count` distortion coefficients for `family` (which has them as `names`).
-bool ReadCoefficients(const std::string& path, const cv::Mat& d, int count, const char* family,
-                      const char* names, double* const* fields, std::string* why) {
+bool ReadCoefficients(const std::string& path, const std::string& field, const cv::Mat& d,
+                      int count, const char* family, const char* names, double* const* fields,
+                      std::string* why) {
   const int n = static_cast<int>(d.total());
   if (n != count) {
-    return Fail(why, path + ": distortion_coefficients: the " + family + " model has " +
+    return Fail(why, path + ": " + field + ": the " + family + " model has " +
                          std::to_string(count) + " (" + names + "), got " + std::to_string(n));
   }
   for (int i = 0; i < n; ++i) *fields[i] = d.at<double>(i);
@@ -138,10 +151,11 @@ bool ReadCoefficients(const std::string& path, const cv::Mat& d, int count, cons
 }
 
 // The lens fields of WriteOpenCvLens, for k->family.
-bool ReadOpenCvLens(const std::string& path, const cv::FileStorage& in, CameraIntrinsics* k,
-                    std::string* why) {
+bool ReadOpenCvLens(const std::string& path, const cv::FileStorage& in, const OpenCvFieldName& name,
+                    CameraIntrinsics* k, std::string* why) {
   cv::Mat d;
-  const cv::FileNode node = in["distortion_coefficients"];
+  const std::string coefficients = name("distortion_coefficients");
+  const cv::FileNode node = in[coefficients];
   if (node.isSeq()) {  // A plain list, as hand-written files have it.
     std::vector<double> list;
     node >> list;
@@ -149,41 +163,43 @@ bool ReadOpenCvLens(const std::string& path, const cv::FileStorage& in, CameraIn
   } else if (node.isMap()) {
     node >> d;
   } else if (!node.empty()) {
-    return Fail(why, path + ": distortion_coefficients: expected a matrix or a list of numbers");
+    return Fail(why, path + ": " + coefficients + ": expected a matrix or a list of numbers");
   }
   d.convertTo(d, CV_64F);
   const char* family = ToString(k->family);
   switch (k->family) {
     case LensFamily::kRadTan:
-      return ReadRadTanCoefficients(path, d, k, why);
+      return ReadRadTanCoefficients(path, coefficients, d, k, why);
     case LensFamily::kEquidistant: {
       double* const fields[4] = {&k->k1, &k->k2, &k->k3, &k->k4};
-      return ReadCoefficients(path, d, 4, family, "k1..k4", fields, why);
+      return ReadCoefficients(path, coefficients, d, 4, family, "k1..k4", fields, why);
     }
     case LensFamily::kUnified: {
       double* const fields[4] = {&k->k1, &k->k2, &k->p1, &k->p2};
-      return ReadCoefficients(path, d, 4, family, "k1 k2 p1 p2", fields, why) &&
-             ReadScalar(path, in, "xi", family, &k->xi, why);
+      return ReadCoefficients(path, coefficients, d, 4, family, "k1 k2 p1 p2", fields, why) &&
+             ReadScalar(path, in, name("xi"), family, &k->xi, why);
     }
     case LensFamily::kEucm:
-      return ReadCoefficients(path, d, 0, family, "none: alpha and beta", nullptr, why) &&
-             ReadScalar(path, in, "alpha", family, &k->alpha, why) &&
-             ReadScalar(path, in, "beta", family, &k->beta, why);
+      return ReadCoefficients(path, coefficients, d, 0, family, "none: alpha and beta", nullptr,
+                              why) &&
+             ReadScalar(path, in, name("alpha"), family, &k->alpha, why) &&
+             ReadScalar(path, in, name("beta"), family, &k->beta, why);
     case LensFamily::kDoubleSphere:
-      return ReadCoefficients(path, d, 0, family, "none: xi and alpha", nullptr, why) &&
-             ReadScalar(path, in, "xi", family, &k->xi, why) &&
-             ReadScalar(path, in, "alpha", family, &k->alpha, why);
+      return ReadCoefficients(path, coefficients, d, 0, family, "none: xi and alpha", nullptr,
+                              why) &&
+             ReadScalar(path, in, name("xi"), family, &k->xi, why) &&
+             ReadScalar(path, in, name("alpha"), family, &k->alpha, why);
   }
   return false;
 }
 
 // camera_matrix as an upper-triangular A with fx, fy > 0.
-bool ReadCameraMatrix(const std::string& path, const cv::FileStorage& in, CameraIntrinsics* k,
-                      std::string* why) {
+bool ReadCameraMatrix(const std::string& path, const cv::FileStorage& in,
+                      const OpenCvFieldName& name, CameraIntrinsics* k, std::string* why) {
   cv::Mat a;
-  in["camera_matrix"] >> a;
+  in[name("camera_matrix")] >> a;
   if (a.rows != 3 || a.cols != 3)
-    return Fail(why, path + ": camera_matrix: expected a 3 x 3 matrix");
+    return Fail(why, path + ": " + name("camera_matrix") + ": expected a 3 x 3 matrix");
   a.convertTo(a, CV_64F);
   Eigen::Matrix3d matrix;
   for (int r = 0; r < 3; ++r) {
@@ -191,59 +207,71 @@ bool ReadCameraMatrix(const std::string& path, const cv::FileStorage& in, Camera
   }
   if (!(matrix(0, 0) > 0 && matrix(1, 1) > 0) || matrix(1, 0) != 0 || matrix(2, 0) != 0 ||
       matrix(2, 1) != 0 || matrix(2, 2) != 1) {
-    return Fail(why, path + ": camera_matrix: expected [fx s cx; 0 fy cy; 0 0 1] with fx, fy > 0");
+    return Fail(why, path + ": " + name("camera_matrix") +
+                         ": expected [fx s cx; 0 fy cy; 0 0 1] with fx, fy > 0");
   }
   *k = CameraIntrinsics::FromMatrix(matrix);
   return true;
 }
 
 // calibench's own fields: the exact pinhole values, size, RMS, std_*, view RMS, model.
-bool ReadOpenCvExtras(const std::string& path, const cv::FileStorage& in, CameraFile* camera,
-                      std::string* why) {
+bool ReadOpenCvExtras(const std::string& path, const cv::FileStorage& in,
+                      const OpenCvFieldName& field, CameraFile* camera, std::string* why) {
   CameraIntrinsics& k = camera->intrinsics;
-  if (!in["fku_px"].empty()) in["fku_px"] >> k.fku_px;  // The matrix loses the last bits of
-  if (!in["fkv_px"].empty()) in["fkv_px"] >> k.fkv_px;  // fkv and phi.
-  if (!in["phi_deg"].empty()) in["phi_deg"] >> k.phi_deg;
-  in["image_width"] >> camera->image_width;
-  in["image_height"] >> camera->image_height;
-  if (!in["rms_reproj_px"].empty()) in["rms_reproj_px"] >> camera->rms_reproj_px;
+  const auto read = [&](const char* name, auto* value) {
+    const cv::FileNode node = in[field(name)];
+    if (!node.empty()) node >> *value;
+  };
+  read("fku_px", &k.fku_px);  // The matrix loses the last bits of fkv and phi.
+  read("fkv_px", &k.fkv_px);
+  read("phi_deg", &k.phi_deg);
+  in[field("image_width")] >> camera->image_width;
+  in[field("image_height")] >> camera->image_height;
+  read("rms_reproj_px", &camera->rms_reproj_px);
   camera->intrinsics_std.fill(std::nan(""));
   for (int i = 0; i < 10; ++i) {
     const std::string name = StdName(k.family, i);
-    const cv::FileNode node = name.empty() ? cv::FileNode() : in[name];
+    const cv::FileNode node = name.empty() ? cv::FileNode() : in[field(name)];
     if (node.empty()) continue;
     double s = 0;
     node >> s;
     camera->intrinsics_std[i] = i == 2 ? s / kRadToDeg : s;
   }
-  if (!in["view_rms_px"].empty()) in["view_rms_px"] >> camera->view_rms_px;
+  read("view_rms_px", &camera->view_rms_px);
   InferModel(camera);
   std::string model;
-  in["model"] >> model;
+  in[field("model")] >> model;
   if (model.empty()) return true;
   const size_t plus = model.find("+skew");
   if (!ParseLensModel(model.substr(0, plus), &camera->lens_model)) {
-    return Fail(why, path + ": model: unknown lens model '" + model + "'");
+    return Fail(why, path + ": " + field("model") + ": unknown lens model '" + model + "'");
   }
   if (FamilyOf(camera->lens_model) != k.family) {
-    return Fail(why, path + ": model: '" + model + "' is not of the " + ToString(k.family) +
-                         " family that distortion_model names");
+    return Fail(why, path + ": " + field("model") + ": '" + model + "' is not of the " +
+                         ToString(k.family) + " family that " + field("distortion_model") +
+                         " names");
   }
   camera->estimate_skew = plus != std::string::npos;
   return true;
+}
+
+bool ReadOpenCvCamera(const std::string& path, const cv::FileStorage& in,
+                      const OpenCvFieldName& name, CameraFile* camera, std::string* why) {
+  CameraIntrinsics& k = camera->intrinsics;
+  LensFamily family = LensFamily::kRadTan;
+  if (!ReadCameraMatrix(path, in, name, &k, why) ||
+      !ParseOpenCvFamily(path, in, name, &family, why)) {
+    return false;
+  }
+  k.family = family;
+  return ReadOpenCvLens(path, in, name, &k, why) && ReadOpenCvExtras(path, in, name, camera, why);
 }
 
 bool ReadOpenCv(const std::string& path, CameraFile* camera, std::string* why) {
   try {
     cv::FileStorage in(path, cv::FileStorage::READ);
     if (!in.isOpened()) return Fail(why, path + ": cannot open (not an OpenCV FileStorage file)");
-    CameraIntrinsics& k = camera->intrinsics;
-    LensFamily family = LensFamily::kRadTan;
-    if (!ReadCameraMatrix(path, in, &k, why) || !ParseOpenCvFamily(path, in, &family, why)) {
-      return false;
-    }
-    k.family = family;
-    return ReadOpenCvLens(path, in, &k, why) && ReadOpenCvExtras(path, in, camera, why);
+    return ReadOpenCvCamera(path, in, SameName, camera, why);
   } catch (const cv::Exception& e) {
     return Fail(why, path + ": " + e.what());
   }
