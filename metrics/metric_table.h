@@ -12,7 +12,9 @@
 //   1. Lower-case words joined by '_'. A column holding a dimensional number ends in its unit:
 //      _px, _deg, _m, _s, _ms, _us (fku_px, phi_deg, xc_x_m, converge_time_s, wall_ms,
 //      wall_per_frame_us). A dimensionless one (a count, a flag, a ratio, an index, ||theta~||,
-//      NEES) has no unit (n_obs_used, improper, detect_rate, theta_err_norm, nees).
+//      NEES) has no unit (n_obs_used, improper, detect_rate, theta_err_norm, nees). The rig
+//      figures (rig.csv, bench/run/run_row.h RigColumns) also use _mm and _pct (percent of the
+//      true value: err_baseline_mm, depth_err_10m_pct).
 //   2. A quantity Q is named with its unit (fku_px, pitch_deg) and its columns by prefix:
 //        Q        the estimate                                   runs.csv
 //        err_Q    estimate minus truth, signed                   runs.csv, track_errors.csv

@@ -14,8 +14,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Log of a rotation matrix (its rotation vector).
-Eigen::Vector3d LogSO3(const Eigen::Matrix3d& r) {
+// Log of a rotation matrix (its rotation vector), through the nearest rotation. Not
+// camera/pose.h's LogSO3: this one's last digits are what tracks.csv's NEES columns hold.
+Eigen::Vector3d ProjectedLogSO3(const Eigen::Matrix3d& r) {
   const Eigen::AngleAxisd aa(ProjectToSO3(r));
   return aa.angle() * aa.axis();
 }
@@ -138,7 +139,7 @@ std::vector<TrackPoint> EstimateTrack::Sample(
                                            : p.estimate[q] - p.truth[q];
     }
     if (e.covariance.rows() == CameraEstimate::kCovarianceSize) {
-      const Eigen::Vector3d dtheta = LogSO3(truth.r_c * e.r_c.transpose());
+      const Eigen::Vector3d dtheta = ProjectedLogSO3(truth.r_c * e.r_c.transpose());
       const int index[7] = {0, 1, 3, 4, 5, 6, 7};
       Eigen::VectorXd err(7);
       err << truth.intrinsics.fku_px - e.intrinsics.fku_px,

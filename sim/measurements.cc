@@ -156,7 +156,7 @@ void OracleSource::Measure(double t, int segment, Frame* frame) const {
   // A sampled source holds the frame captured at the segment's start.
   frame->time_s = options_.sample_rate_hz > 0 ? breakpoints_[segment] : t;
   double observed_at = frame->time_s;
-  if (!scene_.changes.empty() && options_.sample_rate_hz == 0 &&
+  if (scene_.HasChanges() && options_.sample_rate_hz == 0 &&
       segment + 1 < static_cast<int>(breakpoints_.size()) && t >= breakpoints_[segment + 1]) {
     // The segment's end belongs to the segment: a step there takes effect in the next one.
     observed_at = std::nextafter(breakpoints_[segment + 1], -1.0);

@@ -91,22 +91,23 @@ bool CheckChangesDoNotOverlap(const std::vector<CalibrationChange>& changes, std
   return true;
 }
 
-CameraIntrinsics SceneTruth::IntrinsicsAt(double t_s) const {
-  CameraIntrinsics k = intrinsics;
+namespace {
+
+void AddIntrinsicChanges(const std::vector<CalibrationChange>& changes, double t_s,
+                         CameraIntrinsics* k) {
   for (const CalibrationChange& c : changes) {
     if (!c.ChangesIntrinsics()) continue;
     const double f = c.Fraction(t_s);
-    k.fku_px += f * c.fku_px;
-    k.fkv_px += f * c.fkv_px;
-    k.u0_px += f * c.u0_px;
-    k.v0_px += f * c.v0_px;
-    k.phi_deg += f * c.phi_deg;
+    k->fku_px += f * c.fku_px;
+    k->fkv_px += f * c.fkv_px;
+    k->u0_px += f * c.u0_px;
+    k->v0_px += f * c.v0_px;
+    k->phi_deg += f * c.phi_deg;
   }
-  return k;
 }
 
-Rigid3 SceneTruth::ParentFromCamAt(double t_s) const {
-  Rigid3 pose = parent_from_cam;
+// `pose` (a_from_cam) with the mount changes of `changes` at t (CalibrationChange).
+Rigid3 ChangedMount(Rigid3 pose, const std::vector<CalibrationChange>& changes, double t_s) {
   for (const CalibrationChange& c : changes) {
     const double f = c.Fraction(t_s);
     if (f == 0.0) continue;
@@ -116,6 +117,21 @@ Rigid3 SceneTruth::ParentFromCamAt(double t_s) const {
   return pose;
 }
 
+}  // namespace
+
+CameraIntrinsics SceneTruth::IntrinsicsAt(double t_s) const {
+  CameraIntrinsics k = intrinsics;
+  AddIntrinsicChanges(changes, t_s, &k);
+  AddIntrinsicChanges(rig_changes, t_s, &k);
+  return k;
+}
+
+Rigid3 SceneTruth::ParentFromCamAt(double t_s) const {
+  const Rigid3 pose = ChangedMount(parent_from_cam, changes, t_s);
+  if (!rig_from_cam) return pose;
+  return pose * ChangedMount(*rig_from_cam, rig_changes, t_s);
+}
+
 CameraSpec SceneTruth::CameraAt(double t_s) const {
   const Rigid3 pose = ParentFromCamAt(t_s);
   return {IntrinsicsAt(t_s), pose.rotation, pose.translation, allow_improper_rotation};
@@ -123,7 +139,9 @@ CameraSpec SceneTruth::CameraAt(double t_s) const {
 
 std::vector<double> SceneTruth::ChangeTimes() const {
   std::vector<double> times;
-  for (const CalibrationChange& c : changes) {
+  std::vector<CalibrationChange> all = changes;
+  all.insert(all.end(), rig_changes.begin(), rig_changes.end());
+  for (const CalibrationChange& c : all) {
     for (double t : {c.from_s, c.to_s}) {
       if (t > 0 && t < duration_s) times.push_back(t);
     }
@@ -146,8 +164,8 @@ Eigen::Vector3d SceneTruth::PointInParent(int i, double t) const {
 bool SceneTruth::Observe(double t, std::vector<Eigen::Vector3d>* points_in_parent,
                          std::vector<Eigen::Vector2d>* pixels, std::string* why) const {
   const Rigid3 parent_from_points = ParentFromPoints(t);
-  const Rigid3 cam_from_parent = changes.empty() ? CamFromParent() : CamFromParentAt(t);
-  const CameraIntrinsics& camera_now = changes.empty() ? intrinsics : IntrinsicsAt(t);
+  const Rigid3 cam_from_parent = HasChanges() ? CamFromParentAt(t) : CamFromParent();
+  const CameraIntrinsics camera_now = HasChanges() ? IntrinsicsAt(t) : intrinsics;
   const std::array<double, 10> params = camera_now.Params();
   points_in_parent->resize(points.size());
   pixels->resize(points.size());
@@ -206,6 +224,21 @@ bool SceneTruth::Check(std::string* why) const {
     }
   }
   if (!CheckChangesDoNotOverlap(changes, why)) return false;
+  if (!rig_from_cam && !rig_changes.empty()) {
+    if (why) *why = "rig_changes without rig_from_cam (a camera of no rig)";
+    return false;
+  }
+  if (rig_from_cam && !CheckRotation(rig_from_cam->rotation, 1e-6, false, &reason)) {
+    if (why) *why = "rig_from_cam: " + reason;
+    return false;
+  }
+  for (size_t i = 0; i < rig_changes.size(); ++i) {
+    if (!rig_changes[i].Check(duration_s, &reason)) {
+      if (why) *why = "rig_changes[" + std::to_string(i) + "]: " + reason;
+      return false;
+    }
+  }
+  if (!CheckChangesDoNotOverlap(rig_changes, why)) return false;
   for (double t : ChangeTimes()) {  // The calibration must stay valid while it changes.
     for (double at : {t, duration_s}) {
       if (!IntrinsicsAt(at).Check(&reason)) {

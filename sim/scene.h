@@ -13,6 +13,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -80,7 +81,22 @@ struct SceneTruth {
   Motion motion;
   double duration_s = 240.0;
 
-  Rigid3 CamFromParent() const { return parent_from_cam.Inverse(); }
+  // A camera of a rig (camera/rig.h; the bench's rig scenarios): the camera sits at rig_from_cam
+  // in the rig frame, which parent_from_cam (with `changes`: a change of the whole rig) places in
+  // P, so parent_from_cam_c(t) = parent_from_rig(t) * rig_from_cam_c(t). `rig_changes` act on
+  // rig_from_cam as `changes` act on parent_from_cam: rpy_deg turns the camera about its own
+  // centre and the rig frame's z, y, x axes, x_m shifts its centre in the rig frame, and their
+  // intrinsic deltas add to this camera's intrinsics. Without rig_from_cam (a single camera)
+  // parent_from_cam is the camera's, and rig_changes must be empty.
+  std::optional<Rigid3> rig_from_cam;
+  std::vector<CalibrationChange> rig_changes;
+
+  // Whether the calibration changes over time (changes or rig_changes).
+  bool HasChanges() const { return !changes.empty() || !rig_changes.empty(); }
+  // At t = 0 without changes (a rig camera: parent_from_cam * rig_from_cam).
+  Rigid3 CamFromParent() const {
+    return rig_from_cam ? (parent_from_cam * *rig_from_cam).Inverse() : parent_from_cam.Inverse();
+  }
   // The calibration at time t, with every change applied (the t = 0 one without changes).
   CameraIntrinsics IntrinsicsAt(double t_s) const;
   Rigid3 ParentFromCamAt(double t_s) const;

@@ -33,7 +33,7 @@ bool SceneRenderer::Render(double t, uint64_t trial_seed, int k, GrayImage* imag
                            std::vector<BoardView>* views, std::string* why) const {
   *views = ViewsAt(t);
   Rng noise(TrialSeed(trial_seed, static_cast<uint64_t>(k)), RngStream::kPixelNoise);
-  if (scene_.changes.empty()) return renderer_->Render(*views, &noise, image, why);
+  if (!scene_.HasChanges()) return renderer_->Render(*views, &noise, image, why);
   const CameraIntrinsics intrinsics = scene_.IntrinsicsAt(t);  // The calibration at frame time.
   return renderer_->Render(*views, &noise, image, why, &intrinsics);
 }

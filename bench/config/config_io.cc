@@ -187,6 +187,17 @@ void Finish(const Reader& r, const YAML::Node& at, const std::string& field, Sce
                                          std::to_string(i) + "]: " + why);
     }
   }
+  int camera = -1, change = -1;
+  std::string rig_field;
+  if (!s->CheckRig(&camera, &change, &rig_field, &why)) {  // Where the camera or change is written.
+    std::string mark = r.Where(at);
+    if (camera >= 0 && camera < static_cast<int>(s->rig.marks.size())) {
+      mark = s->rig.marks[camera];
+    } else if (change >= 0 && change < static_cast<int>(s->truth_change_marks.size())) {
+      mark = s->truth_change_marks[change];
+    }
+    throw config_internal::ConfigError(mark, field + "." + rig_field, why);
+  }
   if (!s->Check(&why))
     r.Fail(at, field + "." + why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
 }

@@ -29,6 +29,12 @@ namespace calibench {
 
 struct RunConfig {
   std::vector<ScenarioConfig> scenarios;
+  // Whether a scenario has a camera rig (`rig:`): its run's files have a camera column and rig.csv.
+  bool HasRig() const {
+    for (const ScenarioConfig& s : scenarios)
+      if (s.rig.Any()) return true;
+    return false;
+  }
 };
 
 // Loads a scenario file or an entry point. On failure returns false and *why says file, line,

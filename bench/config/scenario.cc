@@ -49,6 +49,164 @@ SceneTruth ScenarioConfig::MakeScene(uint64_t trial_seed) const {
   return scene;
 }
 
+std::string ScenarioConfig::CameraName(int c) const {
+  if (rig.Any() && c >= 0 && c < NumCameras() && !rig.cameras[c].name.empty()) {
+    return rig.cameras[c].name;
+  }
+  return "cam" + std::to_string(c);
+}
+
+ScenarioConfig ScenarioConfig::CameraScenario(int c) const {
+  if (!rig.Any()) return *this;
+  ScenarioConfig camera = *this;
+  camera.truth_changes.clear();
+  camera.truth_change_marks.clear();
+  camera.truth_change_cameras.clear();
+  for (size_t i = 0; i < truth_changes.size(); ++i) {
+    if (ChangeCamera(i) >= 0 && ChangeCamera(i) != c) continue;
+    camera.truth_changes.push_back(truth_changes[i]);
+    if (i < truth_change_marks.size()) camera.truth_change_marks.push_back(truth_change_marks[i]);
+  }
+  // Every camera of a tracking rig tracks (the rig's figures over time need each one's
+  // trajectory), also one that no change moves.
+  if (Tracks()) camera.tracking.enabled = true;
+  if (c == 0) return camera;
+  const RigCameraConfig& rc = rig.cameras[c];
+  camera.truth.intrinsics = rc.intrinsics;
+  const Rigid3 parent_from_cam = truth.ParentFromCam() * rc.CamFromRig().Inverse();
+  camera.truth.r_c = parent_from_cam.rotation;
+  camera.truth.x_c = parent_from_cam.translation;
+  if (rc.image_width > 0) {
+    camera.image_width = rc.image_width;
+    camera.image_height = rc.image_height;
+  }
+  return camera;
+}
+
+SceneTruth ScenarioConfig::MakeCameraScene(int c, uint64_t trial_seed) const {
+  SceneTruth scene = MakeScene(trial_seed);
+  if (!rig.Any()) return scene;
+  scene.changes.clear();
+  for (size_t i = 0; i < truth_changes.size(); ++i) {
+    if (ChangeCamera(i) < 0) {
+      scene.changes.push_back(truth_changes[i]);
+    } else if (ChangeCamera(i) == c) {
+      scene.rig_changes.push_back(truth_changes[i]);
+    }
+  }
+  if (c != 0) scene.intrinsics = rig.cameras[c].intrinsics;
+  if (c != 0 || !scene.rig_changes.empty()) {
+    scene.rig_from_cam = rig.cameras[c].CamFromRig().Inverse();
+  }
+  return scene;
+}
+
+uint64_t ScenarioConfig::CameraSeed(uint64_t trial_seed, int c) {
+  if (c == 0) return trial_seed;
+  return TrialSeed(Mix64(trial_seed ^ 0x2545f4914f6cdd1dULL), static_cast<uint64_t>(c));
+}
+
+bool ScenarioConfig::CheckRig(int* camera, int* change, std::string* field,
+                              std::string* why) const {
+  *camera = -1;
+  *change = -1;
+  const auto fail = [&](int c, const std::string& f, const std::string& reason) {
+    *camera = c;
+    *field = f;
+    *why = reason;
+    return false;
+  };
+  if (rig.Any() && rig.cameras.size() < 2) {
+    return fail(0, "rig.cameras",
+                "a rig needs at least 2 cameras, got " + std::to_string(rig.cameras.size()));
+  }
+  for (size_t i = 0; i < truth_changes.size(); ++i) {
+    const int c = ChangeCamera(i);
+    if (c < 0) continue;
+    *change = static_cast<int>(i);
+    if (!rig.Any()) {
+      return fail(-1, "truth.changes[" + std::to_string(i) + "].camera",
+                  "names a camera of a rig, and the scenario has no `rig`");
+    }
+    if (c >= NumCameras()) {
+      return fail(-1, "truth.changes[" + std::to_string(i) + "].camera",
+                  std::to_string(c) + " names no camera (the rig has " +
+                      std::to_string(NumCameras()) + ", indexed from 0)");
+    }
+    *change = -1;
+  }
+  if (!rig.Any()) return true;
+  std::string reason;
+  for (int c = 0; c < NumCameras(); ++c) {
+    const RigCameraConfig& rc = rig.cameras[c];
+    const std::string at = "rig.cameras[" + std::to_string(c) + "]";
+    const std::string who = "camera '" + CameraName(c) + "'";
+    if (!CheckRotation(rc.r, 1e-6, false, &reason)) {
+      return fail(c, at + ".R", who + ": cam_from_rig: " + reason);
+    }
+    if (!rc.t_m.allFinite()) return fail(c, at + ".t_m", who + ": must be finite");
+    if (c == 0) {
+      if (rc.intrinsics_given) {
+        return fail(c, at + ".intrinsics",
+                    "camera 0 is the scenario's truth camera: its intrinsics are "
+                    "truth.intrinsics (remove them here)");
+      }
+      if (rc.image_width > 0 &&
+          (rc.image_width != image_width || rc.image_height != image_height)) {
+        return fail(c, at + ".image_size",
+                    "camera 0 is the scenario's truth camera: its image size is image_size");
+      }
+      if (!rc.r.isIdentity(1e-9) || !rc.t_m.isZero(1e-9)) {
+        return fail(c, at,
+                    "camera 0 defines the rig frame: its cam_from_rig must be the identity "
+                    "(rpy_deg [0, 0, 0], t_m [0, 0, 0]); truth.R_C and x_C place the rig");
+      }
+      continue;
+    }
+    if (!rc.intrinsics_given) return fail(c, at + ".intrinsics", who + ": missing");
+    if (!rc.intrinsics.Check(&reason)) return fail(c, at + ".intrinsics", who + ": " + reason);
+    if (!(rc.t_m.norm() > 1e-9)) {
+      return fail(c, at + ".t_m",
+                  who + " is at camera 0's centre (baseline " + std::to_string(rc.t_m.norm()) +
+                      " m): a rig's cameras are apart");
+    }
+  }
+  // Every camera sees the points at t = 0: in front of it (the points' visibility check) and in
+  // its image.
+  for (int c = 1; c < NumCameras(); ++c) {
+    const ScenarioConfig single = CameraScenario(c);
+    const SceneTruth scene = MakeCameraScene(c, TrialSeedOf(0));
+    const std::string at = "rig.cameras[" + std::to_string(c) + "]";
+    const std::string who = "camera '" + CameraName(c) + "'";
+    std::vector<Eigen::Vector3d> in_parent;
+    std::vector<Eigen::Vector2d> pixels;
+    if (!scene.Observe(0.0, &in_parent, &pixels, &reason)) {
+      return fail(c, at,
+                  who + " does not see the points (is it behind them, or turned away?): " + reason);
+    }
+    int inside = 0;
+    for (size_t i = 0; i < pixels.size(); ++i) {
+      const Eigen::Vector2d& p = pixels[i];
+      const bool in =
+          p.x() >= 0 && p.y() >= 0 && p.x() <= single.image_width && p.y() <= single.image_height;
+      inside += in ? 1 : 0;
+      if (!in && outside_image == OutsideImage::kFail) {
+        std::ostringstream msg;
+        msg << who << ": feature point " << i << " projects to (" << p.x() << ", " << p.y()
+            << ") px at t = 0 s, outside its " << single.image_width << " x " << single.image_height
+            << " image (measurements.outside_image: fail)";
+        return fail(c, at, msg.str());
+      }
+    }
+    if (inside == 0) {
+      return fail(c, at,
+                  who + " sees none of the " + std::to_string(pixels.size()) +
+                      " points at t = 0 s (all outside its image)");
+    }
+  }
+  return true;
+}
+
 std::vector<BoardLayout> ScenarioConfig::BoardLayouts() const {
   std::vector<BoardLayout> layouts;
   int first = 0;
@@ -233,6 +391,8 @@ bool ScenarioConfig::Check(std::string* why) const {
     return fail("image_size", msg.str());
   }
   if (!CheckMethods(*this, &field, &reason)) return fail(field, reason);
+  int camera = -1, change = -1;
+  if (!CheckRig(&camera, &change, &field, &reason)) return fail(field, reason);
   return true;
 }
 
@@ -371,7 +531,8 @@ const EnumNames<ReportRole>& ReportRoleNames() {
                                             {ReportRole::kNoise, "noise"},
                                             {ReportRole::kPoints, "points"},
                                             {ReportRole::kGain, "gain"},
-                                            {ReportRole::kDynamic, "dynamic"}}};
+                                            {ReportRole::kDynamic, "dynamic"},
+                                            {ReportRole::kRig, "rig"}}};
   return names;
 }
 

@@ -76,12 +76,14 @@ struct TrackingConfig {
 // report: {role}: the question of the report a scenario's rows answer (the report finds each
 // sweep's role in schema.json instead of matching its name).
 // noise (error against pixel noise), points (against the number of points), gain (against an
-// adaptive gain), dynamic (a calibration that changes); none: no question of its own.
-enum class ReportRole { kNone, kNoise, kPoints, kGain, kDynamic };
+// adaptive gain), dynamic (a calibration that changes), rig (a camera rig's relative pose over
+// time: rig.csv); none: no question of its own.
+enum class ReportRole { kNone, kNoise, kPoints, kGain, kDynamic, kRig };
 struct ReportConfig {
   ReportRole role = ReportRole::kNone;
 };
-const EnumNames<ReportRole>& ReportRoleNames();  // "none", "noise", "points", "gain", "dynamic".
+// "none", "noise", "points", "gain", "dynamic", "rig".
+const EnumNames<ReportRole>& ReportRoleNames();
 
 enum class Detections { kOracle, kRendered };
 enum class OutsideImage { kFail, kKeep };
@@ -121,6 +123,32 @@ struct PointsConfig {
 // resolved YAML writes the points themselves).
 bool operator==(const PointsConfig& a, const PointsConfig& b);
 
+// A camera of a rig scenario (`rig.cameras[c]`; camera/rig.h states the rig conventions). Camera 0
+// is the scenario's truth camera: its intrinsics and image size are truth.intrinsics and
+// image_size (its entry gives neither) and its cam_from_rig is the identity; truth.R_C and x_C
+// place the rig (= camera 0's frame) in the parent frame. Camera c >= 1 has its own intrinsics
+// (any lens family), image size (default: the scenario's) and cam_from_rig, whose rotation is given
+// as rpy_deg (FromRollPitchYawDeg, camera/pose.h) or as a 3x3 matrix R. Its pose in the parent
+// frame is parent_from_cam_c = parent_from_cam_0 * cam_from_rig_c^-1.
+struct RigCameraConfig {
+  std::string name;  // Empty: "cam<c>".
+  CameraIntrinsics intrinsics;
+  bool intrinsics_given = false;          // The entry has `intrinsics` (camera 0's may not).
+  int image_width = 0, image_height = 0;  // 0: the scenario's image_size.
+  Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();  // cam_from_rig's rotation (from rpy_deg).
+  bool rotation_as_matrix = false;                  // Given as `R` (written back so).
+  Eigen::Vector3d t_m = Eigen::Vector3d::Zero();    // cam_from_rig's translation.
+  Rigid3 CamFromRig() const { return {r, t_m}; }
+};
+
+// rig: {cameras: [...]}: the cameras of a rig scenario; empty: a single camera (the truth).
+struct RigScenario {
+  std::vector<RigCameraConfig> cameras;
+  std::vector<std::string> marks;  // file:line:col of each camera (for messages).
+  bool Any() const { return !cameras.empty(); }
+};
+
 struct ScenarioConfig {
   std::string name;
   std::string description;
@@ -133,6 +161,10 @@ struct ScenarioConfig {
   CameraSpec truth;                              // At t = 0.
   std::vector<CalibrationChange> truth_changes;  // truth.changes (sim/scene.h).
   std::vector<std::string> truth_change_marks;   // file:line:col of each (for messages).
+  // truth.changes[i].camera of a rig scenario: the camera whose pose in the rig (and intrinsics)
+  // the change moves; -1 (and absent entries): the whole rig (ChangeCamera).
+  std::vector<int> truth_change_cameras;
+  RigScenario rig;  // rig: the cameras of a rig; empty: one camera.
   TrackingConfig tracking;
   int image_width = 640, image_height = 480;  // For zhang's initialisation.
   PointsConfig points;
@@ -175,6 +207,35 @@ struct ScenarioConfig {
   SceneTruth MakeScene(uint64_t trial_seed = 0) const;
   // Whether the trials record estimates over time (truth changes, or tracking.enabled).
   bool Tracks() const { return tracking.enabled || !truth_changes.empty(); }
+
+  // Rigs (composition of single cameras: each camera of the rig is measured and estimated on its
+  // own, as the scenario's single camera is).
+  int NumCameras() const { return rig.Any() ? static_cast<int>(rig.cameras.size()) : 1; }
+  // The camera truth change i moves: -1 the whole rig (or the single camera), else its index.
+  int ChangeCamera(size_t i) const {
+    return i < truth_change_cameras.size() ? truth_change_cameras[i] : -1;
+  }
+  std::string CameraName(int c) const;  // rig.cameras[c].name, or "cam<c>".
+  // Camera c of the rig as a single-camera scenario (truth at t = 0, intrinsics, image size, and
+  // the changes that move it: the whole rig's and its own; tracking enabled when the rig tracks),
+  // for its rows and metrics; its scene is MakeCameraScene(c), not its MakeScene. Camera 0 without
+  // changes of its own, of a rig moved by a change of the whole rig, and any camera of a scenario
+  // without `rig`, is the scenario itself in all a trial reads.
+  ScenarioConfig CameraScenario(int c) const;
+  // Camera c's scene: MakeScene with camera c's intrinsics, rig_from_cam and own changes
+  // (SceneTruth::rig_from_cam, rig_changes). MakeCameraScene(0) of a camera without changes of its
+  // own is MakeScene.
+  SceneTruth MakeCameraScene(int c, uint64_t trial_seed = 0) const;
+  // The seed of camera c's measurement noise in a trial: camera 0's is the trial seed (a rig's
+  // camera 0 sees the draws of the single-camera scenario), camera c's is drawn from (trial seed,
+  // c).
+  static uint64_t CameraSeed(uint64_t trial_seed, int c);
+  // The rig's checks (ScenarioConfig::Check): at least 2 cameras, camera 0 the truth at the
+  // identity, proper rotations, valid intrinsics and image sizes, cameras apart, every point in
+  // front of every camera at t = 0 and inside its image (outside_image: fail; keep: at least one),
+  // change cameras that exist. False with the camera's index (-1: not one camera's) or the change's
+  // (*change, -1: none), the field and the reason.
+  bool CheckRig(int* camera, int* change, std::string* field, std::string* why) const;
   // The planar boards (PlanarBoard or AprilGrid) in point order; empty for other point sets.
   std::vector<BoardLayout> BoardLayouts() const;
   // The instance named `instance`, or null.
@@ -200,6 +261,7 @@ void Visit(FieldVisitor& v, ScenarioConfig& s);
 void Visit(FieldVisitor& v, CameraSpec& c);
 void Visit(FieldVisitor& v, CameraIntrinsics& k);
 void Visit(FieldVisitor& v, CalibrationChange& c);
+void Visit(FieldVisitor& v, RigCameraConfig& c);
 void Visit(FieldVisitor& v, TrackingConfig& t);
 void Visit(FieldVisitor& v, Reference& r);
 void Visit(FieldVisitor& v, ReportConfig& r);

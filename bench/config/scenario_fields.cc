@@ -137,8 +137,20 @@ void VisitTruth(FieldVisitor& v, ScenarioConfig& s) {
   changes.resize = [&s](size_t n) {
     s.truth_changes.resize(n);
     s.truth_change_marks.resize(n);
+    s.truth_change_cameras.resize(n, -1);
   };
-  changes.visit = [&s](size_t i, FieldVisitor& w) { Visit(w, s.truth_changes[i]); };
+  changes.visit = [&s](size_t i, FieldVisitor& w) {
+    Visit(w, s.truth_changes[i]);
+    int whole_rig = -1;  // Changes added in code may have no entry: the whole rig.
+    int& camera = i < s.truth_change_cameras.size() ? s.truth_change_cameras[i] : whole_rig;
+    w.Field({"camera", "",
+             "Rig scenarios: the camera the change moves, in the rig (rpy_deg about its own "
+             "centre and the rig frame's axes, x_m in the rig frame) and its intrinsics; absent: "
+             "the whole rig (the mount of camera 0 moves every camera with it; intrinsic deltas "
+             "apply to every camera).",
+             "≥ 0, < the rig's cameras", nullptr, camera < 0 ? kNotWritten : 0u},
+            &camera);
+  };
   changes.allow_empty = true;  // `changes: []` clears a base's.
   changes.located = [&s](size_t i, const std::string& where) { s.truth_change_marks[i] = where; };
   v.List({"changes", "",
@@ -155,6 +167,38 @@ void VisitTolerance(FieldVisitor& v, TrackingOptions& t) {
     const bool angle = std::string(name).find("_deg") != std::string::npos;
     v.Field({name, angle ? "deg" : "px", "Re-convergence tolerance of this tracked quantity."},
             &t.tolerance[q]);
+  }
+}
+
+void VisitCamFromRig(FieldVisitor& v, RigCameraConfig& c) {
+  v.Field({"rpy_deg", "deg",
+           "Its rotation as roll, pitch, yaw (camera/pose.h FromRollPitchYawDeg: about the rig "
+           "frame's x, y, z, i.e. camera 0's pitch, yaw and roll axes); or give R.",
+           "", nullptr, c.rotation_as_matrix ? kNotWritten | kNotCompared : kNotCompared},
+          &c.rpy_deg);
+  v.Field({"R", "", "Its rotation as a 3x3 list of rows (a proper rotation).", "", nullptr,
+           c.rotation_as_matrix || v.Reads() ? 0u : kNotWritten},
+          &c.r);
+  v.Exclusive("rpy_deg", {"R"}, "give the rotation once: rpy_deg or R");
+  v.Field({"t_m", "m",
+           "Its translation: camera 0's centre in this camera's frame (its norm is the "
+           "baseline)."},
+          &c.t_m);
+  if (v.Reads()) {
+    v.Check(nullptr, [&c](std::string* why) {
+      c.rotation_as_matrix = c.r != Eigen::Matrix3d::Identity();
+      if (!c.rotation_as_matrix) c.r = FromRollPitchYawDeg(c.rpy_deg);
+      if (!c.rpy_deg.allFinite() || !c.t_m.allFinite() || !c.r.allFinite()) {
+        return *why = "must be finite", false;
+      }
+      if (c.r.determinant() < 0) {
+        return *why =
+                   "the rotation is improper (det < 0, a reflection): a rig camera's must be a "
+                   "rotation",
+               false;
+      }
+      return CheckRotation(c.r, 1e-6, false, why);
+    });
   }
 }
 
@@ -233,6 +277,30 @@ void Visit(FieldVisitor& v, ScenarioConfig& s) {
     }
     return true;
   });
+  SectionOps rig;
+  rig.visit = [&s](FieldVisitor& w) {
+    ListOps cameras;
+    cameras.size = s.rig.cameras.size();
+    cameras.resize = [&s](size_t n) {
+      s.rig.cameras.resize(n);
+      s.rig.marks.resize(n);
+    };
+    cameras.visit = [&s](size_t i, FieldVisitor& x) { Visit(x, s.rig.cameras[i]); };
+    cameras.flow_items = false;
+    cameras.located = [&s](size_t i, const std::string& where) { s.rig.marks[i] = where; };
+    w.List({"cameras", "",
+            "The rig's cameras (at least 2), camera 0 first: the truth camera, whose entry has no "
+            "intrinsics and the identity cam_from_rig."},
+           cameras);
+  };
+  rig.reset = [&s] { s.rig = RigScenario(); };
+  rig.written = s.rig.Any();
+  v.Section({"rig", "",
+             "A camera rig (camera/rig.h's conventions): every camera measures the same points at "
+             "the same instants and every method runs on each camera; the rig's relative poses "
+             "follow from two cameras' estimates. Replaces a base's section as a whole.",
+             "", nullptr, kNotSweepable},
+            rig);
   v.Field({"points", "",
            "The feature points: exactly one of `preset`, `list`, `random`, `boards`, "
            "`aprilgrids`. Replaces a base's section as a whole."},
@@ -341,6 +409,38 @@ void Visit(FieldVisitor& v, CameraIntrinsics& k) {
            has_beta ? 0u : kNotWritten},
           &k.beta);
   v.Check(nullptr, [&k](std::string* why) { return k.Check(why); });
+}
+
+void Visit(FieldVisitor& v, RigCameraConfig& c) {
+  v.Field({"name", "", "For messages (default: cam<c>).", "", nullptr, kOmitUnset}, &c.name);
+  SectionOps intrinsics;
+  intrinsics.visit = [&c](FieldVisitor& w) { Visit(w, c.intrinsics); };
+  intrinsics.reset = [&c] { c.intrinsics_given = true; };
+  intrinsics.flow = true;
+  intrinsics.written = c.intrinsics_given;
+  v.Section({"intrinsics", "",
+             "Its intrinsics, as truth.intrinsics (any lens family); required but for camera 0 "
+             "(whose are truth.intrinsics)."},
+            intrinsics);
+  v.Field({"image_size", "px", "[width, height]; default: the scenario's image_size.", "", nullptr,
+           kOmitUnset},
+          &c.image_width, &c.image_height);
+  v.Check("image_size", [&c](std::string* why) {
+    if (c.image_width == 0 && c.image_height == 0) return true;
+    if (c.image_width < 1 || c.image_height < 1 || c.image_width > kMaxImageSide ||
+        c.image_height > kMaxImageSide ||
+        static_cast<double>(c.image_width) * c.image_height > kMaxImagePixels) {
+      return *why = "must be two positive sizes within the scenario's bounds (or absent)", false;
+    }
+    return true;
+  });
+  SectionOps pose;
+  pose.visit = [&c](FieldVisitor& w) { VisitCamFromRig(w, c); };
+  pose.flow = true;
+  v.Section({"cam_from_rig", "",
+             "Its extrinsic (camera/rig.h): point_in_cam = cam_from_rig * point_in_rig, the rig "
+             "frame being camera 0's; {rpy_deg or R, t_m}. Camera 0's is the identity."},
+            pose);
 }
 
 void Visit(FieldVisitor& v, CalibrationChange& c) {

@@ -26,24 +26,27 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kPartial = "run.partial";
-// The streamed files, in the order a task's blocks are appended (tasks.idx comes after them).
-constexpr int kFiles = 6;
+// The streamed files, in the order a task's blocks are appended (tasks.idx comes after them): the
+// first six in every run, rig.csv too in a rig run (RunConfig::HasRig; NumStreamed).
+constexpr int kFiles = 7;
 constexpr const char* kStreamed[kFiles] = {"runs.csv",   "timings.csv", "curves.csv",
-                                           "events.csv", "tracks.csv",  "track_errors.csv"};
+                                           "events.csv", "tracks.csv",  "track_errors.csv",
+                                           "rig.csv"};
+int NumStreamed(bool rig) { return rig ? kFiles : kFiles - 1; }
 
-// One finished task in tasks.idx: the end offsets of its blocks in the three streamed files.
+// One finished task in tasks.idx: the end offsets of its blocks in the streamed files.
 struct IndexEntry {
   long task = -1;
-  long end[kFiles] = {0, 0, 0, 0, 0, 0};
+  long end[kFiles] = {0, 0, 0, 0, 0, 0, 0};
 };
 
 std::string IndexHeader(const ShardSpec& shard, long total) {
   return "# calibench tasks: shard " + shard.ToString() + " of " + std::to_string(total) + "\n";
 }
 
-std::string IndexLine(const IndexEntry& e) {
+std::string IndexLine(const IndexEntry& e, int files) {
   std::string line = std::to_string(e.task);
-  for (long end : e.end) line += " " + std::to_string(end);
+  for (int f = 0; f < files; ++f) line += " " + std::to_string(e.end[f]);
   return line + "\n";
 }
 
@@ -56,8 +59,8 @@ std::string Slurp(const std::string& path) {
 
 // Reads tasks.idx: its header line and the complete entries (a cut last line is ignored).
 // *bytes_valid is the length of the part that parsed.
-bool ReadIndex(const std::string& path, std::string* header, std::vector<IndexEntry>* entries,
-               long* bytes_valid, std::string* why) {
+bool ReadIndex(const std::string& path, int files, std::string* header,
+               std::vector<IndexEntry>* entries, long* bytes_valid, std::string* why) {
   const std::string text = Slurp(path);
   const size_t eol = text.find('\n');
   if (eol == std::string::npos) {
@@ -73,7 +76,7 @@ bool ReadIndex(const std::string& path, std::string* header, std::vector<IndexEn
     IndexEntry e;
     std::istringstream line(text.substr(pos, end - pos));
     line >> e.task;
-    for (long& offset : e.end) line >> offset;
+    for (int f = 0; f < files; ++f) line >> e.end[f];
     if (!line) {
       *why = path + ": line " + std::to_string(entries->size() + 2) + ": malformed entry";
       return false;
@@ -94,11 +97,12 @@ class PartialWriter {
  public:
   ~PartialWriter() { Close(); }
 
-  bool Open(const std::string& dir, const IndexEntry& last, std::string* why) {
+  bool Open(const std::string& dir, const IndexEntry& last, int files, std::string* why) {
     dir_ = dir;
     last_ = last;
-    for (int f = 0; f <= kFiles; ++f) {
-      const std::string path = dir + "/" + (f < kFiles ? kStreamed[f] : "tasks.idx");
+    files_count_ = files;
+    for (int f = 0; f <= files; ++f) {
+      const std::string path = dir + "/" + (f < files ? kStreamed[f] : "tasks.idx");
       files_[f] = std::fopen(path.c_str(), "ab");
       if (files_[f] == nullptr) {
         *why = Errno(path, "cannot open for appending");
@@ -111,11 +115,11 @@ class PartialWriter {
   bool Append(long task, const std::string (&blocks)[kFiles], std::string* why) {
     IndexEntry entry;
     entry.task = task;
-    for (int f = 0; f < kFiles; ++f) {
+    for (int f = 0; f < files_count_; ++f) {
       if (!Write(f, blocks[f], why)) return false;
       entry.end[f] = last_.end[f] + static_cast<long>(blocks[f].size());
     }
-    if (!Write(kFiles, IndexLine(entry), why)) return false;
+    if (!Write(files_count_, IndexLine(entry, files_count_), why)) return false;
     last_ = entry;
     return true;
   }
@@ -134,7 +138,7 @@ class PartialWriter {
     if (text.empty()) return true;
     if (std::fwrite(text.data(), 1, text.size(), files_[f]) != text.size() ||
         std::fflush(files_[f]) != 0) {
-      *why = Errno(dir_ + "/" + (f < kFiles ? kStreamed[f] : "tasks.idx"), "write failed");
+      *why = Errno(dir_ + "/" + (f < files_count_ ? kStreamed[f] : "tasks.idx"), "write failed");
       return false;
     }
     return true;
@@ -142,19 +146,20 @@ class PartialWriter {
 
   std::string dir_;
   IndexEntry last_;
+  int files_count_ = kFiles - 1;
   FILE* files_[kFiles + 1] = {};
 };
 
-std::string HeaderBlock(int file) {
-  const std::vector<std::string>* headers[kFiles] = {&RunRowHeader(), &TimingHeader(),
-                                                     &CurveHeader(),  &EventHeader(),
-                                                     &TrackHeader(),  &TrackErrorHeader()};
-  return CsvLine(*headers[file]);
+std::string HeaderBlock(int file, bool rig) {
+  const std::vector<std::string>* headers[kFiles] = {
+      &RunRowHeader(), &TimingHeader(),     &CurveHeader(), &EventHeader(),
+      &TrackHeader(),  &TrackErrorHeader(), &RigHeader()};
+  return CsvLine(file == kFiles - 1 ? *headers[file] : WithCameraColumn(*headers[file], rig));
 }
 
 // Creates run.partial with the three headers and tasks.idx's header and -1 entry (*headers).
-bool CreatePartial(const std::string& partial, const std::string& index_header, IndexEntry* headers,
-                   std::string* why) {
+bool CreatePartial(const std::string& partial, const std::string& index_header, bool rig,
+                   IndexEntry* headers, std::string* why) {
   std::error_code ec;
   fs::remove_all(partial, ec);
   fs::create_directories(partial, ec);
@@ -163,22 +168,23 @@ bool CreatePartial(const std::string& partial, const std::string& index_header, 
     return false;
   }
   *headers = IndexEntry();
-  for (int f = 0; f < kFiles; ++f) {
-    const std::string block = HeaderBlock(f);
+  for (int f = 0; f < NumStreamed(rig); ++f) {
+    const std::string block = HeaderBlock(f, rig);
     headers->end[f] = static_cast<long>(block.size());
     if (!WriteFileAtomically(partial + "/" + kStreamed[f], block, why)) return false;
   }
-  return WriteFileAtomically(partial + "/tasks.idx", index_header + IndexLine(*headers), why);
+  return WriteFileAtomically(partial + "/tasks.idx",
+                             index_header + IndexLine(*headers, NumStreamed(rig)), why);
 }
 
 // Cuts the streamed files and tasks.idx back to the last complete task; *last is that entry.
-bool TruncatePartial(const std::string& partial, const std::string& index_header,
+bool TruncatePartial(const std::string& partial, const std::string& index_header, int files,
                      const std::vector<long>& owned, IndexEntry* last, long* resumed,
                      std::string* why) {
   std::string header;
   std::vector<IndexEntry> entries;
   long index_bytes = 0;
-  if (!ReadIndex(partial + "/tasks.idx", &header, &entries, &index_bytes, why)) return false;
+  if (!ReadIndex(partial + "/tasks.idx", files, &header, &entries, &index_bytes, why)) return false;
   if (header != index_header) {
     *why = partial + "/tasks.idx: written for '" + header.substr(0, header.size() - 1) +
            "', not '" + index_header.substr(0, index_header.size() - 1) +
@@ -189,7 +195,7 @@ bool TruncatePartial(const std::string& partial, const std::string& index_header
     *why = partial + "/tasks.idx: the header entry is missing";
     return false;
   }
-  long line_bytes = static_cast<long>(header.size() + IndexLine(entries[0]).size());
+  long line_bytes = static_cast<long>(header.size() + IndexLine(entries[0], files).size());
   size_t done = 0;
   for (size_t i = 1; i < entries.size(); ++i) {
     if (done >= owned.size() || entries[i].task != owned[done]) {
@@ -198,11 +204,11 @@ bool TruncatePartial(const std::string& partial, const std::string& index_header
       return false;
     }
     ++done;
-    line_bytes += static_cast<long>(IndexLine(entries[i]).size());
+    line_bytes += static_cast<long>(IndexLine(entries[i], files).size());
   }
   *last = entries[done];
   *resumed = static_cast<long>(done);
-  for (int f = 0; f < kFiles; ++f) {
+  for (int f = 0; f < files; ++f) {
     const std::string path = partial + "/" + kStreamed[f];
     std::error_code ec;
     const auto size = fs::file_size(path, ec);
@@ -265,7 +271,7 @@ bool Finalize(const RunConfig& config, const std::string& dir, std::string* why)
   }
   for (const char* name :
        {"runs.csv", "timings.csv", "curves.csv", "events.csv", "tracks.csv", "track_errors.csv",
-        "summary.csv", "track_bands.csv", "table.md", "schema.json", "tasks.idx"}) {
+        "rig.csv", "summary.csv", "track_bands.csv", "table.md", "schema.json", "tasks.idx"}) {
     const std::string from = partial + "/" + name;
     if (!fs::exists(from)) continue;
     if (std::rename(from.c_str(), (dir + "/" + name).c_str()) != 0) {
@@ -320,14 +326,14 @@ enum class DirectoryState { kFailed, kComplete, kReady };
 // run.partial; --resume checks that the configuration is the interrupted run's and truncates
 // run.partial to its last whole task (summary->tasks_resumed), or finds the run complete.
 DirectoryState PrepareDirectory(const std::string& resolved, const std::string& index_header,
-                                const ShardTasks& shard, const RunDirOptions& options,
+                                bool rig, const ShardTasks& shard, const RunDirOptions& options,
                                 IndexEntry* last, RunDirSummary* summary, std::string* why) {
   const std::string& dir = options.out_dir;
   const std::string partial = dir + "/" + kPartial;
   const std::string resolved_path = dir + "/config.resolved.yaml";
   if (!options.resume || !(fs::exists(partial + "/tasks.idx") || fs::exists(dir + "/tasks.idx"))) {
     if (!WriteFileAtomically(resolved_path, resolved, why)) return DirectoryState::kFailed;
-    if (!CreatePartial(partial, index_header, last, why)) return DirectoryState::kFailed;
+    if (!CreatePartial(partial, index_header, rig, last, why)) return DirectoryState::kFailed;
     return DirectoryState::kReady;
   }
   if (Slurp(resolved_path) != resolved) {
@@ -340,7 +346,7 @@ DirectoryState PrepareDirectory(const std::string& resolved, const std::string& 
     std::string header;
     std::vector<IndexEntry> entries;
     long bytes = 0;
-    if (!ReadIndex(dir + "/tasks.idx", &header, &entries, &bytes, why)) {
+    if (!ReadIndex(dir + "/tasks.idx", NumStreamed(rig), &header, &entries, &bytes, why)) {
       return DirectoryState::kFailed;
     }
     if (header != index_header) {
@@ -351,7 +357,8 @@ DirectoryState PrepareDirectory(const std::string& resolved, const std::string& 
     return DirectoryState::kComplete;
   }
   if (fs::exists(partial + "/runs.csv")) {
-    if (!TruncatePartial(partial, index_header, shard.owned, last, &summary->tasks_resumed, why)) {
+    if (!TruncatePartial(partial, index_header, NumStreamed(rig), shard.owned, last,
+                         &summary->tasks_resumed, why)) {
       return DirectoryState::kFailed;
     }
   } else {
@@ -362,17 +369,20 @@ DirectoryState PrepareDirectory(const std::string& resolved, const std::string& 
 
 // The CSV blocks of one task's rows, one per streamed file (kStreamed).
 void TaskBlocks(const std::vector<RunRow>& rows, const std::map<std::string, int>& band_samples,
-                std::string (&blocks)[kFiles]) {
+                bool rig, std::string (&blocks)[kFiles]) {
   for (const RunRow& r : rows) {
-    blocks[0] += CsvLine(RunRowFields(r));
-    blocks[1] += CsvLine(TimingFields(r));
-    blocks[3] += EventLines(r);
-    if (r.trial == 0) blocks[4] += TrackLines(r);
-    blocks[5] += TrackErrorLines(r, band_samples.at(r.scenario));
+    blocks[0] += CsvLine(RunRowFields(r, rig));
+    blocks[1] += CsvLine(TimingFields(r, rig));
+    blocks[3] += EventLines(r, rig);
+    if (r.trial == 0) blocks[4] += TrackLines(r, rig);
+    blocks[5] += TrackErrorLines(r, band_samples.at(r.scenario), rig);
     for (const auto& [t, e] : r.curve) {
-      blocks[2] += CsvLine(
-          {r.scenario, std::to_string(r.trial), r.method, FormatNumber(t), FormatNumber(e)});
+      std::vector<std::string> fields = {r.scenario, std::to_string(r.trial), r.method,
+                                         FormatNumber(t), FormatNumber(e)};
+      if (rig) fields.push_back(std::to_string(r.camera));
+      blocks[2] += CsvLine(fields);
     }
+    if (rig) blocks[6] += RigLines(r);
   }
 }
 
@@ -382,8 +392,9 @@ bool RunRemaining(const RunConfig& config, const std::vector<std::vector<int>>& 
                   const std::vector<TrialTask>& remaining, long first, const IndexEntry& last,
                   const RunDirOptions& options, RunDirSummary* summary, std::string* error) {
   const std::string partial = options.out_dir + "/" + kPartial;
+  const bool rig = config.HasRig();
   PartialWriter writer;
-  if (!writer.Open(partial, last, error)) return false;
+  if (!writer.Open(partial, last, NumStreamed(rig), error)) return false;
   TaskRunOptions run_options;
   run_options.threads = options.threads;
   run_options.max_buffered_tasks = options.max_buffered_tasks;
@@ -392,7 +403,7 @@ bool RunRemaining(const RunConfig& config, const std::vector<std::vector<int>>& 
   for (const ScenarioConfig& s : config.scenarios) band_samples[s.name] = s.tracking.band_samples;
   auto commit = [&](size_t position, std::vector<RunRow>&& rows) {
     std::string blocks[kFiles];
-    TaskBlocks(rows, band_samples, blocks);
+    TaskBlocks(rows, band_samples, rig, blocks);
     if (!writer.Append(remaining[position].index, blocks, error)) return false;
     summary->rows_written += static_cast<long>(rows.size());
     ++summary->tasks_run;
@@ -432,8 +443,8 @@ RunDirSummary RunToDirectory(const RunConfig& config, const RunDirOptions& optio
   const std::string index_header = IndexHeader(options.shard, shard.total);
   std::string why;
   IndexEntry last;
-  switch (
-      PrepareDirectory(ResolvedYaml(config), index_header, shard, options, &last, &summary, &why)) {
+  switch (PrepareDirectory(ResolvedYaml(config), index_header, config.HasRig(), shard, options,
+                           &last, &summary, &why)) {
     case DirectoryState::kFailed:
       return fail(why);
     case DirectoryState::kComplete:
@@ -468,7 +479,7 @@ struct Shard {
 
 // Reads every shard's index and checks that they are one sweep's: the same resolved
 // configuration, finished, each of 1/N..N/N once. *count = N, *total = the sweep's tasks.
-bool ReadShards(const std::vector<std::string>& shard_dirs, const std::string& resolved,
+bool ReadShards(const std::vector<std::string>& shard_dirs, const std::string& resolved, int files,
                 std::map<int, Shard>* shards, int* count, long* total, std::string* why) {
   *count = -1;
   *total = -1;
@@ -485,7 +496,7 @@ bool ReadShards(const std::vector<std::string>& shard_dirs, const std::string& r
     Shard shard;
     shard.dir = d;
     long bytes = 0;
-    if (!ReadIndex(d + "/tasks.idx", &header, &shard.entries, &bytes, why)) return false;
+    if (!ReadIndex(d + "/tasks.idx", files, &header, &shard.entries, &bytes, why)) return false;
     int k = 0, n = 0;
     long t = 0;
     if (std::sscanf(header.c_str(), "# calibench tasks: shard %d/%d of %ld", &k, &n, &t) != 3 ||
@@ -508,11 +519,11 @@ bool ReadShards(const std::vector<std::string>& shard_dirs, const std::string& r
 
 // Copies task 0..total-1, in order, from the shard that ran it (task t: shard t mod N + 1) to
 // `writer`, byte for byte.
-bool CopyTasks(std::map<int, Shard>* shards, int count, long total, PartialWriter* writer,
-               std::string* why) {
+bool CopyTasks(std::map<int, Shard>* shards, int count, long total, int files,
+               PartialWriter* writer, std::string* why) {
   std::map<int, std::array<std::ifstream, kFiles>> streams;
   for (auto& [k, shard] : *shards) {
-    for (int f = 0; f < kFiles; ++f) {
+    for (int f = 0; f < files; ++f) {
       streams[k][f].open(shard.dir + "/" + kStreamed[f], std::ios::binary);
     }
   }
@@ -526,7 +537,7 @@ bool CopyTasks(std::map<int, Shard>* shards, int count, long total, PartialWrite
     const IndexEntry& from = shard.entries[shard.next - 1];
     const IndexEntry& to = shard.entries[shard.next++];
     std::string blocks[kFiles];
-    for (int f = 0; f < kFiles; ++f) {
+    for (int f = 0; f < files; ++f) {
       blocks[f].resize(static_cast<size_t>(to.end[f] - from.end[f]));
       streams[k][f].seekg(from.end[f]);
       if (!streams[k][f].read(blocks[f].data(), static_cast<long>(blocks[f].size()))) {
@@ -552,12 +563,15 @@ bool MergeRunDirectories(const std::vector<std::string>& shard_dirs, const std::
     *why = shard_dirs[0] + "/config.resolved.yaml: missing or empty";
     return false;
   }
+  RunConfig config;
+  if (!LoadRunConfig(shard_dirs[0] + "/config.resolved.yaml", &config, why)) return false;
+  const bool rig = config.HasRig();
   std::map<int, Shard> shards;
   int count = 0;
   long total = 0;
-  if (!ReadShards(shard_dirs, resolved, &shards, &count, &total, why)) return false;
-  RunConfig config;
-  if (!LoadRunConfig(shard_dirs[0] + "/config.resolved.yaml", &config, why)) return false;
+  if (!ReadShards(shard_dirs, resolved, NumStreamed(rig), &shards, &count, &total, why)) {
+    return false;
+  }
   const std::string partial = out_dir + "/" + kPartial;
   std::error_code ec;
   fs::create_directories(out_dir, ec);
@@ -567,10 +581,10 @@ bool MergeRunDirectories(const std::vector<std::string>& shard_dirs, const std::
   }
   if (!WriteFileAtomically(out_dir + "/config.resolved.yaml", resolved, why)) return false;
   IndexEntry last;
-  if (!CreatePartial(partial, IndexHeader(ShardSpec(), total), &last, why)) return false;
+  if (!CreatePartial(partial, IndexHeader(ShardSpec(), total), rig, &last, why)) return false;
   PartialWriter writer;
-  if (!writer.Open(partial, last, why)) return false;
-  if (!CopyTasks(&shards, count, total, &writer, why)) return false;
+  if (!writer.Open(partial, last, NumStreamed(rig), why)) return false;
+  if (!CopyTasks(&shards, count, total, NumStreamed(rig), &writer, why)) return false;
   if (!writer.Close()) {
     *why = partial + ": closing the files failed";
     return false;

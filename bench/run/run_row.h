@@ -9,15 +9,34 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "bench/config/scenario.h"
 #include "metrics/metric_table.h"
+#include "metrics/rig_metrics.h"
 #include "metrics/tracking.h"
 
 namespace calibench {
+
+// Rig runs (a scenario with `rig:`): the relative pose of camera c >= 1 against camera 0 as the
+// same method estimated both (metrics/rig_metrics.h), one rig.csv line per (scenario, trial,
+// method, camera c >= 1). The final estimates against the truth at the end of the run; tracking
+// scenarios also the relative rotation and baseline over time, on the segment after the last
+// truth change that moves camera 0 or c (from the start when none): re-convergence of the
+// relative rotation's geodesic error to tracking.tolerance's 0.1 deg-like `rel_rot_tol_deg`, its
+// steady and peak error, the steady |baseline error|.
+struct RigRow {
+  std::string status;  // ok when both cameras' rows are ok; else the first not-ok one's.
+  RigErrors errors;
+  double segment_from_s = kUnset;
+  double rel_rot_tol_deg = kUnset;
+  SegmentFigures rel_rot;       // Of the geodesic error, deg.
+  SegmentFigures baseline_mm;   // Of |baseline error|, mm.
+  SegmentFigures vdisp_rms_px;  // Of the plane's RMS vertical disparity, px.
+};
 
 // One CSV row. Members are named as their runs.csv columns (metrics/metric_table.h has the naming
 // rule, the units and a doc of each); err_* are signed (estimate - truth); NaN where a figure does
@@ -70,6 +89,15 @@ struct RunRow {
   // Observation::crlb_px): the floor corner_rms_px / sqrt(2) is measured against. NaN for oracle
   // and for refinements that report none. Appended after corner_radial_bias_px.
   double corner_crlb_px = kUnset;
+  // Rig runs: the row's camera (its index in rig.cameras; 0 for a scenario without rig). Written
+  // (the `camera` column of runs.csv and of the other per-row files) only in rig runs.
+  int camera = 0;
+  // Rig runs, camera c >= 1: its relative pose against camera 0 by the same method (rig.csv).
+  std::optional<RigRow> rig;
+  // Not written: the estimate's parent_from_cam (a proper one), and its trajectory at the report
+  // times of a tracking scenario (nullopt before the first estimate): the rig metrics' inputs.
+  std::optional<Rigid3> est_parent_from_cam;
+  std::vector<std::optional<Rigid3>> pose_track;
   // Not in runs.csv (they vary from run to run): timings.csv and curves.csv.
   double wall_ms = kUnset;     // The method's own wall time; 0 when copied (reused).
   double measure_ms = kUnset;  // Producing the group's measurements (render + detect).
@@ -96,14 +124,14 @@ const std::vector<MetricSpec>& RunQuantities();
 // runs.csv: header and fields; ParseRunRow is the inverse (false naming the bad column).
 const std::vector<std::string>& RunRowHeader();
 const std::vector<ColumnInfo>& RunRowColumns();
-std::vector<std::string> RunRowFields(const RunRow& row);
+std::vector<std::string> RunRowFields(const RunRow& row, bool camera_column = false);
 bool ParseRunRow(const std::vector<std::string>& header, const std::vector<std::string>& fields,
                  RunRow* row, std::string* why);
 // timings.csv (scenario, trial, method, wall_ms, measure_ms, reused, wall_per_frame_us: the
 // method's wall time per frame of the trial) and curves.csv (scenario, trial, method, t_s,
 // theta_err_norm).
 const std::vector<std::string>& TimingHeader();
-std::vector<std::string> TimingFields(const RunRow& row);
+std::vector<std::string> TimingFields(const RunRow& row, bool camera_column = false);
 const std::vector<std::string>& CurveHeader();
 const std::vector<ColumnInfo>& TimingColumns();
 const std::vector<ColumnInfo>& CurveColumns();
@@ -123,9 +151,20 @@ const std::vector<std::string>& TrackErrorHeader();
 const std::vector<ColumnInfo>& EventColumns();
 const std::vector<ColumnInfo>& TrackColumns();
 const std::vector<ColumnInfo>& TrackErrorColumns();
-std::string EventLines(const RunRow& row);
-std::string TrackLines(const RunRow& row);
+std::string EventLines(const RunRow& row, bool camera_column = false);
+std::string TrackLines(const RunRow& row, bool camera_column = false);
 // `band_samples`: the most report times per trial (evenly thinned, always keeping the last).
-std::string TrackErrorLines(const RunRow& row, int band_samples);
+std::string TrackErrorLines(const RunRow& row, int band_samples, bool camera_column = false);
+
+// Rig runs (RunConfig::HasRig): every per-row file (runs, timings, curves, events, tracks,
+// track_errors; their *Fields / *Lines with camera_column) ends in a `camera` column
+// (CameraColumn), and summary.csv and track_bands.csv are per camera too; a run without a rig has
+// none of it. rig.csv (RigColumns): one line per (scenario, trial, method, camera c >= 1), RigRow.
+ColumnInfo CameraColumn();
+std::vector<ColumnInfo> WithCameraColumn(std::vector<ColumnInfo> columns, bool camera_column);
+std::vector<std::string> WithCameraColumn(std::vector<std::string> header, bool camera_column);
+const std::vector<ColumnInfo>& RigColumns();
+const std::vector<std::string>& RigHeader();
+std::string RigLines(const RunRow& row);  // Empty unless row.rig.
 
 }  // namespace calibench

@@ -74,6 +74,12 @@ const char* kNamingRule[] = {
     "unit.",
 };
 
+// Rig runs' amendment (rig.csv's units).
+const char* kRigNamingRule =
+    "Rig runs: rig.csv also has _mm (millimetres: err_baseline_mm) and _pct (percent of the true "
+    "value: depth_err_10m_pct); every per-row file, summary.csv and track_bands.csv end in a "
+    "camera column.";
+
 std::string QuantityJson(const MetricSpec& m) {
   std::vector<std::string> columns;
   const std::pair<MetricColumn, const char*> kinds[] = {
@@ -186,23 +192,27 @@ std::string MethodsJson(const std::string& indent) {
 }  // namespace
 
 std::string SchemaJson(const RunConfig& config) {
+  const bool rig = config.HasRig();
   std::vector<std::string> rule;
   for (const char* r : kNamingRule) rule.push_back(Quote(r));
+  if (rig) rule.push_back(Quote(kRigNamingRule));
   std::vector<std::string> quantities;
   for (const MetricSpec& m : RunQuantities()) quantities.push_back(QuantityJson(m));
-  const std::pair<const char*, const std::vector<ColumnInfo>*> files[] = {
-      {"runs.csv", &RunRowColumns()},
-      {"summary.csv", &SummaryColumns()},
-      {"timings.csv", &TimingColumns()},
-      {"curves.csv", &CurveColumns()},
-      {"events.csv", &EventColumns()},
-      {"tracks.csv", &TrackColumns()},
-      {"track_errors.csv", &TrackErrorColumns()},
-      {"track_bands.csv", &TrackBandColumns()}};
+  // Rig runs: every per-row file, summary.csv and track_bands.csv end in a camera column; rig.csv.
+  std::vector<std::pair<const char*, std::vector<ColumnInfo>>> files = {
+      {"runs.csv", WithCameraColumn(RunRowColumns(), rig)},
+      {"summary.csv", WithCameraColumn(SummaryColumns(), rig)},
+      {"timings.csv", WithCameraColumn(TimingColumns(), rig)},
+      {"curves.csv", WithCameraColumn(CurveColumns(), rig)},
+      {"events.csv", WithCameraColumn(EventColumns(), rig)},
+      {"tracks.csv", WithCameraColumn(TrackColumns(), rig)},
+      {"track_errors.csv", WithCameraColumn(TrackErrorColumns(), rig)},
+      {"track_bands.csv", WithCameraColumn(TrackBandColumns(), rig)}};
+  if (rig) files.emplace_back("rig.csv", RigColumns());
   std::string out = "{\n  \"schema_version\": 1,\n  \"naming_rule\": " + List(rule, "  ") +
                     ",\n  \"quantities\": " + List(quantities, "  ") + ",\n  \"files\": {\n";
   for (size_t i = 0; i < std::size(files); ++i) {
-    out += "    " + Quote(files[i].first) + ": " + FileJson(*files[i].second, "    ") +
+    out += "    " + Quote(files[i].first) + ": " + FileJson(files[i].second, "    ") +
            (i + 1 < std::size(files) ? ",\n" : "\n");
   }
   out += "  },\n  \"sweeps\": " + SweepsJson(config, "  ") +

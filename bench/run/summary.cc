@@ -17,6 +17,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct Pair {
   std::string scenario, sweep, point, params, method;
+  std::string camera;  // Rig runs (a camera column): the rows' camera; else empty.
   long n = 0, n_failed = 0;
   std::vector<std::vector<double>> values;  // Per metric: the ok rows' values.
   std::vector<std::vector<double>> crlb;    // Per metric: the rows' bounds (finite ones).
@@ -88,6 +89,7 @@ namespace {
 // its Cramer-Rao bound and its reported std (-1: not in the file).
 struct RunsColumns {
   int scenario = -1, sweep = -1, point = -1, params = -1, method = -1, status = -1;
+  int camera = -1;  // Rig runs only.
   std::vector<int> metric, crlb, std;
 };
 bool FindRunsColumns(const std::vector<std::string>& header, RunsColumns* cols) {
@@ -104,6 +106,7 @@ bool FindRunsColumns(const std::vector<std::string>& header, RunsColumns* cols) 
   }
   cols->scenario = column("scenario"), cols->sweep = column("sweep"), cols->point = column("point");
   cols->params = column("params"), cols->method = column("method"), cols->status = column("status");
+  cols->camera = column(CameraColumn().name);
   for (int c :
        {cols->scenario, cols->sweep, cols->point, cols->params, cols->method, cols->status}) {
     if (c < 0) return false;
@@ -157,7 +160,7 @@ bool ReadPairs(const std::string& runs_csv, std::vector<Pair>* pairs_out, std::s
   const size_t num_metrics = SummaryMetrics().size();
   std::vector<Pair>& pairs = *pairs_out;
   pairs.clear();
-  std::map<std::pair<std::string, std::string>, size_t> index;
+  std::map<std::vector<std::string>, size_t> index;
   while (reader.Next(&fields, &reason)) {
     if (fields.size() != header.size()) {
       if (why) {
@@ -167,7 +170,8 @@ bool ReadPairs(const std::string& runs_csv, std::vector<Pair>* pairs_out, std::s
       }
       return false;
     }
-    const auto key = std::make_pair(fields[cols.scenario], fields[cols.method]);
+    std::vector<std::string> key = {fields[cols.scenario], fields[cols.method]};
+    if (cols.camera >= 0) key.push_back(fields[cols.camera]);
     auto it = index.find(key);
     if (it == index.end()) {
       it = index.emplace(key, pairs.size()).first;
@@ -177,6 +181,7 @@ bool ReadPairs(const std::string& runs_csv, std::vector<Pair>* pairs_out, std::s
       p.point = fields[cols.point];
       p.params = fields[cols.params];
       p.method = fields[cols.method];
+      if (cols.camera >= 0) p.camera = fields[cols.camera];
       p.values.resize(num_metrics);
       p.crlb.resize(num_metrics);
       p.stds.resize(num_metrics);
@@ -209,27 +214,29 @@ std::string SummaryLine(const Pair& p, size_t m) {
   }
   const double crlb = Median(p.crlb[m]);
   const std::vector<double> a = Absolute(v);
-  return CsvLine({p.scenario,
-                  p.sweep,
-                  p.point,
-                  p.params,
-                  p.method,
-                  metrics[m],
-                  std::to_string(p.n),
-                  std::to_string(p.n_failed),
-                  std::to_string(v.size()),
-                  FormatNumber(Median(v)),
-                  FormatNumber(mean),
-                  FormatNumber(std),
-                  FormatNumber(Quantile(v, 0.025)),
-                  FormatNumber(Quantile(v, 0.975)),
-                  FormatNumber(rmse),
-                  FormatNumber(crlb),
-                  FormatNumber(crlb > 0 ? rmse / crlb : kNaN),
-                  FormatNumber(Median(a)),
-                  FormatNumber(Quantile(a, 0.025)),
-                  FormatNumber(Quantile(a, 0.975)),
-                  FormatNumber(Median(p.stds[m]))});
+  std::vector<std::string> fields = {p.scenario,
+                                     p.sweep,
+                                     p.point,
+                                     p.params,
+                                     p.method,
+                                     metrics[m],
+                                     std::to_string(p.n),
+                                     std::to_string(p.n_failed),
+                                     std::to_string(v.size()),
+                                     FormatNumber(Median(v)),
+                                     FormatNumber(mean),
+                                     FormatNumber(std),
+                                     FormatNumber(Quantile(v, 0.025)),
+                                     FormatNumber(Quantile(v, 0.975)),
+                                     FormatNumber(rmse),
+                                     FormatNumber(crlb),
+                                     FormatNumber(crlb > 0 ? rmse / crlb : kNaN),
+                                     FormatNumber(Median(a)),
+                                     FormatNumber(Quantile(a, 0.025)),
+                                     FormatNumber(Quantile(a, 0.975)),
+                                     FormatNumber(Median(p.stds[m]))};
+  if (!p.camera.empty()) fields.push_back(p.camera);
+  return CsvLine(fields);
 }
 
 }  // namespace
@@ -239,7 +246,8 @@ bool SummarizeRuns(const std::string& runs_csv, std::string* summary_csv, std::s
   if (!ReadPairs(runs_csv, &pairs, why)) return false;
   std::vector<std::string> out_header;
   for (const ColumnInfo& c : SummaryColumns()) out_header.push_back(c.name);
-  std::string out = CsvLine(out_header);
+  const bool cameras = !pairs.empty() && !pairs.front().camera.empty();
+  std::string out = CsvLine(WithCameraColumn(out_header, cameras));
   for (const Pair& p : pairs) {
     for (size_t m = 0; m < SummaryMetrics().size(); ++m) out += SummaryLine(p, m);
   }
@@ -287,8 +295,12 @@ bool SummarizeTrackErrors(const std::string& track_errors_csv, std::string* band
     if (why) *why = track_errors_csv + ": not a calibench track_errors.csv";
     return false;
   }
+  // Rig runs: a last camera column, a key (the bands are per camera).
+  const bool cameras = header.back() == CameraColumn().name;
+  const size_t end_value = header.size() - (cameras ? 1 : 0);
+  if (cameras) out = CsvLine(WithCameraColumn(header_out, true));
   struct Key {
-    std::string scenario, point, method, t_s;
+    std::string scenario, point, method, t_s, camera;
     std::vector<std::vector<double>> values;  // Per value column.
   };
   std::vector<Key> keys;
@@ -298,14 +310,15 @@ bool SummarizeTrackErrors(const std::string& track_errors_csv, std::string* band
       if (why) *why = track_errors_csv + ": record " + std::to_string(reader.record()) + ": bad";
       return false;
     }
-    const std::vector<std::string> id = {fields[0], fields[1], fields[3], fields[4]};
+    const std::string camera = cameras ? fields.back() : "";
+    const std::vector<std::string> id = {fields[0], fields[1], fields[3], fields[4], camera};
     auto it = index.find(id);
     if (it == index.end()) {
       it = index.emplace(id, keys.size()).first;
-      keys.push_back({fields[0], fields[1], fields[3], fields[4], {}});
-      keys.back().values.resize(header.size() - first_value);
+      keys.push_back({fields[0], fields[1], fields[3], fields[4], camera, {}});
+      keys.back().values.resize(end_value - first_value);
     }
-    for (size_t c = first_value; c < header.size(); ++c) {
+    for (size_t c = first_value; c < end_value; ++c) {
       const double v = std::strtod(fields[c].c_str(), nullptr);
       if (std::isfinite(v)) keys[it->second].values[c - first_value].push_back(v);
     }
@@ -326,9 +339,19 @@ bool SummarizeTrackErrors(const std::string& track_errors_csv, std::string* band
         for (double x : v) sum += x, abs_values.push_back(std::abs(x));
         mean = sum / v.size();
       }
-      out += CsvLine({k.scenario, k.point, k.method, k.t_s, name, std::to_string(v.size()),
-                      FormatNumber(mean), FormatNumber(Median(v)), FormatNumber(Median(abs_values)),
-                      FormatNumber(Quantile(v, 0.025)), FormatNumber(Quantile(v, 0.975))});
+      std::vector<std::string> line = {k.scenario,
+                                       k.point,
+                                       k.method,
+                                       k.t_s,
+                                       name,
+                                       std::to_string(v.size()),
+                                       FormatNumber(mean),
+                                       FormatNumber(Median(v)),
+                                       FormatNumber(Median(abs_values)),
+                                       FormatNumber(Quantile(v, 0.025)),
+                                       FormatNumber(Quantile(v, 0.975))};
+      if (cameras) line.push_back(k.camera);
+      out += CsvLine(line);
     }
   }
   *bands_csv = std::move(out);

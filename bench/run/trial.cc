@@ -1,9 +1,11 @@
 #include "bench/run/trial.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <deque>
 #include <memory>
+#include <optional>
 
 #include "methods/options.h"
 #include "methods/registry.h"
@@ -12,15 +14,15 @@
 namespace calibench {
 namespace {
 
-// The trial's measurement source; *base gets the seed and the detection figures. Null (and *why)
-// when the measurements cannot be produced.
+// The trial's measurement source, its noise drawn from `seed`; *base gets the detection figures.
+// Null (and *why) when the measurements cannot be produced.
 std::unique_ptr<MeasurementSource> MakeSource(const ScenarioConfig& s, const SceneTruth& scene,
-                                              RunRow* base, std::string* why) {
+                                              uint64_t seed, RunRow* base, std::string* why) {
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<MeasurementSource> source;
   if (s.detections == Detections::kRendered) {
     auto rendered =
-        RenderedSource::Create(scene, s.points.AprilGrids(), s.RenderingOptions(), base->seed, why);
+        RenderedSource::Create(scene, s.points.AprilGrids(), s.RenderingOptions(), seed, why);
     if (rendered) {
       const DetectionStats& stats = rendered->stats();
       base->detect_rate = stats.DetectionRate();
@@ -31,7 +33,7 @@ std::unique_ptr<MeasurementSource> MakeSource(const ScenarioConfig& s, const Sce
     }
     source = std::move(rendered);
   } else {
-    source = OracleSource::Create(scene, s.OracleSourceOptions(), base->seed, why);
+    source = OracleSource::Create(scene, s.OracleSourceOptions(), seed, why);
   }
   if (source && s.diagnostics.Active()) {
     source = ApplyDiagnostics(std::move(source), scene, s.points.AprilGrids(), s.diagnostics, why);
@@ -97,12 +99,23 @@ struct Outcome {
   std::vector<std::pair<double, double>> curve;
   std::vector<TrackPoint> track;  // Tracking scenarios: at the report times.
   std::vector<EventMetrics> events;
+  std::vector<std::optional<Rigid3>> pose_track;  // Rig tracking scenarios: at the report times.
 };
+
+// A proper parent_from_cam of an estimate, or none.
+std::optional<Rigid3> PoseOf(const CameraEstimate& e) {
+  if (!e.has_camera || e.improper || !e.parent_from_cam.rotation.allFinite() ||
+      !e.parent_from_cam.translation.allFinite()) {
+    return std::nullopt;
+  }
+  return e.parent_from_cam;
+}
 
 // What a method reports over time: theta_hat into ||theta~||(t), estimates into its trajectory.
 class TrackSink final : public EstimateSink {
  public:
-  TrackSink(ThetaTrack* theta, EstimateTrack* estimates) : theta_(theta), estimates_(estimates) {}
+  TrackSink(ThetaTrack* theta, EstimateTrack* estimates, bool record_poses)
+      : theta_(theta), estimates_(estimates), record_poses_(record_poses) {}
   void OnSeries(double t_s, const std::string& series, const Eigen::VectorXd& value) override {
     if (series != kThetaSeries || value.size() != 16) return;
     theta_->Add(t_s, value);
@@ -110,20 +123,34 @@ class TrackSink final : public EstimateSink {
   }
   void OnEstimate(double t_s, const CameraEstimate& estimate) override {
     if (estimates_ != nullptr) estimates_->Add(t_s, estimate);
+    if (record_poses_) poses.emplace_back(t_s, PoseOf(estimate));
+  }
+  // The poses at `times` (ascending), piecewise constant as EstimateTrack::Sample holds them.
+  std::vector<std::optional<Rigid3>> SamplePoses(const std::vector<double>& times) const {
+    std::vector<std::optional<Rigid3>> out;
+    out.reserve(times.size());
+    size_t next = 0;
+    for (double t : times) {
+      while (next < poses.size() && poses[next].first <= t + 1e-12) ++next;
+      out.push_back(next > 0 ? poses[next - 1].second : std::nullopt);
+    }
+    return out;
   }
   int theta_samples = 0;
+  std::vector<std::pair<double, std::optional<Rigid3>>> poses;
 
  private:
   ThetaTrack* theta_;
   EstimateTrack* estimates_;
+  bool record_poses_;
 };
 
 // Runs the instances of one scenario of the group on the trial's measurements.
 class ScenarioTrial {
  public:
   ScenarioTrial(const ScenarioConfig& s, const SceneTruth& scene, const MeasurementSource& source,
-                TrialCache* cache, const GroupTrialOptions& options)
-      : s_(s), scene_(scene), cache_(cache), options_(options) {
+                int camera, TrialCache* cache, const GroupTrialOptions& options)
+      : s_(s), scene_(scene), camera_(camera), cache_(cache), options_(options) {
     input_.source = &source;
     input_.image_width = s.image_width;
     input_.image_height = s.image_height;
@@ -155,7 +182,7 @@ class ScenarioTrial {
       ThetaTrack track(s_.truth, track_options);
       EstimateTrack estimates;
       const bool tracks = !input.report_times_s.empty();
-      TrackSink sink(&track, tracks ? &estimates : nullptr);
+      TrackSink sink(&track, tracks ? &estimates : nullptr, tracks && s_.rig.Any());
       Outcome outcome;
       outcome.result = instance.method->Run(input, &sink);
       outcome.trajectory_samples = sink.theta_samples;
@@ -166,6 +193,7 @@ class ScenarioTrial {
             estimates.Sample(input.report_times_s, [this](double t) { return scene_.CameraAt(t); });
         outcome.events = EvaluateEvents(outcome.track, event_times_, input.source->Duration(),
                                         s_.tracking.metrics);
+        if (s_.rig.Any()) outcome.pose_track = sink.SamplePoses(input.report_times_s);
       }
       return outcome;
     });
@@ -173,6 +201,7 @@ class ScenarioTrial {
 
   RunRow Row(const MethodInstance& instance, RunRow row, ScenarioShared* shared) {
     row.method = instance.name;
+    row.camera = camera_;
     const Outcome& outcome = OutcomeOf(instance);
     const MethodResult& r = outcome.result;
     row.wall_ms = r.wall_ms;
@@ -214,6 +243,7 @@ class ScenarioTrial {
       row.err_yaw_deg = m.errors.yaw_deg;
       row.ortho_defect = e.orthogonality_defect;
       row.improper = e.improper ? 1 : 0;
+      if (s_.rig.Any() && r.IsUsable()) row.est_parent_from_cam = PoseOf(e);
     }
     row.theta_err_norm = m.theta_err_norm;
     row.rms_reproj_px = m.rms_reproj_px;
@@ -235,6 +265,7 @@ class ScenarioTrial {
     row.curve = outcome.curve;
     row.track = outcome.track;
     row.events = outcome.events;
+    if (s_.rig.Any()) row.pose_track = outcome.pose_track;
     row.frames = input_.source->NumFrames();
     return row;
   }
@@ -251,7 +282,9 @@ class ScenarioTrial {
     const bool rendered = s_.detections == Detections::kRendered;
     const double sigma_px = rendered ? row->corner_rms_px / std::sqrt(2.0) : noise.pixel_sigma_px;
     if (!model || !(sigma_px > 0) || noise.point_sigma_m > 0) return;
-    const std::string key = std::string(ToString(model->model)) +
+    // A rig's cameras differ (their own intrinsics and views): one bound per camera.
+    const std::string key = (camera_ > 0 ? "camera" + std::to_string(camera_) + ":" : "") +
+                            std::string(ToString(model->model)) +
                             (model->estimate_skew ? "+skew" : "") +
                             (model->autodiff ? "+autodiff" : "");
     CrlbStd bound;
@@ -275,6 +308,7 @@ class ScenarioTrial {
 
   const ScenarioConfig& s_;
   const SceneTruth& scene_;
+  int camera_;
   std::vector<double> event_times_;  // The truth changes' start times.
   TrialCache* cache_;
   GroupTrialOptions options_;
@@ -295,14 +329,19 @@ RunRow CopyOf(RunRow row, const RunRow& base) {
   return row;
 }
 
-std::vector<RunRow> RunGroupTrialUnguarded(const std::vector<const ScenarioConfig*>& group,
-                                           int trial, ScenarioShared* shared,
-                                           const GroupTrialOptions& options) {
+// One camera's part of a trial of a group: `group` holds the camera's scenarios
+// (ScenarioConfig::CameraScenario; a single camera's: the group itself), `scene` its truth, and
+// its measurements draw their noise from `noise_seed`.
+std::vector<RunRow> RunCameraGroupTrial(const std::vector<const ScenarioConfig*>& group,
+                                        const SceneTruth& scene, uint64_t noise_seed, int camera,
+                                        int trial, ScenarioShared* shared,
+                                        const GroupTrialOptions& options) {
   const ScenarioConfig& first = *group.front();
   RunRow base = BaseRow(first, trial);
+  base.camera = camera;
   std::string why;
-  const SceneTruth scene = first.MakeScene(first.TrialSeedOf(trial));
-  const std::unique_ptr<MeasurementSource> source = MakeSource(first, scene, &base, &why);
+  const std::unique_ptr<MeasurementSource> source =
+      MakeSource(first, scene, noise_seed, &base, &why);
   TrialCache cache;  // Shared by the group: same measurements.
   std::vector<RunRow> rows;
   struct Done {
@@ -313,6 +352,7 @@ std::vector<RunRow> RunGroupTrialUnguarded(const std::vector<const ScenarioConfi
   for (size_t j = 0; j < group.size(); ++j) {
     const ScenarioConfig& s = *group[j];
     RunRow row_base = BaseRow(s, trial);
+    row_base.camera = camera;
     row_base.detect_rate = base.detect_rate;
     row_base.corner_rms_px = base.corner_rms_px;
     row_base.corner_radial_bias_px = base.corner_radial_bias_px;
@@ -323,7 +363,7 @@ std::vector<RunRow> RunGroupTrialUnguarded(const std::vector<const ScenarioConfi
       AppendFailed(s, row_base, "measurements: " + why, &rows);
       continue;
     }
-    ScenarioTrial runner(s, scene, *source, &cache, options);
+    ScenarioTrial runner(s, scene, *source, camera, &cache, options);
     const size_t done_before = done.size();
     for (const MethodInstance* instance : s.EnabledMethods()) {
       const std::string key = runner.Key(*instance);
@@ -337,6 +377,102 @@ std::vector<RunRow> RunGroupTrialUnguarded(const std::vector<const ScenarioConfi
         rows.push_back(runner.Row(*instance, row_base, shared ? shared + j : nullptr));
       }
       done.push_back({instance->name, key, rows.size() - 1});
+    }
+  }
+  return rows;
+}
+
+// The rig figures of camera c's row `rc` against camera 0's row `r0` (same scenario, trial and
+// method): metrics/rig_metrics.h, the truth from the cameras' scenes.
+RigRow RigFigures(const ScenarioConfig& s, int c, const SceneTruth& scene0,
+                  const SceneTruth& scenec, const RunRow& r0, const RunRow& rc) {
+  RigRow g;
+  g.status = r0.status != "ok" ? r0.status : rc.status;
+  const auto true_rel = [&](double t) {
+    return scenec.CamFromParentAt(t) * scene0.ParentFromCamAt(t);
+  };
+  const double end_s = s.duration_s;
+  RigErrorOptions options;
+  options.focal_px = scene0.IntrinsicsAt(end_s).fkv_px;
+  if (r0.est_parent_from_cam && rc.est_parent_from_cam) {
+    const Rigid3 est = rc.est_parent_from_cam->Inverse() * *r0.est_parent_from_cam;
+    g.errors = EvaluateRig(est, true_rel(end_s), options);
+  }
+  const size_t n = r0.pose_track.size();
+  if (!s.Tracks() || n == 0 || rc.pose_track.size() != n || r0.track.size() != n) return g;
+  // The segment after the last change that moves camera 0 or c (the start when none).
+  g.segment_from_s = 0.0;
+  for (size_t i = 0; i < s.truth_changes.size(); ++i) {
+    const int moved = s.ChangeCamera(i);
+    if (moved < 0 || moved == 0 || moved == c) {
+      g.segment_from_s = std::max(g.segment_from_s, s.truth_changes[i].from_s);
+    }
+  }
+  const TrackValues& tol = s.tracking.metrics.tolerance;
+  g.rel_rot_tol_deg = std::max({tol[0], tol[1], tol[2]});  // roll, pitch, yaw (tracking.h).
+  std::vector<double> times(n), rot(n, kUnset), baseline(n, kUnset), vdisp(n, kUnset);
+  for (size_t i = 0; i < n; ++i) {
+    times[i] = r0.track[i].t_s;
+    if (!r0.pose_track[i] || !rc.pose_track[i]) continue;
+    const Rigid3 est = rc.pose_track[i]->Inverse() * *r0.pose_track[i];
+    const RigErrors e = EvaluateRig(est, true_rel(times[i]), options);
+    rot[i] = e.rel_rot_err_norm_deg;
+    baseline[i] = e.baseline_err_mm;
+    vdisp[i] = e.vdisp_rms_px;
+  }
+  const double f = s.tracking.metrics.steady_fraction;
+  g.rel_rot = EvaluateSegment(times, rot, g.segment_from_s, end_s, g.rel_rot_tol_deg, f);
+  g.baseline_mm = EvaluateSegment(times, baseline, g.segment_from_s, end_s, kUnset, f);
+  g.vdisp_rms_px = EvaluateSegment(times, vdisp, g.segment_from_s, end_s, kUnset, f);
+  g.baseline_mm.reconverge_s = g.vdisp_rms_px.reconverge_s = kUnset;  // No tolerance: not used.
+  return g;
+}
+
+std::vector<RunRow> RunGroupTrialUnguarded(const std::vector<const ScenarioConfig*>& group,
+                                           int trial, ScenarioShared* shared,
+                                           const GroupTrialOptions& options) {
+  const ScenarioConfig& first = *group.front();
+  const uint64_t trial_seed = first.TrialSeedOf(trial);
+  if (!first.rig.Any()) {
+    return RunCameraGroupTrial(group, first.MakeScene(trial_seed), trial_seed, 0, trial, shared,
+                               options);
+  }
+  // A rig: every camera on its own (composition), camera by camera; then the rig figures of each
+  // camera c >= 1 against camera 0, row by row (the cameras' rows come in the same order).
+  const int cameras = first.NumCameras();
+  std::vector<SceneTruth> scenes;
+  scenes.reserve(cameras);
+  std::vector<std::vector<RunRow>> by_camera;
+  for (int c = 0; c < cameras; ++c) {
+    std::vector<ScenarioConfig> camera_scenarios;
+    camera_scenarios.reserve(group.size());
+    for (const ScenarioConfig* s : group) camera_scenarios.push_back(s->CameraScenario(c));
+    std::vector<const ScenarioConfig*> members;
+    for (const ScenarioConfig& s : camera_scenarios) members.push_back(&s);
+    scenes.push_back(first.MakeCameraScene(c, trial_seed));
+    by_camera.push_back(RunCameraGroupTrial(members, scenes.back(),
+                                            ScenarioConfig::CameraSeed(trial_seed, c), c, trial,
+                                            shared, options));
+  }
+  std::vector<RunRow> rows;
+  for (int c = 0; c < cameras; ++c) {
+    for (size_t k = 0; k < by_camera[c].size(); ++k) {
+      RunRow& row = by_camera[c][k];
+      if (c > 0 && k < by_camera[0].size() && by_camera[0][k].method == row.method &&
+          by_camera[0][k].scenario == row.scenario) {
+        const ScenarioConfig* s = group.front();
+        for (const ScenarioConfig* member : group) {
+          if (member->name == row.scenario) s = member;
+        }
+        row.rig = RigFigures(*s, c, scenes[0], scenes[c], by_camera[0][k], row);
+      }
+    }
+  }
+  for (int c = 0; c < cameras; ++c) {
+    for (RunRow& row : by_camera[c]) {
+      row.pose_track.clear();  // Only the rig figures needed them.
+      row.pose_track.shrink_to_fit();
+      rows.push_back(std::move(row));
     }
   }
   return rows;

@@ -4,7 +4,7 @@ import os
 
 from calibench_report import io, stats
 from calibench_report.sections import (Context, answers, convergence, corner_bias, dynamic, gain,
-                                       oracle_rendered, sweeps, uncertainty)
+                                       oracle_rendered, rig, sweeps, uncertainty)
 
 
 def header(ctx):
@@ -68,7 +68,8 @@ def build(data, out):
     ctx = Context(data, out)
     parts = [sweeps.section(ctx, role) for role in sweeps.ROLES]
     parts += [gain.section(ctx), uncertainty.section(ctx), oracle_rendered.section(ctx),
-              convergence.section(ctx), corner_bias.section(ctx), dynamic.section(ctx)]
+              convergence.section(ctx), corner_bias.section(ctx), dynamic.section(ctx),
+              rig.section(ctx)]
     parts = [p for p in parts if p is not None]
     first = answers.section(ctx)  # After the sections: it shows some of their figures.
     md = header(ctx) + first.md + definitions(ctx)

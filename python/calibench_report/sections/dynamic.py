@@ -32,14 +32,16 @@ def wrap(d):
 
 
 def scenarios(data, role_only=False):
-    """The scenarios that wrote events (their truth changes), in order; with role_only, those of
-    the sweeps whose role is dynamic."""
+    """The scenarios that wrote events (their truth changes), in order, but a rig's (role rig:
+    their rows are per camera; the rig section reports them); with role_only, those of the sweeps
+    whose role is dynamic."""
     if not len(data.events):
         return []
     roles = {s.name: s.role for s in data.schema.sweeps}
     sweep_of = dict(zip(data.runs.scenario, data.runs.sweep))
     return [s for s in dict.fromkeys(data.events.scenario)
-            if not role_only or roles.get(sweep_of.get(s)) == "dynamic"]
+            if roles.get(sweep_of.get(s)) != "rig"
+            and (not role_only or roles.get(sweep_of.get(s)) == "dynamic")]
 
 
 def deviation(t, q):
