@@ -61,7 +61,7 @@ struct ImagePointOptions {
   ImageDetectionCache* detection_cache = nullptr;
   // Only these images of the folder (file names within it, e.g. a glob's matches, one camera's
   // images of a rig); empty: every image of the folder.
-  std::vector<std::string> files;
+  std::vector<std::string> files = {};
   // Images are read and detected in parallel on this many threads (<= 0: every core); the
   // result does not depend on it.
   int threads = 0;

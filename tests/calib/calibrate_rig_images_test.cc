@@ -73,15 +73,19 @@ void ExpectAgreesWithOpenCv(const CalibrateRigResult& result) {
     EXPECT_NEAR(r[axis], r_opencv[axis], kSameOptimumStd * u.rotation_std_deg[axis]) << axis;
   }
   // SOURCE.md (unit squares; 25 mm here): |T| = 3.338 squares = 83.45 mm, rotation vector (0.262,
-  // 0.180, -0.219) deg. Other corners (cornerSubPix, window 11): within 4 std, the real-data
-  // formal std being 3-9x too small (docs/results/real-data.md) makes 2 std too tight a test of
-  // a different corner set; a sign error or a squares-for-mm slip fails it by far.
+  // 0.180, -0.219) deg, from other corners (cornerSubPix, window 11) with a stereo RMS of 0.444 px
+  // against our ~0.215 px: its std is ~2.07x ours, the difference's sqrt(1 + 2.07^2) = 2.3x ours.
+  // Within 4 such std: the real-data formal std is 3-9x too small (docs/results/real-data.md), so
+  // 2 std is too tight a test of a different corner set; a sign error or a squares-for-mm slip
+  // fails it by far (measured: 0.275 mm = 2.7 combined std).
+  constexpr double kSourceStdRatio = 0.444 / 0.215;
+  const double combined = std::sqrt(1.0 + kSourceStdRatio * kSourceStdRatio);
   constexpr double kOtherCornersStd = 4.0;
   EXPECT_NEAR(rig.BaselineM(1) * 1000, 3.338 * 25.0,
-              kOtherCornersStd * std::max(u.baseline_std_mm, 0.05));
+              kOtherCornersStd * combined * u.baseline_std_mm);
   const Eigen::Vector3d r_source(0.262, 0.180, -0.219);
   for (int axis = 0; axis < 3; ++axis) {
-    EXPECT_NEAR(r[axis], r_source[axis], kOtherCornersStd * u.rotation_std_deg[axis] + 0.02)
+    EXPECT_NEAR(r[axis], r_source[axis], kOtherCornersStd * combined * u.rotation_std_deg[axis])
         << axis;
   }
   // The right camera is to the right: camera 1's centre at +x in camera 0's frame.

@@ -101,7 +101,9 @@ TEST(RigFrames, PartialBoardsKeepEnoughCorners) {
   ASSERT_EQ(s.frames.size(), 10u);
   for (const RigFrame& frame : s.frames) {
     for (const View& view : frame.views_by_camera) {
-      if (!view.points.empty()) EXPECT_GE(view.points.size(), 29u);  // ceil(0.6 * 48)
+      if (!view.points.empty()) {
+        EXPECT_GE(view.points.size(), 29u);  // ceil(0.6 * 48)
+      }
     }
   }
 }
