@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "batch/refine.h"
+#include "batch/rig_refine.h"
 #include "camera/view.h"
 #include "util/status.h"
 
@@ -49,5 +50,28 @@ struct JackknifeResult : MethodSummary {
 // per-view poses start every refit). Failed (with the view and the reason) when a refit fails.
 JackknifeResult JackknifeIntrinsics(const std::vector<View>& views, const RefineResult& full,
                                     const JackknifeOptions& options);
+
+// The same for a rig (batch/rig_refine.h): leave one frame out (every camera's view of it), refit
+// the joint solve from the full fit, and take the jackknife std of each camera's pose in the rig:
+// the baseline length (mm), the baseline direction (the angle of each refit's unit baseline from
+// their mean, deg) and the rotation vector of cam_from_rig per axis (deg), as RigPoseUncertainty
+// holds the formal ones. On real corners it is the uncertainty to quote when it exceeds the
+// formal one (the corners of a frame share their errors). A frame without which a camera is cut
+// off from camera 0 fails the jackknife, naming the frame.
+struct RigJackknifeOptions {
+  RigRefineOptions refine;  // The full fit's; the covariance is not computed for the refits.
+  int min_frames = 5;       // As JackknifeOptions::min_views.
+  bool Check(std::string* why) const;
+};
+
+struct RigJackknifeResult : MethodSummary {
+  int num_frames = 0;
+  // Per camera ([0] all zero); covariance unset (zero).
+  std::vector<RigPoseUncertainty> pose;
+};
+
+// `full` is the usable RefineRig(frames, ...) result (its rig and frame poses start every refit).
+RigJackknifeResult JackknifeRig(const std::vector<RigFrame>& frames, const RigRefineResult& full,
+                                const RigJackknifeOptions& options);
 
 }  // namespace calibench

@@ -31,7 +31,7 @@ CalibrateOptions CameraOptions(const CalibrateRigOptions& options, int c) {
   camera.select_model = options.select_model;
   camera.estimate_skew = options.estimate_skew;
   camera.corner_iterations = options.corner_iterations;
-  camera.jackknife = options.jackknife;
+  camera.jackknife = CalibrateOptions::Jackknife::kOff;
   if (options.init) {
     const RigCamera& given = options.init->cameras[c];
     CameraFile file;
@@ -310,6 +310,15 @@ void SolveRigFrom(const CalibrateRigOptions& options, CalibrateRigResult* result
     result->message = "the joint solve failed: " + result->rig.message;
     return;
   }
+  const bool jackknife =
+      !options.evaluate_only && (options.jackknife == CalibrateOptions::Jackknife::kOn ||
+                                 (options.jackknife == CalibrateOptions::Jackknife::kAuto &&
+                                  static_cast<int>(num_frames) <= kJackknifeAutoMaxViews));
+  if (jackknife) {
+    RigJackknifeOptions jack;
+    jack.refine = refine;
+    result->jackknife = JackknifeRig(result->frames, result->rig, jack);
+  }
   for (int a = 0; a < num_cameras; ++a) {
     for (int b = a + 1; b < num_cameras; ++b) {
       EpipolarErrors errors = ComputeEpipolarErrors(result->frames, result->rig.rig, a, b);
@@ -384,23 +393,38 @@ std::string FormatRigReport(const CalibrateRigResult& result) {
       out << "\n";
     }
   }
+  const bool jack = result.jackknife && result.jackknife->IsUsable();
   for (int c = 1; c < num_cameras; ++c) {
     const RigPoseUncertainty& u = result.rig.pose_uncertainty[c];
     const Eigen::Vector3d r = rig.RelativeRotationDeg(c);
     const Eigen::Vector3d t = rig.cameras[c].cam_from_rig.translation * 1000.0;
     const Eigen::Vector3d centre = rig.CentreInRig(c) * 1000.0;
-    out << "camera " << c
-        << " from camera 0 (cam_from_rig; lengths in the target's unit x 1000):\n";
-    std::snprintf(line, sizeof(line),
-                  "  baseline           %.3f +- %.3f mm (direction +- %.4f deg)\n",
-                  rig.BaselineM(c) * 1000.0, u.baseline_std_mm, u.baseline_direction_std_deg);
+    out << "camera " << c << " from camera 0 (its cam_from_rig; the target's metres in mm)"
+        << (result.evaluated ? ", fixed" : "") << ":\n";
+    if (result.evaluated) {
+      std::snprintf(line, sizeof(line),
+                    "  baseline           %.3f mm\n"
+                    "  rotation vector    x %.4f  y %.4f  z %.4f deg (angle %.4f deg)\n",
+                    rig.BaselineM(c) * 1000.0, r.x(), r.y(), r.z(), r.norm());
+    } else {
+      std::snprintf(line, sizeof(line),
+                    "  baseline           %.3f +- %.3f mm (direction +- %.4f deg)\n"
+                    "  rotation vector    x %.4f +- %.4f  y %.4f +- %.4f  z %.4f +- %.4f deg "
+                    "(angle %.4f deg)\n",
+                    rig.BaselineM(c) * 1000.0, u.baseline_std_mm, u.baseline_direction_std_deg,
+                    r.x(), u.rotation_std_deg.x(), r.y(), u.rotation_std_deg.y(), r.z(),
+                    u.rotation_std_deg.z(), r.norm());
+    }
     out << line;
-    std::snprintf(line, sizeof(line),
-                  "  rotation vector    x %.4f +- %.4f  y %.4f +- %.4f  z %.4f +- %.4f deg "
-                  "(angle %.4f deg)\n",
-                  r.x(), u.rotation_std_deg.x(), r.y(), u.rotation_std_deg.y(), r.z(),
-                  u.rotation_std_deg.z(), r.norm());
-    out << line;
+    if (jack) {
+      const RigPoseUncertainty& j = result.jackknife->pose[c];
+      std::snprintf(line, sizeof(line),
+                    "  jackknife std      baseline %.3f mm (direction %.4f deg), rotation x %.4f"
+                    "  y %.4f  z %.4f deg\n",
+                    j.baseline_std_mm, j.baseline_direction_std_deg, j.rotation_std_deg.x(),
+                    j.rotation_std_deg.y(), j.rotation_std_deg.z());
+      out << line;
+    }
     std::snprintf(line, sizeof(line), "  translation        %.3f %.3f %.3f mm\n", t.x(), t.y(),
                   t.z());
     out << line;
@@ -412,6 +436,15 @@ std::string FormatRigReport(const CalibrateRigResult& result) {
                     result.init.parent[c], result.init.shared_points[c]);
       out << line;
     }
+  }
+  if (result.jackknife && !result.jackknife->IsUsable()) {
+    out << "jackknife: not computed: " << result.jackknife->message << "\n";
+  } else if (jack) {
+    std::snprintf(line, sizeof(line),
+                  "jackknife std: the spread of %d joint solves each leaving one frame out; "
+                  "quote it where it exceeds the formal std\n",
+                  result.jackknife->num_frames);
+    out << line;
   }
   for (const EpipolarErrors& e : result.epipolar) {
     std::snprintf(line, sizeof(line), "epipolar error cameras %d-%d: %.3f px RMS over %d corners\n",

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "batch/jackknife.h"
 #include "batch/rig_refine.h"
 #include "calib/calibrate_camera.h"
 #include "camera/rig.h"
@@ -49,7 +50,10 @@ struct CalibrateRigOptions {
   std::string init_path;          // Its file, for the report.
   bool evaluate_only = false;     // With init: only the board poses move.
   int corner_iterations = 4;      // Per camera, as CalibrateOptions::corner_iterations.
-  CalibrateOptions::Jackknife jackknife = CalibrateOptions::Jackknife::kOff;  // Per camera.
+  // The rig's leave-one-frame-out std of each camera's pose in the rig (batch/jackknife.h
+  // JackknifeRig) beside the formal one; kAuto: with kJackknifeAutoMaxViews frames or fewer. The
+  // cameras calibrated alone (step 1) run none: the joint solve supersedes them.
+  CalibrateOptions::Jackknife jackknife = CalibrateOptions::Jackknife::kAuto;
   // False with *why: an empty model list, evaluate_only without init, select_model with init or
   // with a model list, negative corner_iterations. The model list's length against the number of
   // cameras is checked by CalibrateRigImages (it knows the cameras).
@@ -80,9 +84,10 @@ struct CalibrateRigResult {
   std::vector<RigFrame> frames;          // The views of each frame, per camera.
   // [frame][camera]: the index of that view in cameras[camera].data.views; -1: none.
   std::vector<std::vector<int>> view_of_frame;
-  RigInitSummary init;                   // The spanning tree (step 2).
-  RigRefineResult rig;                   // The joint solve (step 3); rig.rig is the calibration.
-  std::vector<EpipolarErrors> epipolar;  // Per pair of cameras that shared a corner.
+  RigInitSummary init;  // The spanning tree (step 2).
+  RigRefineResult rig;  // The joint solve (step 3); rig.rig is the calibration.
+  std::optional<RigJackknifeResult> jackknife;  // When computed (CalibrateRigOptions::jackknife).
+  std::vector<EpipolarErrors> epipolar;         // Per pair of cameras that shared a corner.
   std::vector<RigFrameDisagreement> disagreements;
   // cam_overlaps as Kalibr writes it: per camera, the cameras it shared a frame with.
   std::vector<std::vector<int>> overlaps;

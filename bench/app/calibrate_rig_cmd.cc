@@ -97,8 +97,8 @@ int CalibrateRig(const CalibrateArgs& args) {
   }
   options.estimate_skew = args.skew;
   options.corner_iterations = args.corner_iterations;
-  options.jackknife = args.jackknife == "on" ? CalibrateOptions::Jackknife::kOn
-                                             : CalibrateOptions::Jackknife::kOff;
+  if (args.jackknife == "on") options.jackknife = CalibrateOptions::Jackknife::kOn;
+  if (args.jackknife == "off") options.jackknife = CalibrateOptions::Jackknife::kOff;
   if (args.target_path.empty()) {
     std::cerr << "calibench: --images needs --target TARGET.yaml (Kalibr aprilgrid or "
                  "checkerboard)\n";
@@ -147,8 +147,7 @@ int CalibrateRig(const CalibrateArgs& args) {
                   << ": its images must be in one folder\n";
         return 2;
       }
-      cameras[c].files_by_frame.push_back(path.empty() ? ""
-                                                       : fs::path(path).filename().string());
+      cameras[c].files_by_frame.push_back(path.empty() ? "" : fs::path(path).filename().string());
     }
   }
   ImagePointOptions images;
@@ -186,8 +185,9 @@ int CalibrateRig(const CalibrateArgs& args) {
   file.intrinsics_std = result.rig.intrinsics_std;
   file.cam_overlaps = result.overlaps;
   if (format == CameraFormat::kOpenCv && num_cameras != 2) {
-    std::cerr << "calibench: --out: " << out << ": an OpenCV stereo file holds 2 cameras, the rig has "
-              << num_cameras << ": write a Kalibr camchain (*camchain*.yaml) or mrcal models "
+    std::cerr << "calibench: --out: " << out
+              << ": an OpenCV stereo file holds 2 cameras, the rig has " << num_cameras
+              << ": write a Kalibr camchain (*camchain*.yaml) or mrcal models "
               << "(.cameramodel)\n";
     return 2;
   }
