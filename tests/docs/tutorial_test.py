@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """docs/tutorial.md, run as a newcomer would: every command of its sections 2 (write your own
-scenario) and 3 (calibrate your camera from images), in a fresh directory that sees the
+scenario), 3 (calibrate your camera from images) and 4 (calibrate a stereo camera), in a fresh directory that sees the
 repository's configs/ and data/, with calibench on the PATH.
 
 The user's own images (my_images/, new_images/) and target (board.yaml) are the bundled
-opencv-left chessboard set and its target file. Section 1 (./scripts/bench, about six minutes on
-2 cores) and section 4 (Slurm: scripts/slurm_ci.sh) are steps of CI's .ci/run.
+opencv-left chessboard set and its target file (and for the stereo camera the opencv-left and
+opencv-right pair). Section 1 (./scripts/bench, about six minutes on
+2 cores) and section 5 (Slurm: scripts/slurm_ci.sh) are steps of CI's .ci/run.
 
 Usage: tutorial_test.py SOURCE_DIR CALIBENCH
 """
@@ -21,8 +22,12 @@ SUBSTITUTIONS = [  # (a whole word of a command line, what replaces it)
     ("my_images/", "data/opencv-left/"),
     ("new_images/", "data/opencv-left/"),
     ("board.yaml", "data/opencv-left/checkerboard.yaml"),
+    ("my_images/left*.jpg", "data/opencv-left/left*.jpg"),
+    ("my_images/right*.jpg", "data/opencv-right/right*.jpg"),
+    ("new_images/left*.jpg", "data/opencv-left/left*.jpg"),
+    ("new_images/right*.jpg", "data/opencv-right/right*.jpg"),
 ]
-SECTIONS = ("## 2.", "## 3.")
+SECTIONS = ("## 2.", "## 3.", "## 4.")
 
 
 def blocks(markdown, language):

@@ -1,5 +1,5 @@
 """The first page: for each question the runs answer (noise, points, gain, the dynamic events,
-detection) the winner, its effect size with its interval and its adjusted p, and one figure.
+the rig, detection) the winner, its effect size with its interval and its adjusted p, and one figure.
 Each section answers its own question (its answer(ctx)); this page puts them in order.
 
 A sweep question is answered per sweep (oracle, rendered) and per headline quantity (schema.json:
@@ -8,7 +8,7 @@ at the most points; each of its wins is significant when its comparison with the
 runner-up has a Holm-adjusted p below stats.SIGNIFICANCE (the family: every comparison of that
 point, as in the appendix tables); its closest win, the one with the largest p, is shown with the
 runner-up's effect. Where it wins nowhere significantly, the table says so."""
-from calibench_report.sections import Section, corner_bias, dynamic, gain, sweeps
+from calibench_report.sections import Section, corner_bias, dynamic, gain, rig, sweeps
 from calibench_report.tables import SIGNIFICANT
 
 QUESTIONS = {
@@ -16,6 +16,7 @@ QUESTIONS = {
     "points": "Feature points: which method is most accurate from few to many points?",
     "gain": "Adaptive gain: which gain makes the adaptive estimator most accurate?",
     "dynamic": "A calibration that changes: which method re-converges first?",
+    "rig": "A camera rig: which method follows a change of its relative pose first?",
     "detection": "Detection: which corner refinement gives the most accurate corners?",
 }
 
@@ -33,6 +34,7 @@ def section(ctx):
                         ("points", lambda: sweeps.answer(ctx, "points")),
                         ("gain", lambda: gain.answer(ctx)),
                         ("dynamic", lambda: dynamic.answer(ctx)),
+                        ("rig", lambda: rig.answer(ctx)),
                         ("detection", lambda: corner_bias.answer(ctx))):
         md = answer()
         out.md += [f"### {QUESTIONS[key]}", ""] + (md or ["Not in these runs.", ""])

@@ -113,3 +113,33 @@ def section(ctx):
             out.md += [f"Not testable: {trials} trials, a paired test needs {stats.MIN_PAIRS}.",
                        ""]
     return out
+
+
+def answer(ctx):
+    """The first page's answer on the rig tracking scenarios: per scenario and camera, who
+    re-converges first in relative rotation, against the runner-up, or None."""
+    rig = ctx.data.table("rig")
+    if not len(rig):
+        return None
+    body = []
+    for (scenario, camera), x in rig.groupby(["scenario", "camera"], sort=False):
+        if not x.segment_from_s.notna().any():
+            continue
+        end_s = run_end(ctx.data, scenario)
+        result = contest(x, end_s)
+        if result is None:
+            continue
+        winner, comparisons = result
+        runner = next(iter(comparisons), None)
+        c = comparisons.get(runner)
+        w = x[x.method == winner]
+        body.append([f"{scenario}, camera {camera}", f"{x.trial.nunique()}", winner,
+                     f"{num(median(reconvergence(w, end_s)))} s; steady "
+                     f"{num(median(w.rel_rot_steady_err_deg), 2)} deg",
+                     runner or "–", effect_text(c, "s"), p_text(c)])
+    if not body:
+        return None
+    head = ["scenario", "trials", "first to re-converge (relative rotation)",
+            "its median", "runner-up", "Δ of the runner-up [95% CI]",
+            "p (Holm over the methods)"]
+    return [markdown(body, head), ""]
