@@ -92,6 +92,42 @@ class ReportTest(unittest.TestCase):
         self.assertTrue(os.path.exists(os.path.join(self.out, "tracking_step.png")))
 
 
+class RigReportTest(unittest.TestCase):
+    """A rig run (tests/bench/rig/short_rig.yaml: a knock of camera 1 at 15 s, 2 trials): the
+    first page answers the rig question from rig.csv, and the rig section has its table."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        run = os.path.join(cls.tmp.name, "rig")
+        out = os.path.join(cls.tmp.name, "report")
+        subprocess.run([CALIBENCH, "run", os.path.join(ROOT, "tests/bench/rig/short_rig.yaml"),
+                        "--out", run, "--quiet", "--threads", "2"], check=True,
+                       capture_output=True)
+        cls.result = subprocess.run([CALIBENCH, "report", run, "--out", out],
+                                    capture_output=True, text=True)
+        with open(os.path.join(out, "report.md"), encoding="utf-8") as f:
+            cls.md = f.read()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_answers_the_rig_question(self):
+        self.assertEqual(self.result.returncode, 0, self.result.stderr)
+        self.assertNotIn("Warning", self.result.stderr)
+        answers = self.md.split("## How to read this report")[0]
+        rig = answers.split("### A camera rig")[1].split("###")[0]
+        # Its row: the scenario and camera, 2 trials, a winner, a median in s, and why no p.
+        self.assertRegex(rig, r"\| short_step, camera 1 +\| 2 +\| [\w-]+ +\| [\d.]+ s; steady")
+        self.assertIn("not testable (n=2<5)", rig)
+
+    def test_rig_section_table(self):
+        self.assertIn("## Camera rigs", self.md)
+        self.assertIn("### short_step, camera 1 against camera 0 (2 trials)", self.md)
+        self.assertIn("Not testable: 2 trials, a paired test needs 5.", self.md)
+
+
 if __name__ == "__main__":
     CALIBENCH = os.path.abspath(sys.argv.pop(1)) if len(sys.argv) > 1 else os.path.join(
         ROOT, "build", "bench", "calibench")
