@@ -9,7 +9,11 @@
 //   2. if that finds nothing, cv::findChessboardCornersSB (sub-pixel by itself).
 // With sector_based_first, 2 is tried before 1: on a fisheye's bent boards the classic search often
 // fails after seconds where the sector-based one succeeds in tens of milliseconds.
-// Corner (r, c), r < rows, c < cols, is returned at index r * cols + c.
+// Corner (r, c), r < rows, c < cols, is returned at index r * cols + c, in one order whichever
+// detector found it: rows and columns turn as the image's x and y (the board seen from the front),
+// and, when cols + rows is odd, the square between corners (0, 0) and (1, 1) is dark (a half turn
+// would make it light); a board with cols + rows even keeps its half-turn ambiguity. The cameras
+// of a rig then agree on the board frame.
 #pragma once
 
 #include <Eigen/Core>
