@@ -237,16 +237,24 @@ RigPoseUncertainty PoseUncertaintyOf(const Eigen::Matrix<double, 6, 6>& covarian
                                      const Rigid3& cam_from_rig) {
   RigPoseUncertainty out;
   out.covariance = covariance;
-  const Eigen::Matrix3d cov_t = covariance.bottomRightCorner<3, 3>();
+  // The camera's centre in the rig, c = -R^T t, moves with [d, t] as dc = -R^T ([t]x d + dt)
+  // (R' = Exp(d) R: Exp(-d) t = t + [t]x d to first order).
+  const Eigen::Matrix3d& r = cam_from_rig.rotation;
   const Eigen::Vector3d& t = cam_from_rig.translation;
-  const double length = t.norm();
-  const Eigen::Vector3d u = t / length;
-  out.baseline_std_mm = 1000.0 * std::sqrt(std::max(0.0, u.dot(cov_t * u)));
-  // The unit vector u = t / |t| moves by du = (I - u u^T) dt / |t|: an angle |du| (rad).
+  Eigen::Matrix3d t_cross;
+  t_cross << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
+  Eigen::Matrix<double, 3, 6> d_centre;
+  d_centre << -r.transpose() * t_cross, -r.transpose();
+  const Eigen::Matrix3d cov_c = d_centre * covariance * d_centre.transpose();
+  const Eigen::Vector3d centre = -r.transpose() * t;
+  const double length = centre.norm();
+  const Eigen::Vector3d u = centre / length;
+  out.baseline_std_mm = 1000.0 * std::sqrt(std::max(0.0, u.dot(cov_c * u)));
+  // The unit vector u = c / |c| moves by du = (I - u u^T) dc / |c|: the RMS angle |du| (rad) is
+  // sqrt(trace(cov_u)), as the jackknife measures it (batch/jackknife.h).
   const Eigen::Matrix3d project = (Eigen::Matrix3d::Identity() - u * u.transpose()) / length;
-  const Eigen::Matrix3d cov_u = project * cov_t * project.transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov_u);
-  out.baseline_direction_std_deg = std::sqrt(std::max(0.0, eig.eigenvalues()[2])) * kRadToDeg;
+  const Eigen::Matrix3d cov_u = project * cov_c * project.transpose();
+  out.baseline_direction_std_deg = std::sqrt(std::max(0.0, cov_u.trace())) * kRadToDeg;
   // r = Log(Exp(d) R): its Jacobian in d at d = 0 by central differences (exact to ~1e-9 of its
   // entries; LogSO3 is smooth away from pi).
   constexpr double kStep = 1e-6;

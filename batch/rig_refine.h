@@ -25,7 +25,8 @@
 // the known pixel noise if given, else from the residuals, sigma_hat^2 = 2 cost / (m - p). From it,
 // by first-order propagation: each camera's intrinsics std; each cam_from_rig_c's 6 x 6 covariance
 // [d (3, rad, R' = Exp(d) R), t (3, m)]; the baseline length std (mm); the baseline direction std
-// (deg: the angle the unit vector t / |t| moves by, worst direction); the relative rotation's
+// (deg: the RMS angle the unit vector c / |c| of the camera's centre in the rig, c = -R^T t,
+// moves by; as the jackknife's, batch/jackknife.h); the relative rotation's
 // rotation-vector std per axis (deg; camera/rig.h). Evaluated at the true parameters with the true
 // sigma (RigCovarianceAt) the same numbers are the Cramer-Rao lower bound.
 #pragma once

@@ -27,7 +27,9 @@ std::string FrameName(const CalibrateRigResult& result, int f) {
 // The per-camera options of camera c.
 CalibrateOptions CameraOptions(const CalibrateRigOptions& options, int c) {
   CalibrateOptions camera;
-  camera.model = options.models.size() == 1 ? options.models[0] : options.models[c];
+  if (!options.models.empty()) {  // Empty with select_model: each camera's is chosen.
+    camera.model = options.models.size() == 1 ? options.models[0] : options.models[c];
+  }
   camera.select_model = options.select_model;
   camera.estimate_skew = options.estimate_skew;
   camera.corner_iterations = options.corner_iterations;
@@ -58,14 +60,15 @@ bool CheckCameraCount(const CalibrateRigOptions& options, int num_cameras, std::
            std::to_string(num_cameras);
     return false;
   }
-  if (options.models.size() != 1 && static_cast<int>(options.models.size()) != num_cameras) {
-    *why = "--model: " + std::to_string(options.models.size()) + " models for " +
-           std::to_string(num_cameras) + " cameras: give one for all or one per camera";
-    return false;
-  }
   if (options.init && options.init->NumCameras() != num_cameras) {
     *why = options.init_path + ": the given rig has " + std::to_string(options.init->NumCameras()) +
            " cameras, the images " + std::to_string(num_cameras);
+    return false;
+  }
+  if (!options.select_model && options.models.size() != 1 &&
+      static_cast<int>(options.models.size()) != num_cameras) {
+    *why = "--model: " + std::to_string(options.models.size()) + " models for " +
+           std::to_string(num_cameras) + " cameras: give one for all or one per camera";
     return false;
   }
   return true;

@@ -111,7 +111,7 @@ bool ListSourceImages(const std::string& source, std::vector<std::string>* files
     const std::string name = it->path().filename().string();
     if (it->is_regular_file() && HasImageExtension(it->path()) &&
         fnmatch(pattern.c_str(), name.c_str(), FNM_PERIOD) == 0) {
-      files->push_back((path.parent_path() / name).string());
+      files->push_back((dir / name).string());
     }
   }
   if (ec) {
@@ -147,6 +147,8 @@ RigImageSummary PairRigImages(const std::vector<std::string>& sources,
     return summary;
   }
   std::vector<std::vector<std::string>> files(n), middles(n);
+  // Keyed by number when most of every source's names hold one (a stray unnumbered image, e.g.
+  // left_test.png, is listed unpaired rather than switching every source to name keys).
   bool all_numbered = true;
   for (int s = 0; s < n; ++s) {
     if (!ListSourceImages(sources[s], &files[s], &why)) {
@@ -157,7 +159,9 @@ RigImageSummary PairRigImages(const std::vector<std::string>& sources,
     std::vector<std::string> stems;
     for (const std::string& f : files[s]) stems.push_back(fs::path(f).stem().string());
     middles[s] = StemMiddles(stems);
-    for (const std::string& m : middles[s]) all_numbered = all_numbered && !LastNumber(m).empty();
+    size_t numbered = 0;
+    for (const std::string& m : middles[s]) numbered += LastNumber(m).empty() ? 0 : 1;
+    all_numbered = all_numbered && 2 * numbered > middles[s].size();
   }
   summary.keyed_by_number = all_numbered;
   const auto less = [&](const std::string& a, const std::string& b) {
@@ -168,6 +172,10 @@ RigImageSummary PairRigImages(const std::vector<std::string>& sources,
   for (int s = 0; s < n; ++s) {
     for (size_t i = 0; i < files[s].size(); ++i) {
       const std::string key = all_numbered ? LastNumber(middles[s][i]) : middles[s][i];
+      if (key.empty()) {  // Keyed by number, this name has none.
+        summary.unpaired.push_back({s, files[s][i]});
+        continue;
+      }
       std::vector<std::string>& paths = by_key[key];
       paths.resize(n);
       if (!paths[s].empty()) {

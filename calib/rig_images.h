@@ -6,9 +6,10 @@
 // Each image gets a key from its stem (the file name without extension):
 //   1. the source's common prefix and suffix are removed from every stem, never cutting a run of
 //      digits in two ("left01".."left14" -> "01".."14"; a source of one image keeps its stem);
-//   2. when every image of every source has a digit in what is left, the key is the number of its
-//      last run of digits (so left7.png pairs with right07.png, as mrcal pairs by the number in
-//      the names); otherwise the key is what is left, as text (left_a.png <-> right_a.png).
+//   2. when most images of every source have a digit in what is left, the key is the number of
+//      its last run of digits (so left7.png pairs with right07.png, as mrcal pairs by the number
+//      in the names) and an image without one is unpaired; otherwise the key is what is left, as
+//      text (left_a.png <-> right_a.png).
 // Images of different sources with the same key form a frame; a key seen by fewer than
 // RigImageOptions::min_cameras_per_frame sources leaves its images unpaired, listed with their
 // source (never dropped silently). Errors (Summary::error, naming the source): a source that

@@ -114,8 +114,12 @@ bool WriteOpenCvRig(const std::string& path, const RigFile& rig, std::string* wh
   if (std::abs(f(2, 2)) > 1e-300) f /= f(2, 2);  // As cv::stereoCalibrate scales it.
   cv::Mat r1, r2, p1, p2, q;
   std::string method = "none (image size unknown)";
-  if (r.cameras[0].image_width > 0 && !Rectify(r, &r1, &r2, &p1, &p2, &q, &method, why)) {
-    return Fail(why, path + ": rectification: " + *why);
+  std::string rectify_why;
+  if (r.cameras[0].image_width > 0 && !Rectify(r, &r1, &r2, &p1, &p2, &q, &method, &rectify_why)) {
+    // The calibration is written all the same: a pair that cannot be rectified (cameras that look
+    // apart) is still a rig.
+    method = "none (" + rectify_why + ")";
+    r1 = r2 = p1 = p2 = q = cv::Mat();
   }
   const std::string tmp = camera_io_internal::TemporaryBeside(path);
   try {

@@ -124,6 +124,28 @@ int CalibrateRig(const CalibrateArgs& args) {
     std::cerr << "calibench: --evaluate needs --init CAMCHAIN (the rig to evaluate)\n";
     return 2;
   }
+  // The files: --out's format (or --format), the rig's default name when --out was not given;
+  // checked before the calibration, which may take minutes.
+  std::string out = args.out_path;
+  if (!args.out_given) out = num_cameras == 2 ? "stereo.yaml" : "camchain.yaml";
+  CameraFormat format = CameraFormatFromPath(out);
+  if (!args.format.empty() && !ParseCameraFormat(args.format, &format, &why)) {
+    std::cerr << "calibench: --format: " << why << "\n";
+    return 2;
+  }
+  if (format == CameraFormat::kOpenCv && num_cameras != 2) {
+    std::cerr << "calibench: --out: " << out
+              << ": an OpenCV stereo file holds 2 cameras, the rig has " << num_cameras
+              << ": write a Kalibr camchain (*camchain*.yaml) or mrcal models "
+              << "(.cameramodel)\n";
+    return 2;
+  }
+  const fs::path out_dir = fs::path(out).parent_path();
+  if (!out_dir.empty() && !fs::is_directory(out_dir)) {
+    std::cerr << "calibench: --out: " << out << ": the folder " << out_dir.string()
+              << " does not exist\n";
+    return 2;
+  }
   // The images, paired into frames.
   const RigImageSummary pairing = PairRigImages(args.images);
   if (!pairing.ok) {
@@ -172,25 +194,10 @@ int CalibrateRig(const CalibrateArgs& args) {
     std::cerr << "calibench: " << (bad_input ? "--images: " : "") << result.message << "\n";
     return bad_input ? 2 : 4;
   }
-  // The files: --out's format (or --format), the rig's default name when --out was not given.
-  std::string out = args.out_path;
-  if (!args.out_given) out = num_cameras == 2 ? "stereo.yaml" : "camchain.yaml";
-  CameraFormat format = CameraFormatFromPath(out);
-  if (!args.format.empty() && !ParseCameraFormat(args.format, &format, &why)) {
-    std::cerr << "calibench: --format: " << why << "\n";
-    return 2;
-  }
   RigFile file;
   file.rig = result.rig.rig;
   file.intrinsics_std = result.rig.intrinsics_std;
   file.cam_overlaps = result.overlaps;
-  if (format == CameraFormat::kOpenCv && num_cameras != 2) {
-    std::cerr << "calibench: --out: " << out
-              << ": an OpenCV stereo file holds 2 cameras, the rig has " << num_cameras
-              << ": write a Kalibr camchain (*camchain*.yaml) or mrcal models "
-              << "(.cameramodel)\n";
-    return 2;
-  }
   if (!WriteRigFile(out, format, file, &why)) {
     std::cerr << "calibench: --out: " << why << "\n";
     return 3;
@@ -206,7 +213,10 @@ int CalibrateRig(const CalibrateArgs& args) {
     const fs::path out_path(out);
     rectified = (out_path.parent_path() / (out_path.stem().string() + "-rectified.png")).string();
   }
-  return WriteRectifiedPair(result, cameras, rectified);
+  // Best effort unless asked for: a rig whose cameras 0 and 1 cannot be rectified (they look apart)
+  // or share no frame is calibrated all the same.
+  const int rectified_status = WriteRectifiedPair(result, cameras, rectified);
+  return args.rectified_path.empty() ? 0 : rectified_status;
 }
 
 }  // namespace calibench

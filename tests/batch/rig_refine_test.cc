@@ -349,6 +349,7 @@ struct MonteCarloOutcome {
   RigRefineResult bound, first;
   std::vector<Eigen::Vector3d> rotation_rmse_deg;
   std::vector<double> baseline_rmse_mm, fku_rmse_px;
+  std::vector<double> direction_rmse_deg;  // The angle of c / |c| from the truth's, RMS.
 };
 MonteCarloOutcome RunMonteCarlo(const CameraRig& truth, const SyntheticRigFrames& exact,
                                 double sigma_px, uint64_t seed) {
@@ -360,7 +361,7 @@ MonteCarloOutcome RunMonteCarlo(const CameraRig& truth, const SyntheticRigFrames
                               &out.bound, &why))
       << why;
   std::vector<Eigen::Vector3d> sq_r(n, Eigen::Vector3d::Zero());
-  std::vector<double> sq_b(n, 0.0), sq_f(n, 0.0);
+  std::vector<double> sq_b(n, 0.0), sq_f(n, 0.0), sq_u(n, 0.0);
   Rng noise(seed);
   for (int trial = 0; trial < kTrials; ++trial) {
     std::vector<RigFrame> frames = exact.frames;
@@ -382,12 +383,17 @@ MonteCarloOutcome RunMonteCarlo(const CameraRig& truth, const SyntheticRigFrames
       sq_r[c] += (r.rig.RelativeRotationDeg(c) - truth.RelativeRotationDeg(c)).cwiseAbs2();
       const double db = 1000 * (r.rig.BaselineM(c) - truth.BaselineM(c));
       sq_b[c] += db * db;
+      const Eigen::Vector3d u = r.rig.CentreInRig(c).normalized();
+      const Eigen::Vector3d u_true = truth.CentreInRig(c).normalized();
+      const double angle_deg = std::atan2(u.cross(u_true).norm(), u.dot(u_true)) * 180.0 / M_PI;
+      sq_u[c] += angle_deg * angle_deg;
     }
   }
   for (int c = 0; c < n; ++c) {
     out.rotation_rmse_deg.push_back((sq_r[c] / kTrials).cwiseSqrt());
     out.baseline_rmse_mm.push_back(std::sqrt(sq_b[c] / kTrials));
     out.fku_rmse_px.push_back(std::sqrt(sq_f[c] / kTrials));
+    out.direction_rmse_deg.push_back(std::sqrt(sq_u[c] / kTrials));
   }
   return out;
 }
@@ -419,10 +425,17 @@ void ExpectEfficient(const MonteCarloOutcome& mc, const CameraRig& truth, double
     EXPECT_LT(ratio, kRatioHigh) << "camera " << c;
     EXPECT_NEAR(reported.baseline_std_mm, crlb.baseline_std_mm,
                 kReportedStdRel * crlb.baseline_std_mm);
+    // The direction's RMS angle (2 dof: its square is a sum of two squares) against the bound.
+    const double direction_ratio = mc.direction_rmse_deg[c] / crlb.baseline_direction_std_deg;
+    EXPECT_GT(direction_ratio, kRatioLow) << "camera " << c;
+    EXPECT_LT(direction_ratio, kRatioHigh) << "camera " << c;
+    EXPECT_NEAR(reported.baseline_direction_std_deg, crlb.baseline_direction_std_deg,
+                kReportedStdRel * crlb.baseline_direction_std_deg);
     std::printf(
         "camera %d baseline: RMSE / CRLB = %.3f (CRLB %.4f mm, reported %.4f); direction "
-        "CRLB %.4f deg\n",
-        c, ratio, crlb.baseline_std_mm, reported.baseline_std_mm, crlb.baseline_direction_std_deg);
+        "RMSE / CRLB = %.3f (CRLB %.4f deg)\n",
+        c, ratio, crlb.baseline_std_mm, reported.baseline_std_mm, direction_ratio,
+        crlb.baseline_direction_std_deg);
   }
   EXPECT_NEAR(mc.first.sigma_hat_px, sigma_px, kReportedStdRel * sigma_px);
 }

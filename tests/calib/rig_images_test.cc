@@ -120,6 +120,30 @@ TEST(RigImages, NamesWithoutNumbers) {
   ASSERT_EQ(summary.unpaired.size(), 2u);  // left_c, x_right.
 }
 
+// A stray image without a number among numbered ones is unpaired; the others still pair by
+// number. A glob without a folder reads the working directory.
+TEST(RigImages, StrayUnnumberedImageAndBareGlob) {
+  std::vector<std::string> left = Numbered("left", ".png", {1, 2, 3, 4, 5});
+  left.push_back("left_test.png");
+  const std::string l = Folder("sl", left);
+  const std::string r = Folder("sr", Numbered("right", ".png", {1, 2, 3, 4, 5}, 1));
+  const RigImageSummary summary = PairRigImages({l, r});
+  ASSERT_TRUE(summary.ok) << summary.error;
+  EXPECT_TRUE(summary.keyed_by_number);
+  EXPECT_EQ(summary.frames.size(), 5u);
+  ASSERT_EQ(summary.unpaired.size(), 1u);
+  EXPECT_EQ(fs::path(summary.unpaired[0].path).filename(), "left_test.png");
+
+  const fs::path cwd = fs::current_path();
+  fs::current_path(l);
+  std::vector<std::string> files;
+  std::string why;
+  EXPECT_TRUE(ListSourceImages("left0*.png", &files, &why)) << why;
+  fs::current_path(cwd);
+  ASSERT_EQ(files.size(), 5u);
+  EXPECT_EQ(fs::path(files[0]).parent_path(), ".");  // A folder a caller can list and read.
+}
+
 TEST(RigImages, ErrorsNameTheSource) {
   const std::string l = Folder("el", {"left01.png", "left02.png"});
   const std::string r = Folder("er", {"right01.png", "right1.png", "right02.png"});
