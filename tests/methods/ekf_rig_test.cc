@@ -185,8 +185,9 @@ Trace RunAndTrace(const SceneTruth& left, const SceneTruth& right, uint64_t seed
   return trace;
 }
 
-// Seed 001's accuracy target on pitch and roll (spec dynamic-calibration.md), the rig metrics'
-// re-convergence tolerance (rig.csv rel_rot_tol_deg).
+// The accuracy target of dynamic calibration on pitch and roll (spec dynamic-calibration.md; Algers
+// 2018 reaches it on a loaded car), the rig metrics' re-convergence tolerance (rig.csv
+// rel_rot_tol_deg).
 constexpr double kTargetDeg = 0.1;
 
 // A static rig, default random walks: the relative rotation converges. At every instant its error
