@@ -44,44 +44,18 @@ bool ProjectState(const T* x, const Eigen::Matrix3d& r_c_nominal, const CameraIn
   return ProjectWithIntrinsics(x, lens, point_in_cam, pixel);
 }
 
-class EkfMethod final : public Method {
+class EkfMethod final : public FilterMethod<EkfFilterOptions> {
  public:
   std::unique_ptr<Method> Clone() const override { return std::make_unique<EkfMethod>(*this); }
-
-  void VisitOptions(OptionVisitor* v) override {
-    v->Field({"init", "",
-              "The method it starts from, solved on the first init_window_s: an instance of the "
-              "scenario, or a type's default (dlt, zhang, ceres)."},
-             &init_, {});
-    v->Field({"init_window_s", "s",
-              "The start's data: the first seconds of the trial; the filter runs on the frames "
-              "after it."},
-             &init_window_s_);
-    filter_.Visit(v);
-  }
-
-  bool Check(std::string* why) const override {
-    std::ostringstream msg;
-    if (init_.empty()) {
-      msg << "init must name the method it starts from (dlt, zhang, ceres or an instance)";
-    } else if (!(init_window_s_ > 0 && std::isfinite(init_window_s_))) {
-      msg << "init_window_s must be > 0, got " << init_window_s_;
-    }
-    if (msg.str().empty()) return filter_.Check(why);
-    if (why) *why = msg.str();
-    return false;
-  }
-
-  std::vector<std::string> Prerequisites() const override { return {init_}; }
 
   MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {
     const SummaryClock clock;
     MethodResult result;
     if (RefuseWideLens(input, "ekf", &result)) return result;
-    const MethodResult& init = input.Window(0.0, init_window_s_).Prerequisite(init_);
+    const MethodResult& init = input.Window(0.0, start_.init_window_s).Prerequisite(start_.init);
     if (!init.IsUsable() || !init.estimate.has_camera) {
       return clock.Finish(&result, MethodStatus::kFailed,
-                          "initialisation (" + init_ + ") failed: " + init.message);
+                          "initialisation (" + start_.init + ") failed: " + init.message);
     }
     const CameraIntrinsics lens = init.estimate.intrinsics;  // Its distortion stays fixed.
     StateVector x, q;
@@ -95,11 +69,11 @@ class EkfMethod final : public Method {
     }
     const int m = static_cast<int>(free.size());
     const FrameSet& frames = input.Frames();
-    double last_t = init_window_s_;
+    double last_t = start_.init_window_s;
     int updates = 0, skipped = 0;
     for (size_t k = 0; k < frames.views.size(); ++k) {
       const double t = frames.times_s[k];
-      if (t <= init_window_s_) continue;
+      if (t <= start_.init_window_s) continue;
       const View& view = frames.views[k];
       p += (t - last_t) * StateMatrix(q.asDiagonal());  // Random walk since the last frame.
       last_t = t;
@@ -127,7 +101,7 @@ class EkfMethod final : public Method {
     result.iterations = updates;
     if (updates == 0) {
       return clock.Finish(&result, MethodStatus::kFailed,
-                          "no frame after init_window_s = " + std::to_string(init_window_s_) +
+                          "no frame after init_window_s = " + std::to_string(start_.init_window_s) +
                               " s updated the filter");
     }
     result.estimate = EstimateOf(x, r_c, lens, p);
@@ -180,10 +154,6 @@ class EkfMethod final : public Method {
                                    const CameraIntrinsics& lens, const StateMatrix& p) {
     return CameraEstimateOf(x, r_c, lens, p);
   }
-
-  std::string init_ = "dlt";
-  double init_window_s_ = 2.0;  // The start's data (s).
-  EkfFilterOptions filter_;
 };
 
 }  // namespace

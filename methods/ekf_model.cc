@@ -41,6 +41,29 @@ bool InformationUpdate(const Eigen::MatrixXd& p, const std::vector<int>& free,
   return true;
 }
 
+void EkfStartOptions::Visit(OptionVisitor* v) {
+  v->Field({"init", "",
+            "The method it starts from, solved on the first init_window_s: an instance of the "
+            "scenario, or a type's default (dlt, zhang, ceres)."},
+           &init, {});
+  v->Field({"init_window_s", "s",
+            "The start's data: the first seconds of the trial; the filter runs on the frames "
+            "after it."},
+           &init_window_s);
+}
+
+bool EkfStartOptions::Check(std::string* why) const {
+  std::ostringstream msg;
+  if (init.empty()) {
+    msg << "init must name the method it starts from (dlt, zhang, ceres or an instance)";
+  } else if (!(init_window_s > 0 && std::isfinite(init_window_s))) {
+    msg << "init_window_s must be > 0, got " << init_window_s;
+  }
+  if (msg.str().empty()) return true;
+  if (why) *why = msg.str();
+  return false;
+}
+
 void EkfFilterOptions::Visit(OptionVisitor* v) {
   v->Field({"estimate_skew", "",
             "Estimate the skew angle φ; false keeps the start's φ, with zero variance."},

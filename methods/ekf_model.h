@@ -78,6 +78,17 @@ bool InformationUpdate(const Eigen::MatrixXd& p, const std::vector<int>& free,
 // One camera's 11 states [f*ku, f*kv, phi (rad), u0, v0, dtheta (3, rad), x_C (3, m)].
 using CameraStates = Eigen::Matrix<double, CameraEstimate::kCovarianceSize, 1>;
 
+// Where a filter starts: the estimate of the method `init` (an instance of the scenario or a
+// type's default: dlt, zhang, ceres) on the first init_window_s seconds; the filter runs on the
+// frames after it.
+struct EkfStartOptions {
+  std::string init = "dlt";
+  double init_window_s = 2.0;  // The start's data (s).
+
+  void Visit(OptionVisitor* v);
+  bool Check(std::string* why) const;
+};
+
 // The filter options every camera's states share (method `ekf`'s and `ekf-rig`'s keys).
 struct EkfFilterOptions {
   bool estimate_skew = true;    // false: phi stays the start's, with zero variance.
@@ -97,6 +108,23 @@ struct EkfFilterOptions {
   // estimate_skew).
   void Start(const CameraEstimate& start, CameraStates* x, CameraStates* p0_std,
              CameraStates* q) const;
+};
+
+// The options of a filter method (ekf, ekf_rig): where it starts, then its filter's options (a type
+// with Visit and Check).
+template <typename FilterOptions>
+class FilterMethod : public Method {
+ public:
+  void VisitOptions(OptionVisitor* v) override {
+    start_.Visit(v);
+    filter_.Visit(v);
+  }
+  bool Check(std::string* why) const override { return start_.Check(why) && filter_.Check(why); }
+  std::vector<std::string> Prerequisites() const override { return {start_.init}; }
+
+ protected:
+  EkfStartOptions start_;
+  FilterOptions filter_;
 };
 
 // The estimate of a camera with states x about the nominal rotation r_c_nominal, the lens's
