@@ -4,7 +4,10 @@
 #include <ceres/rotation.h>
 
 #include <cmath>
+#include <memory>
 #include <sstream>
+
+#include "util/status.h"
 
 namespace calibench {
 namespace {
@@ -262,5 +265,71 @@ bool RunRigEkf(const std::vector<const FrameSet*>& frames_by_camera, double afte
   }
   return true;
 }
+
+namespace {
+
+// Method `ekf_rig`: RigEkf on a rig scenario's cameras (MethodInput::rig_inputs), each camera
+// started from its own `init` on the first init_window_s seconds as method ekf is. Its result and
+// estimates over time are those of the input's camera (RigEkf::Estimate): camera c's
+// parent_from_cam = parent_from_cam_0 * (cam_c_from_cam_0)^-1, so the rig figures of its rows are
+// the filter's relative pose. Each camera's row runs the filter (deterministic: the same run).
+class EkfRigMethod final : public FilterMethod<RigEkfOptions> {
+ public:
+  std::unique_ptr<Method> Clone() const override { return std::make_unique<EkfRigMethod>(*this); }
+
+  MethodResult Run(const MethodInput& input, EstimateSink* sink) const override {
+    const SummaryClock clock;
+    MethodResult result;
+    const int cameras = static_cast<int>(input.rig_inputs.size());
+    if (cameras < 2) {
+      return clock.Finish(&result, MethodStatus::kFailed,
+                          "ekf_rig estimates a rig jointly: the scenario has no `rig:` cameras");
+    }
+    std::vector<CameraEstimate> starts;
+    std::vector<const FrameSet*> frames;
+    for (int c = 0; c < cameras; ++c) {
+      const MethodInput& camera = *input.rig_inputs[c];
+      if (RefuseWideLens(camera, "ekf_rig (camera " + std::to_string(c) + ")", &result)) {
+        return result;
+      }
+      const MethodResult& init = camera.Window(0.0, start_.init_window_s).Prerequisite(start_.init);
+      if (!init.IsUsable() || !init.estimate.has_camera) {
+        return clock.Finish(&result, MethodStatus::kFailed,
+                            "initialisation (" + start_.init + ") of camera " + std::to_string(c) +
+                                " failed: " + init.message);
+      }
+      starts.push_back(init.estimate);
+      frames.push_back(&camera.Frames());
+    }
+    RigEkf filter;
+    std::string why;
+    if (!filter.Start(starts, filter_, &why)) {
+      return clock.Finish(&result, MethodStatus::kFailed, why);
+    }
+    const int mine = input.rig_camera;
+    RigEkfSummary summary;
+    const auto report = [&](double t) {
+      if (sink != nullptr) sink->OnEstimate(t, filter.Estimate(mine));
+    };
+    if (!RunRigEkf(frames, start_.init_window_s, &filter, report, &summary, &why)) {
+      return clock.Finish(&result, MethodStatus::kFailed, why);
+    }
+    result.iterations = summary.updates;
+    if (summary.updates == 0) {
+      return clock.Finish(&result, MethodStatus::kFailed,
+                          "no instant after init_window_s = " +
+                              std::to_string(start_.init_window_s) + " s updated the filter");
+    }
+    result.estimate = filter.Estimate(mine);
+    std::ostringstream note;
+    note << summary.updates << " updates of " << cameras << " cameras jointly";
+    if (summary.skipped > 0) note << ", " << summary.skipped << " instants skipped";
+    return clock.Finish(&result, MethodStatus::kOk, note.str());
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Method> MakeEkfRigMethod() { return std::make_unique<EkfRigMethod>(); }
 
 }  // namespace calibench
