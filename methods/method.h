@@ -216,6 +216,11 @@ struct MethodInput {
   TrialCache* cache = nullptr;
   // A window's frames (Window() selects them once; null for the whole trial, read from the cache).
   std::shared_ptr<const FrameSet> window_frames;
+  // A rig scenario (camera/rig.h): every camera's input of this trial, camera 0 first, and which
+  // of them this one is; empty for a single camera. Methods that estimate the rig jointly
+  // (ekf_rig) read all cameras' frames and prerequisites through them; the others ignore them.
+  std::vector<const MethodInput*> rig_inputs;
+  int rig_camera = 0;
 
   // The source's frames inside the window, read once per trial and window.
   const FrameSet& Frames() const;

@@ -17,6 +17,7 @@ std::unique_ptr<Method> MakeZhangMethod();
 std::unique_ptr<Method> MakeZhangHandEyeMethod();
 std::unique_ptr<Method> MakeCeresMethod();
 std::unique_ptr<Method> MakeEkfMethod();
+std::unique_ptr<Method> MakeEkfRigMethod();
 
 const std::vector<MethodType>& MethodTypes() {
   static const std::vector<MethodType> types = {
@@ -51,6 +52,12 @@ const std::vector<MethodType>& MethodTypes() {
        false,
        {},
        MakeEkfMethod},
+      {"ekf_rig",
+       "rig scenarios: one extended Kalman filter on every camera's intrinsics, camera 0's "
+       "extrinsic and each camera's pose relative to camera 0, on all cameras' corners at once",
+       false,
+       {},
+       MakeEkfRigMethod},
   };
   return types;
 }

@@ -172,6 +172,15 @@ class ScenarioTrial {
 
   std::string Key(const MethodInstance& instance) { return KeyOf(s_, instance, 0, &defaults_); }
 
+  const MethodInput& Input() const { return input_; }
+  // A rig scenario: every camera's input of this scenario and trial (camera 0 first) and which
+  // of them this runner's is (MethodInput::rig_inputs), for the methods that estimate the rig
+  // jointly.
+  void LinkRig(std::vector<const MethodInput*> inputs, int camera) {
+    input_.rig_inputs = std::move(inputs);
+    input_.rig_camera = camera;
+  }
+
   const Outcome& OutcomeOf(const MethodInstance& instance) { return OutcomeOf(instance, input_); }
   const Outcome& OutcomeOf(const MethodInstance& instance, const MethodInput& input) {
     return cache_->Get<Outcome>("outcome:" + Key(instance) + input.WindowKey(), [&] {
@@ -329,20 +338,38 @@ RunRow CopyOf(RunRow row, const RunRow& base) {
   return row;
 }
 
-// One camera's part of a trial of a group: `group` holds the camera's scenarios
-// (ScenarioConfig::CameraScenario; a single camera's: the group itself), `scene` its truth, and
-// its measurements draw their noise from `noise_seed`.
+// One camera's part of a trial of a group, ready to run: `group` holds the camera's scenarios
+// (ScenarioConfig::CameraScenario; a single camera's: the group itself, which must outlive it),
+// `scene` its truth (likewise), and its measurements draw their noise from `noise_seed`.
+struct CameraGroupTrial {
+  RunRow base;
+  std::string why;  // Why there are no measurements (source null).
+  std::unique_ptr<MeasurementSource> source;
+  TrialCache cache;                                     // Shared by the group: same measurements.
+  std::vector<std::unique_ptr<ScenarioTrial>> runners;  // Per scenario of the group, with source.
+};
+
+std::unique_ptr<CameraGroupTrial> PrepareCameraGroupTrial(
+    const std::vector<const ScenarioConfig*>& group, const SceneTruth& scene, uint64_t noise_seed,
+    int camera, int trial, const GroupTrialOptions& options) {
+  auto prepared = std::make_unique<CameraGroupTrial>();
+  prepared->base = BaseRow(*group.front(), trial);
+  prepared->base.camera = camera;
+  prepared->source = MakeSource(*group.front(), scene, noise_seed, &prepared->base, &prepared->why);
+  if (prepared->source) {
+    for (const ScenarioConfig* s : group) {
+      prepared->runners.push_back(std::make_unique<ScenarioTrial>(
+          *s, scene, *prepared->source, camera, &prepared->cache, options));
+    }
+  }
+  return prepared;
+}
+
+// The rows of a prepared camera's part of a trial.
 std::vector<RunRow> RunCameraGroupTrial(const std::vector<const ScenarioConfig*>& group,
-                                        const SceneTruth& scene, uint64_t noise_seed, int camera,
-                                        int trial, ScenarioShared* shared,
-                                        const GroupTrialOptions& options) {
-  const ScenarioConfig& first = *group.front();
-  RunRow base = BaseRow(first, trial);
-  base.camera = camera;
-  std::string why;
-  const std::unique_ptr<MeasurementSource> source =
-      MakeSource(first, scene, noise_seed, &base, &why);
-  TrialCache cache;  // Shared by the group: same measurements.
+                                        const CameraGroupTrial& prepared, int camera, int trial,
+                                        ScenarioShared* shared) {
+  const RunRow& base = prepared.base;
   std::vector<RunRow> rows;
   struct Done {
     std::string name, key;
@@ -359,11 +386,11 @@ std::vector<RunRow> RunCameraGroupTrial(const std::vector<const ScenarioConfig*>
     row_base.corner_crlb_px = base.corner_crlb_px;
     row_base.frames_no_detection = base.frames_no_detection;
     row_base.measure_ms = j == 0 ? base.measure_ms : 0.0;
-    if (!source) {
-      AppendFailed(s, row_base, "measurements: " + why, &rows);
+    if (!prepared.source) {
+      AppendFailed(s, row_base, "measurements: " + prepared.why, &rows);
       continue;
     }
-    ScenarioTrial runner(s, scene, *source, camera, &cache, options);
+    ScenarioTrial& runner = *prepared.runners[j];
     const size_t done_before = done.size();
     for (const MethodInstance* instance : s.EnabledMethods()) {
       const std::string key = runner.Key(*instance);
@@ -434,25 +461,41 @@ std::vector<RunRow> RunGroupTrialUnguarded(const std::vector<const ScenarioConfi
   const ScenarioConfig& first = *group.front();
   const uint64_t trial_seed = first.TrialSeedOf(trial);
   if (!first.rig.Any()) {
-    return RunCameraGroupTrial(group, first.MakeScene(trial_seed), trial_seed, 0, trial, shared,
-                               options);
+    const SceneTruth scene = first.MakeScene(trial_seed);
+    const auto prepared = PrepareCameraGroupTrial(group, scene, trial_seed, 0, trial, options);
+    return RunCameraGroupTrial(group, *prepared, 0, trial, shared);
   }
-  // A rig: every camera on its own (composition), camera by camera; then the rig figures of each
-  // camera c >= 1 against camera 0, row by row (the cameras' rows come in the same order).
+  // A rig: every camera's measurements, then each camera's methods on its own (composition; the
+  // joint methods see every camera's input through MethodInput::rig_inputs), camera by camera;
+  // then the rig figures of each camera c >= 1 against camera 0, row by row (the cameras' rows
+  // come in the same order).
   const int cameras = first.NumCameras();
   std::vector<SceneTruth> scenes;
   scenes.reserve(cameras);
-  std::vector<std::vector<RunRow>> by_camera;
+  std::vector<std::vector<ScenarioConfig>> camera_scenarios(cameras);
+  std::vector<std::vector<const ScenarioConfig*>> members(cameras);
+  std::vector<std::unique_ptr<CameraGroupTrial>> prepared;
+  prepared.reserve(cameras);
   for (int c = 0; c < cameras; ++c) {
-    std::vector<ScenarioConfig> camera_scenarios;
-    camera_scenarios.reserve(group.size());
-    for (const ScenarioConfig* s : group) camera_scenarios.push_back(s->CameraScenario(c));
-    std::vector<const ScenarioConfig*> members;
-    for (const ScenarioConfig& s : camera_scenarios) members.push_back(&s);
+    camera_scenarios[c].reserve(group.size());
+    for (const ScenarioConfig* s : group) camera_scenarios[c].push_back(s->CameraScenario(c));
+    for (const ScenarioConfig& s : camera_scenarios[c]) members[c].push_back(&s);
     scenes.push_back(first.MakeCameraScene(c, trial_seed));
-    by_camera.push_back(RunCameraGroupTrial(members, scenes.back(),
-                                            ScenarioConfig::CameraSeed(trial_seed, c), c, trial,
-                                            shared, options));
+    prepared.push_back(PrepareCameraGroupTrial(
+        members[c], scenes.back(), ScenarioConfig::CameraSeed(trial_seed, c), c, trial, options));
+  }
+  const bool all_measured = std::all_of(prepared.begin(), prepared.end(),
+                                        [](const auto& p) { return p->source != nullptr; });
+  for (size_t j = 0; all_measured && j < group.size(); ++j) {
+    std::vector<const MethodInput*> inputs;
+    inputs.reserve(cameras);
+    for (int c = 0; c < cameras; ++c) inputs.push_back(&prepared[c]->runners[j]->Input());
+    for (int c = 0; c < cameras; ++c) prepared[c]->runners[j]->LinkRig(inputs, c);
+  }
+  std::vector<std::vector<RunRow>> by_camera;
+  by_camera.reserve(cameras);
+  for (int c = 0; c < cameras; ++c) {
+    by_camera.push_back(RunCameraGroupTrial(members[c], *prepared[c], c, trial, shared));
   }
   std::vector<RunRow> rows;
   for (int c = 0; c < cameras; ++c) {

@@ -1,8 +1,9 @@
 // Rig scenarios in the harness (bench/config/scenario.h `rig:`, bench/run/trial.h): the `rig:`
 // block reads back what it writes and refuses each bad rig naming file, line and field; a rig
 // trial's camera 0 rows are the single-camera scenario's rows; the rig metrics
-// (metrics/rig_metrics.h) against closed forms; a camera-1 knock is seen in rig.csv; the files
-// do not depend on the thread count.
+// (metrics/rig_metrics.h) against closed forms; a camera-1 knock is seen in rig.csv; the joint
+// method ekf_rig runs on every camera's input at once and its rows carry its relative pose; the
+// files do not depend on the thread count.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -310,6 +311,42 @@ TEST(Rig, AKnockAloneTracksEveryCamera) {
   ASSERT_TRUE(rows[1].rig.has_value());
   EXPECT_EQ(rows[1].rig->segment_from_s, 15.0);
   EXPECT_LE(rows[1].rig->rel_rot.reconverge_s, 3.0);
+}
+
+// The joint rig EKF (methods/ekf_rig.h) beside the composed one: each camera's row is ok and
+// camera 1's rig figures (its parent_from_cam against camera 0's: the filter's cam_1_from_cam_0)
+// follow the knock as the composed filter's do (same bounds as above). A scenario without `rig:`
+// gives it nothing to estimate jointly: a failed row naming why.
+TEST(Rig, JointEkfRowsCarryItsRelativePose) {
+  const std::string methods =
+      "  methods:\n    - {name: ekf, type: ekf, init: dlt, pixel_sigma_px: 0.2}\n"
+      "    - {name: ekf-rig, type: ekf_rig, init: dlt, pixel_sigma_px: 0.2}\n";
+  RunConfig config;
+  std::string why;
+  ASSERT_TRUE(LoadRunConfigFromString("base: " + kShortRig + "\nscenario:\n  trials: 1\n" + methods,
+                                      kDir + "rig/joint.yaml", &config, &why))
+      << why;
+  const std::vector<RunRow> rows = RunTrial(config.scenarios[0], 0);
+  ASSERT_EQ(rows.size(), 4u);  // Per camera: ekf, ekf-rig.
+  for (const RunRow& r : rows) {
+    EXPECT_EQ(r.status, "ok") << r.method << " camera " << r.camera << ": " << r.message;
+    if (r.camera != 1) continue;
+    ASSERT_TRUE(r.rig.has_value());
+    EXPECT_EQ(r.rig->status, "ok") << r.method;
+    EXPECT_LE(r.rig->rel_rot.reconverge_s, 3.0) << r.method;
+    EXPECT_LT(r.rig->rel_rot.steady_err, 0.1) << r.method;
+    EXPECT_LT(r.rig->errors.rel_rot_err_norm_deg, 0.1) << r.method;
+  }
+  EXPECT_NE(rows[1].message.find("2 cameras jointly"), std::string::npos) << rows[1].message;
+
+  ASSERT_TRUE(LoadRunConfigFromString("base: " + kShort + "\nscenario:\n  trials: 1\n" + methods,
+                                      kDir + "dynamic/joint.yaml", &config, &why))
+      << why;
+  const std::vector<RunRow> single = RunTrial(config.scenarios[0], 0);
+  ASSERT_EQ(single.size(), 2u);
+  EXPECT_EQ(single[0].status, "ok");
+  EXPECT_EQ(single[1].status, "failed");
+  EXPECT_NE(single[1].message.find("no `rig:` cameras"), std::string::npos) << single[1].message;
 }
 
 std::string TempDir(const std::string& name) { return FreshTempDir("calibench_rig_", name); }
