@@ -118,8 +118,10 @@ class RigReportTest(unittest.TestCase):
         self.assertNotIn("Warning", self.result.stderr)
         answers = self.md.split("## How to read this report")[0]
         rig = answers.split("### A camera rig")[1].split("###")[0]
-        # Its row: the scenario and camera, 2 trials, a winner, a median in s, and why no p.
-        self.assertRegex(rig, r"\| short_step, camera 1 +\| 2 +\| [\w-]+ +\| [\d.]+ s; steady")
+        # Its row: the scenario and camera, 2 trials, the first to re-converge with its median
+        # (s) and the closest once settled with its steady error (deg), and why no p.
+        self.assertRegex(rig, r"\| short_step, camera 1 +\| 2 +\| [\w-]+ \([\d.]+ s\) +\|")
+        self.assertRegex(rig, r"\| [\w-]+ \([\d.e-]+ deg\) +\|")
         self.assertIn("not testable (n=2<5)", rig)
 
     def test_rig_section_table(self):

@@ -16,7 +16,7 @@ QUESTIONS = {
     "points": "Feature points: which method is most accurate from few to many points?",
     "gain": "Adaptive gain: which gain makes the adaptive estimator most accurate?",
     "dynamic": "A calibration that changes: which method re-converges first?",
-    "rig": "A camera rig: which method follows a change of its relative pose first?",
+    "rig": "A camera rig: which method follows a change of its relative pose first, and closest?",
     "detection": "Detection: which corner refinement gives the most accurate corners?",
 }
 
