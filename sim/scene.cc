@@ -127,7 +127,7 @@ CameraIntrinsics SceneTruth::IntrinsicsAt(double t_s) const {
 }
 
 Rigid3 SceneTruth::ParentFromCamAt(double t_s) const {
-  const Rigid3 pose = ChangedMount(parent_from_cam, changes, t_s);
+  Rigid3 pose = ChangedMount(parent_from_cam, changes, t_s);
   if (!rig_from_cam) return pose;
   return pose * ChangedMount(*rig_from_cam, rig_changes, t_s);
 }

@@ -108,7 +108,7 @@ void BM_RigRefine(benchmark::State& state) {
   RigRefineOptions o;
   o.models = {LensModel::kPinholeRadTan4, LensModel::kPinholeRadTan4};
   long iterations = 0;
-  for (auto _ : state) {
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
     const RigRefineResult r = RefineRig(d.frames.frames, d.start_rig, d.start_rig_from_board, o);
     if (!r.IsUsable()) state.SkipWithError(r.message.c_str());
     iterations = r.iterations;
@@ -125,7 +125,7 @@ void BM_TwoSingleCameraRefines(benchmark::State& state) {
   o.model = LensModel::kPinholeRadTan4;
   o.estimate_skew = false;  // As the rig solve.
   long iterations = 0;
-  for (auto _ : state) {
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
     iterations = 0;
     for (int c = 0; c < 2; ++c) {
       const RefineResult r =
@@ -236,7 +236,7 @@ void BM_CalibrateRigPoints(benchmark::State& state) {
   }
   const CalibrateRigOptions o = StereoRigOptions();
   long rig_iterations = 0, camera_iterations = 0, jackknife_refits = 0;
-  for (auto _ : state) {
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
     const CalibrateRigResult r = CalibrateRigPoints(d.data, o);
     if (!r.IsUsable()) {
       state.SkipWithError(r.message.c_str());
@@ -271,7 +271,7 @@ void BM_TwoCameraCalibrationsNoJackknife(benchmark::State& state) {
   CalibrateOptions o;
   o.model = LensModel::kPinholeRadTan4;
   long iterations = 0;
-  for (auto _ : state) {
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
     iterations = 0;
     for (const PointData& camera : d.data.cameras) {
       const CalibrateReport r = CalibrateFromPoints(camera, o);
@@ -292,7 +292,7 @@ void BM_CalibrateRigPointsNoJackknife(benchmark::State& state) {
   }
   CalibrateRigOptions o = StereoRigOptions();
   o.jackknife = CalibrateOptions::Jackknife::kOff;
-  for (auto _ : state) {
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
     const CalibrateRigResult r = CalibrateRigPoints(d.data, o);
     if (!r.IsUsable()) {
       state.SkipWithError(r.message.c_str());
@@ -320,7 +320,7 @@ void BM_RigJackknife(benchmark::State& state) {
   jack.refine.models = o.models;
   jack.refine.estimate_skew = o.estimate_skew;
   long frames = 0, iterations = 0;
-  for (auto _ : state) {
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
     const RigJackknifeResult r = JackknifeRig(full.frames, full.rig, jack);
     if (!r.IsUsable()) {
       state.SkipWithError(r.message.c_str());
@@ -344,7 +344,7 @@ void BM_TwoCameraCalibrations(benchmark::State& state) {
   CalibrateOptions o;
   o.model = LensModel::kPinholeRadTan4;
   o.jackknife = CalibrateOptions::Jackknife::kAuto;
-  for (auto _ : state) {
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores)
     for (const PointData& camera : d.data.cameras) {
       const CalibrateResult r = CalibratePoints(camera, o);
       if (!r.IsUsable() || !r.calibration.jackknife) state.SkipWithError("no jackknife");

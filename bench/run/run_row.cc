@@ -511,7 +511,7 @@ struct RigColumn {
 };
 
 RigColumn RigNumber(const char* name, const char* unit, const char* doc,
-                    std::function<double(const RigRow&)> value) {
+                    const std::function<double(const RigRow&)>& value) {
   return {{name, unit, doc},
           [value](const RunRow&, const RigRow& g) { return FormatNumber(value(g)); }};
 }
