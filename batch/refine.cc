@@ -290,20 +290,26 @@ bool RefineOptions::Check(std::string* why) const {
                   [](int i) { return i >= 0 && i < PinholeSkewCamera::kNumParams; });
   if (!extra_in_range) {
     msg = "extra_fixed_intrinsics must index the raw parameter array (0..9)";
-  } else if (loss != RobustLoss::kNone && loss != RobustLoss::kHuber &&
-             loss != RobustLoss::kCauchy) {
-    msg = "loss must be none, huber or cauchy, got the value " +
-          std::to_string(static_cast<int>(loss));
-  } else if (!(loss_scale_px > 0)) {
-    msg = "loss_scale_px must be > 0";
-  } else if (max_iterations < 1) {
-    msg = "max_iterations must be >= 1";
-  } else if (!(known_pixel_sigma_px >= 0)) {
-    msg = "known_pixel_sigma_px must be >= 0";
+  } else {
+    msg = refine_internal::SolverOptionsProblem(loss, loss_scale_px, max_iterations,
+                                                known_pixel_sigma_px);
   }
   if (msg.empty()) return true;
   if (why) *why = msg;
   return false;
+}
+
+std::string refine_internal::SolverOptionsProblem(RobustLoss loss, double loss_scale_px,
+                                                  int max_iterations,
+                                                  double known_pixel_sigma_px) {
+  if (loss != RobustLoss::kNone && loss != RobustLoss::kHuber && loss != RobustLoss::kCauchy) {
+    return "loss must be none, huber or cauchy, got the value " +
+           std::to_string(static_cast<int>(loss));
+  }
+  if (!(loss_scale_px > 0)) return "loss_scale_px must be > 0";
+  if (max_iterations < 1) return "max_iterations must be >= 1";
+  if (!(known_pixel_sigma_px >= 0)) return "known_pixel_sigma_px must be >= 0";
+  return "";
 }
 
 namespace {

@@ -15,6 +15,11 @@
 namespace calibench {
 namespace refine_internal {
 
+// What is wrong with the solver options RefineOptions and RigRefineOptions share ("" when
+// nothing): the loss, its scale, the iteration limit, the known pixel sigma.
+std::string SolverOptionsProblem(RobustLoss loss, double loss_scale_px, int max_iterations,
+                                 double known_pixel_sigma_px);
+
 // Parameter storage for one problem: intrinsics and poses (quaternion x, y, z, w; translation).
 struct Parameters {
   IntrinsicsArray intrinsics{};

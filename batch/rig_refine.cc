@@ -468,16 +468,9 @@ bool RigRefineOptions::Check(std::string* why) const {
   std::string msg;
   if (models.empty()) {
     msg = "models must give one lens model per camera (none given)";
-  } else if (loss != RobustLoss::kNone && loss != RobustLoss::kHuber &&
-             loss != RobustLoss::kCauchy) {
-    msg = "loss must be none, huber or cauchy, got the value " +
-          std::to_string(static_cast<int>(loss));
-  } else if (!(loss_scale_px > 0)) {
-    msg = "loss_scale_px must be > 0";
-  } else if (max_iterations < 1) {
-    msg = "max_iterations must be >= 1";
-  } else if (!(known_pixel_sigma_px >= 0)) {
-    msg = "known_pixel_sigma_px must be >= 0";
+  } else {
+    msg = refine_internal::SolverOptionsProblem(loss, loss_scale_px, max_iterations,
+                                                known_pixel_sigma_px);
   }
   if (msg.empty()) return true;
   if (why != nullptr) *why = msg;
