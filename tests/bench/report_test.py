@@ -54,10 +54,10 @@ class ReportTest(unittest.TestCase):
         headings = re.findall(r"^(#+) (.*)$", self.md, flags=re.M)
         self.assertEqual(headings[0], ("#", "calibench report"))
         self.assertEqual(headings[1], ("##", "The answers"))
-        questions = [h for level, h in headings[2:7]]
+        questions = [h for level, h in headings[2:8]]
         self.assertEqual([q.split(":")[0] for q in questions],
                          ["Pixel noise", "Feature points", "Adaptive gain",
-                          "A calibration that changes", "Detection"])
+                          "A calibration that changes", "A camera rig", "Detection"])
         answers = self.md.split("## How to read this report")[0]
         # Each question answered here is a table with a winner (or "none significantly") and a
         # figure; the absent ones say so.
@@ -65,7 +65,7 @@ class ReportTest(unittest.TestCase):
         self.assertRegex(answers, r"\| gain +\| adaptive +\| f·ku \(px\) +\| (\*\*alpha = |none)")
         self.assertRegex(answers, r"\| step +\| pitch at 5 s +\|")
         self.assertIn("not testable (n=2<5)", answers)
-        self.assertIn("Not in these runs.", answers)  # Points and detection.
+        self.assertIn("Not in these runs.", answers)  # Points, the rig and detection.
         for figure in ("answer_noise.png", "answer_gain.png", "tracking_pareto.png"):
             self.assertIn(f"]({figure})", answers)
             self.assertTrue(os.path.exists(os.path.join(self.out, figure)), figure)
