@@ -298,6 +298,11 @@ bool FillRigCovariance(const std::vector<RigFrame>& frames, const RigParameters&
     cam_from_rig[c] = params.CamFromRig(c);
     family[c] = FamilyOf(options.models[c]);
   }
+  out->intrinsics_std.assign(num_cameras, IntrinsicsArray{});
+  for (IntrinsicsArray& s : out->intrinsics_std) s.fill(kNaN);
+  out->intrinsics_covariance.assign(num_cameras, IntrinsicsCovariance::Zero());
+  out->pose_uncertainty.assign(num_cameras, RigPoseUncertainty());
+  if (size == 0) return true;  // Nothing of the rig is estimated.
   Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(size, size);
   Eigen::MatrixXd b(size, 6), j_rig(2, size);
   for (size_t f = 0; f < frames.size(); ++f) {
@@ -342,11 +347,6 @@ bool FillRigCovariance(const std::vector<RigFrame>& frames, const RigParameters&
     }
     schur.noalias() -= b * ldlt.solve(b.transpose());
   }
-  out->intrinsics_std.assign(num_cameras, IntrinsicsArray{});
-  for (IntrinsicsArray& s : out->intrinsics_std) s.fill(kNaN);
-  out->intrinsics_covariance.assign(num_cameras, IntrinsicsCovariance::Zero());
-  out->pose_uncertainty.assign(num_cameras, RigPoseUncertainty());
-  if (size == 0) return true;  // Nothing of the rig is estimated.
   Eigen::MatrixXd inverse;
   if (!refine_internal::InvertInformationMatrix(schur, &inverse, why)) return false;
   const Eigen::MatrixXd covariance = sigma * sigma * inverse;
