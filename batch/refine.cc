@@ -121,18 +121,6 @@ class BoundWatch final : public ceres::IterationCallback {
   int hit_ = -1;
 };
 
-ceres::LossFunction* MakeLoss(const RefineOptions& o) {
-  switch (o.loss) {
-    case RobustLoss::kHuber:
-      return new ceres::HuberLoss(o.loss_scale_px);
-    case RobustLoss::kCauchy:
-      return new ceres::CauchyLoss(o.loss_scale_px);
-    case RobustLoss::kNone:
-      break;
-  }
-  return nullptr;
-}
-
 // Builds the problem over `params`; returns the number of residual blocks (points).
 int BuildProblem(const std::vector<View>& views, const RefineOptions& options, Parameters* params,
                  ceres::Problem* problem) {
@@ -158,7 +146,8 @@ int BuildProblem(const std::vector<View>& views, const RefineOptions& options, P
           AnalyticJacobians(options)
               ? new ReprojectionCostFunction(views[v].pixels[i], views[v].points[i], family)
               : ReprojectionError::Create(views[v].pixels[i], views[v].points[i], family);
-      problem->AddResidualBlock(cost, MakeLoss(options), blocks, 3);
+      problem->AddResidualBlock(
+          cost, refine_internal::MakeLoss(options.loss, options.loss_scale_px), blocks, 3);
     }
   }
   const std::vector<int> fixed = FixedOf(options);
@@ -299,9 +288,20 @@ bool RefineOptions::Check(std::string* why) const {
   return false;
 }
 
+ceres::LossFunction* refine_internal::MakeLoss(RobustLoss loss, double scale_px) {
+  switch (loss) {
+    case RobustLoss::kHuber:
+      return new ceres::HuberLoss(scale_px);
+    case RobustLoss::kCauchy:
+      return new ceres::CauchyLoss(scale_px);
+    case RobustLoss::kNone:
+      break;
+  }
+  return nullptr;
+}
+
 std::string refine_internal::SolverOptionsProblem(RobustLoss loss, double loss_scale_px,
-                                                  int max_iterations,
-                                                  double known_pixel_sigma_px) {
+                                                  int max_iterations, double known_pixel_sigma_px) {
   if (loss != RobustLoss::kNone && loss != RobustLoss::kHuber && loss != RobustLoss::kCauchy) {
     return "loss must be none, huber or cauchy, got the value " +
            std::to_string(static_cast<int>(loss));

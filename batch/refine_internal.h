@@ -15,6 +15,9 @@
 namespace calibench {
 namespace refine_internal {
 
+// The Ceres loss of `loss` at `scale_px` (nullptr: squared error), owned by the problem.
+ceres::LossFunction* MakeLoss(RobustLoss loss, double scale_px);
+
 // What is wrong with the solver options RefineOptions and RigRefineOptions share ("" when
 // nothing): the loss, its scale, the iteration limit, the known pixel sigma.
 std::string SolverOptionsProblem(RobustLoss loss, double loss_scale_px, int max_iterations,

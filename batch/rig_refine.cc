@@ -168,18 +168,6 @@ IntrinsicsArray StartIntrinsics(const CameraIntrinsics& initial, LensModel model
   return params;
 }
 
-ceres::LossFunction* MakeLoss(const RigRefineOptions& o) {
-  switch (o.loss) {
-    case RobustLoss::kHuber:
-      return new ceres::HuberLoss(o.loss_scale_px);
-    case RobustLoss::kCauchy:
-      return new ceres::CauchyLoss(o.loss_scale_px);
-    case RobustLoss::kNone:
-      break;
-  }
-  return nullptr;
-}
-
 // Builds the problem of the header comment over *params; returns the number of points. Plain
 // least squares: one residual block per view (camera c in frame f); a robust loss: one per point.
 int BuildProblem(const std::vector<RigFrame>& frames, const RigRefineOptions& options,
@@ -202,8 +190,8 @@ int BuildProblem(const std::vector<RigFrame>& frames, const RigRefineOptions& op
       }
       for (size_t i = 0; i < view.points.size(); ++i) {
         problem->AddResidualBlock(
-            new RigViewCostFunction({view.points[i]}, {view.pixels[i]}, family), MakeLoss(options),
-            blocks, 5);
+            new RigViewCostFunction({view.points[i]}, {view.pixels[i]}, family),
+            refine_internal::MakeLoss(options.loss, options.loss_scale_px), blocks, 5);
       }
     }
   }

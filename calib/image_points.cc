@@ -50,16 +50,6 @@ double SquareReachPx(const std::vector<Eigen::Vector2d>& found, int rows, int co
 // A view needs this many points: more than a homography's 4, so that a view says something.
 constexpr size_t kMinViewPoints = 8;
 
-bool IsImageFile(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  for (const char* e : {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp"}) {
-    if (ext == e) return true;
-  }
-  return false;
-}
-
 // The checkerboard's corners (detect/chessboard.h, the sector-based detector first for a wide
 // `lens`; taken from *found when `reuse`, else stored there), refined as X-junctions through
 // `camera` when given (a corner whose refinement fails is left out, and counted in *how), with
@@ -132,11 +122,22 @@ FrameDetectorOptions ImageDetectorOptions(const ImagePointOptions& image) {
   return options;
 }
 
+bool IsImageFile(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const char* e : {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp"}) {
+    if (ext == e) return true;
+  }
+  return false;
+}
+
 bool ListImageFiles(const std::string& dir, std::vector<std::string>* files, std::string* why) {
   files->clear();
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    if (it->is_regular_file() && IsImageFile(it->path())) files->push_back(it->path().string());
+    if (it->is_regular_file() && IsImageFile(it->path().string()))
+      files->push_back(it->path().string());
   }
   if (ec) {
     if (why) *why = dir + ": cannot list the folder: " + ec.message();

@@ -72,7 +72,10 @@ struct ImagePointOptions {
 // but radtan) the edge fit takes curved edges (corner_refinement.h, curved_edges).
 FrameDetectorOptions ImageDetectorOptions(const ImagePointOptions& options = {});
 
-// The image files of `dir` (extensions above, any case), sorted by name. False with *why naming
+// True when `path` names an image calibrate reads: png, jpg, jpeg, tif, tiff or bmp, any case.
+bool IsImageFile(const std::string& path);
+
+// The image files of `dir` (IsImageFile), sorted by name. False with *why naming
 // the folder when it cannot be listed or holds no image.
 bool ListImageFiles(const std::string& dir, std::vector<std::string>* files, std::string* why);
 

@@ -18,16 +18,6 @@ namespace fs = std::filesystem;
 
 bool IsDigit(char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }
 
-bool HasImageExtension(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  for (const char* e : {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp"}) {
-    if (ext == e) return true;
-  }
-  return false;
-}
-
 // The stems of one source with the common prefix and suffix removed (header comment, rule 1).
 std::vector<std::string> StemMiddles(const std::vector<std::string>& stems) {
   if (stems.size() < 2) return stems;
@@ -109,7 +99,7 @@ bool ListSourceImages(const std::string& source, std::vector<std::string>* files
   }
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (it->is_regular_file() && HasImageExtension(it->path()) &&
+    if (it->is_regular_file() && IsImageFile(it->path().string()) &&
         fnmatch(pattern.c_str(), name.c_str(), FNM_PERIOD) == 0) {
       files->push_back((dir / name).string());
     }

@@ -102,6 +102,9 @@ class Analysis:
     def __init__(self, data):
         self.data = data
         summary = data.summary
+        if "camera" in summary:  # A rig's run: camera c >= 1 is the rig section's (rig.csv).
+            camera = pd.to_numeric(summary.camera, errors="coerce")
+            summary = summary[camera.isna() | (camera == 0)]
         self._summary = (summary.set_index(["scenario", "method", "metric"]).sort_index()
                          if len(summary) else None)
 

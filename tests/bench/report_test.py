@@ -93,18 +93,24 @@ class ReportTest(unittest.TestCase):
 
 
 class RigReportTest(unittest.TestCase):
-    """A rig run (tests/bench/rig/short_rig.yaml: a knock of camera 1 at 15 s, 2 trials): the
-    first page answers the rig question from rig.csv, and the rig section has its table."""
+    """A rig run (tests/bench/rig/short_rig.yaml: a knock of camera 1 at 15 s, 2 trials) reported
+    with a sweep (tests/bench/report/noise.yaml's: summary.csv without the rig's camera column),
+    as ./scripts/bench reports them: the first page answers the rig question from rig.csv, the rig
+    section has its table, and the sweep's section reads camera 0's rows of the rig's summary."""
 
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
         run = os.path.join(cls.tmp.name, "rig")
+        sweep = os.path.join(cls.tmp.name, "noise")
         out = os.path.join(cls.tmp.name, "report")
         subprocess.run([CALIBENCH, "run", os.path.join(ROOT, "tests/bench/rig/short_rig.yaml"),
                         "--out", run, "--quiet", "--threads", "2"], check=True,
                        capture_output=True)
-        cls.result = subprocess.run([CALIBENCH, "report", run, "--out", out],
+        subprocess.run([CALIBENCH, "run", os.path.join(ROOT, "tests/bench/report/noise.yaml"),
+                        "--out", sweep, "--quiet", "--threads", "2"], check=True,
+                       capture_output=True)
+        cls.result = subprocess.run([CALIBENCH, "report", sweep, run, "--out", out],
                                     capture_output=True, text=True)
         with open(os.path.join(out, "report.md"), encoding="utf-8") as f:
             cls.md = f.read()
@@ -123,6 +129,9 @@ class RigReportTest(unittest.TestCase):
         self.assertRegex(rig, r"\| short_step, camera 1 +\| 2 +\| [\w-]+ \([\d.]+ s\) +\|")
         self.assertRegex(rig, r"\| [\w-]+ \([\d.e-]+ deg\) +\|")
         self.assertIn("not testable (n=2<5)", rig)
+
+    def test_sweep_beside_the_rig(self):
+        self.assertIn("## Error against the pixel noise", self.md)
 
     def test_rig_section_table(self):
         self.assertIn("## Camera rigs", self.md)
