@@ -225,8 +225,8 @@ INSTANTIATE_TEST_SUITE_P(Configs, ResolvedYamlRoundTrip, ::testing::ValuesIn(Shi
 // The walk finds the entry points scripts/bench runs (a wrong root would instantiate nothing).
 TEST(Config, ShippedConfigsAreFound) {
   const std::vector<std::string> files = ShippedConfigs();
-  for (const char* entry : {"thesis/all.yaml", "sweeps/noise.yaml", "dynamic/all.yaml",
-                            "dynamic/rig_step.yaml"}) {
+  for (const char* entry :
+       {"thesis/all.yaml", "sweeps/noise.yaml", "dynamic/all.yaml", "dynamic/rig_step.yaml"}) {
     EXPECT_NE(std::find(files.begin(), files.end(), entry), files.end()) << entry;
   }
 }

@@ -121,9 +121,9 @@ TEST(CalibrateRigImages, RenderedStereoPairWithinTwoReportedStd) {
     Rng rng(7700 + set);
     const SyntheticRigFrames frames = MakeRigFrames(truth, frames_options, &rng);
     ASSERT_EQ(frames.frames.size(), 20u);
-    const CalibrateRigResult result = RenderAndCalibrate(
-        ::testing::TempDir() + "/rendered_stereo", truth, *renderer, target,
-        frames.rig_from_board, 7800 + set);
+    const CalibrateRigResult result =
+        RenderAndCalibrate(::testing::TempDir() + "/rendered_stereo", truth, *renderer, target,
+                           frames.rig_from_board, 7800 + set);
     ASSERT_TRUE(result.IsUsable()) << result.message;
     EXPECT_LT(result.rig.rms_reproj_px, 0.1);  // Rendered corners: ~0.02-0.05 px.
     AddRig(truth, result, &coverage);
