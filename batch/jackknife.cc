@@ -61,6 +61,7 @@ JackknifeResult JackknifeIntrinsics(const std::vector<View>& views, const Refine
                           "without view " + std::to_string(id) + ": " + refit.message);
     }
     result.leave_one_out.push_back(refit.intrinsics);
+    result.leave_one_out_poses.push_back(refit.cam_from_object);
   }
   std::vector<IntrinsicsArray> params;
   for (const CameraIntrinsics& c : result.leave_one_out) params.push_back(c.Params());

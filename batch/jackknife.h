@@ -44,6 +44,9 @@ struct JackknifeResult : MethodSummary {
   IntrinsicsArray intrinsics_std{};
   // [i]: the calibration without view i.
   std::vector<CameraIntrinsics> leave_one_out;
+  // [i]: its poses of every view but i, in order (for the projection's jackknife:
+  // calib/calibration_uncertainty.h).
+  std::vector<std::vector<Rigid3>> leave_one_out_poses;
 };
 
 // `full` is the usable result of RefineCalibration(views, ..., options.refine) (its intrinsics and

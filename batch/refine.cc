@@ -374,9 +374,24 @@ bool FillCovariance(ceres::Problem* problem, Parameters* params, const RefineOpt
       return false;
     }
     result->covariance = result->joint_covariance.topLeftCorner<kN, kN>();
-  } else if (!effective.shared_pose && AnalyticJacobians(effective)) {
-    if (!PerViewIntrinsicsCovariance(problem, params, fixed, sigma * sigma, &result->covariance,
-                                     why)) {
+    // One view: z = [theta, M (delta, dt)] (batch/projection_uncertainty.h).
+    Eigen::Matrix<double, ProjectionCovariance::kSize, kN + 6> to_z =
+        Eigen::Matrix<double, ProjectionCovariance::kSize, kN + 6>::Zero();
+    to_z.topLeftCorner<kN, kN>().setIdentity();
+    to_z.bottomRightCorner<6, 6>() = PoseTangentToFrameShare(params->Pose(0), 1);
+    result->projection.covariance = to_z * result->joint_covariance * to_z.transpose();
+    result->projection.sigma_px = sigma;
+    result->projection.num_views = 1;
+  } else if (!effective.shared_pose) {
+    IntrinsicsCovariance per_view;
+    if (!PerViewIntrinsicsCovariance(problem, params, fixed, sigma * sigma, &per_view,
+                                     &result->projection, why)) {
+      return false;
+    }
+    // Autodiff keeps ceres::Covariance's figure: the reference (header comment).
+    if (AnalyticJacobians(effective)) {
+      result->covariance = per_view;
+    } else if (!CovarianceOfIntrinsics(problem, params, sigma * sigma, &result->covariance, why)) {
       return false;
     }
   } else if (!CovarianceOfIntrinsics(problem, params, sigma * sigma, &result->covariance, why)) {

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "batch/projection_uncertainty.h"
 #include "camera/camera.h"
 #include "camera/parametrisation.h"
 #include "camera/pose.h"
@@ -96,6 +97,9 @@ struct RefineResult : MethodSummary {
   // the tangent of cam_from_object's quaternion: R' = Exp(d) R), translation (3)], scaled as
   // `covariance`. Empty otherwise.
   Eigen::MatrixXd joint_covariance;
+  // Cov(z) of batch/projection_uncertainty.h, for the projection uncertainty: computed with the
+  // covariance when the poses are per view, and with compute_pose_covariance for a shared pose.
+  ProjectionCovariance projection;
   double rms_reproj_px = 0.0;  // Per-point Euclidean RMS.
   std::vector<double> view_rms_px;
   double sigma_hat_px = 0.0;  // Residual-based noise estimate (per coordinate).

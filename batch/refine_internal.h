@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "batch/projection_uncertainty.h"
 #include "batch/refine.h"
 
 namespace calibench {
@@ -51,10 +52,12 @@ bool CovarianceOfIntrinsics(ceres::Problem* problem, Parameters* params, double 
 // The joint covariance (RefineResult::joint_covariance) of the intrinsics and the one shared pose.
 bool JointCovariance(ceres::Problem* problem, Parameters* params, const std::vector<int>& fixed,
                      double scale, Eigen::MatrixXd* covariance, std::string* why);
-// The intrinsics' covariance with one pose per view (the Schur complement of the poses).
+// The intrinsics' covariance with one pose per view (the Schur complement of the poses), and with
+// `projection` (may be null) Cov(z) of batch/projection_uncertainty.h.
 bool PerViewIntrinsicsCovariance(ceres::Problem* problem, Parameters* params,
                                  const std::vector<int>& fixed, double scale,
-                                 IntrinsicsCovariance* covariance, std::string* why);
+                                 IntrinsicsCovariance* covariance, ProjectionCovariance* projection,
+                                 std::string* why);
 
 // The omnidirectional families' ranges as Ceres bounds on an intrinsics block (refine.cc's header
 // comment): what RefineCalibration sets, for the rig refinement (batch/rig_refine.cc).

@@ -27,14 +27,17 @@
 // [d (3, rad, R' = Exp(d) R), t (3, m)]; the baseline length std (mm); the baseline direction std
 // (deg: the RMS angle the unit vector c / |c| of the camera's centre in the rig, c = -R^T t,
 // moves by; as the jackknife's, batch/jackknife.h); the relative rotation's
-// rotation-vector std per axis (deg; camera/rig.h). Evaluated at the true parameters with the true
-// sigma (RigCovarianceAt) the same numbers are the Cramer-Rao lower bound.
+// rotation-vector std per axis (deg; camera/rig.h); each camera's projection uncertainty
+// (batch/projection_uncertainty.h), its frame the average of the frames it saw. Evaluated at the
+// true parameters with the true sigma (RigCovarianceAt) the same numbers are the Cramer-Rao lower
+// bound.
 #pragma once
 
 #include <Eigen/Core>
 #include <string>
 #include <vector>
 
+#include "batch/projection_uncertainty.h"
 #include "batch/refine.h"
 #include "camera/rig.h"
 #include "camera/view.h"
@@ -98,10 +101,13 @@ struct RigRefineResult : MethodSummary {
   std::vector<IntrinsicsArray> intrinsics_std;  // Per camera; NaN where fixed or not computed.
   std::vector<IntrinsicsCovariance> intrinsics_covariance;  // Per camera.
   std::vector<RigPoseUncertainty> pose_uncertainty;         // Per camera ([0] all zero).
-  double rms_reproj_px = 0.0;                               // Over every corner of every camera.
-  std::vector<double> camera_rms_px;                        // Per camera.
-  std::vector<std::vector<double>> frame_rms_px;            // [frame][camera]; NaN where not seen.
-  double sigma_hat_px = 0.0;  // Residual-based noise estimate (per coordinate).
+  // Per camera: Cov(z) of its projection uncertainty (batch/projection_uncertainty.h), averaged
+  // over the frames it saw (rig_refine.cc, RigProjection); unset without a covariance.
+  std::vector<ProjectionCovariance> projection;
+  double rms_reproj_px = 0.0;                     // Over every corner of every camera.
+  std::vector<double> camera_rms_px;              // Per camera.
+  std::vector<std::vector<double>> frame_rms_px;  // [frame][camera]; NaN where not seen.
+  double sigma_hat_px = 0.0;                      // Residual-based noise estimate (per coordinate).
   int num_points = 0;
 };
 

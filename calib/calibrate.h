@@ -19,6 +19,7 @@
 #include "batch/jackknife.h"
 #include "batch/refine.h"
 #include "batch/zhang.h"
+#include "calib/calibration_uncertainty.h"
 #include "calib/camera_file.h"
 #include "calib/image_points.h"
 #include "calib/point_data.h"
@@ -60,6 +61,9 @@ struct CalibrateReport {
   // The leave-one-view-out std of ceres' intrinsics (AddJackknife), when computed.
   std::optional<JackknifeResult> jackknife;
   CameraFile camera;  // What camera.yaml holds (the ceres result).
+  // Where in the image it can be trusted (calib/calibration_uncertainty.h); nullopt when the
+  // refinement computed no covariance (evaluate-only) or the image size is unknown.
+  std::optional<CalibrationUncertainty> uncertainty;
   bool IsUsable() const { return ceres.IsUsable(); }
 };
 

@@ -24,10 +24,23 @@ bool FitCamera(const PointData& data, CalibrateOptions* options, CalibrateResult
   return true;
 }
 
-// The status of a fitted result, the jackknife added.
+// The status of a fitted result, the jackknife and the projection uncertainty added.
 void Finish(const CalibrateOptions& options, CalibrateResult* result) {
   result->model = options.model;
   AddJackknife(result->data, options, &result->calibration);
+  CalibrateReport& report = result->calibration;
+  std::vector<View> used;
+  for (int v : report.zhang.used_views) used.push_back(result->data.views[v]);
+  RefineOptions refine;
+  refine.model = options.model;
+  refine.estimate_skew = options.estimate_skew;
+  report.uncertainty =
+      AssessProjectionUncertainty(used, refine, report.ceres, report.jackknife,
+                                  result->data.image_width, result->data.image_height, {});
+  if (report.uncertainty) {
+    report.camera.projection = report.uncertainty->quoted;
+    report.camera.projection_scale = report.uncertainty->scale;
+  }
   result->status = result->calibration.IsUsable() ? CalibrateResult::Status::kOk
                                                   : CalibrateResult::Status::kFailed;
 }

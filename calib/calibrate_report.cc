@@ -108,6 +108,7 @@ std::string FormatCalibrateReport(const CalibrateReport& report, const PointData
              "jackknife std\n";
     }
   }
+  if (report.uncertainty) out << FormatProjectionUncertainty(*report.uncertainty);
   std::snprintf(line, sizeof(line), "rms_reproj_px (per point): ceres %.5f, %s %.5f\n",
                 report.ceres.rms_reproj_px, report.initial_name.c_str(),
                 report.zhang.rms_reproj_px);

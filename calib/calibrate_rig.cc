@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "calib/calibration_pictures.h"
+
 namespace calibench {
 
 namespace {
@@ -394,6 +396,16 @@ std::string FormatRigReport(const CalibrateRigResult& result) {
         out << " (fixed)";
       }
       out << "\n";
+    }
+    if (c < static_cast<int>(result.rig.projection.size()) && result.rig.projection[c].IsSet()) {
+      const UncertaintyMap map = ProjectionUncertaintyMap(
+          camera.intrinsics, result.rig.projection[c], camera.image_width, camera.image_height, {});
+      std::snprintf(line, sizeof(line),
+                    "  projection uncertainty (rays at infinity, formal, 1 sigma): centre %.3f px, "
+                    "median %.3f px, worst %.3f px (%s)\n",
+                    map.centre_px, map.median_px, map.max_px,
+                    WorstRegion(map.worst_std_px, nullptr).c_str());
+      out << line;
     }
   }
   const bool jack = result.jackknife && result.jackknife->IsUsable();

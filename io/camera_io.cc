@@ -156,6 +156,8 @@ bool ReadCameraFile(const std::string& path, CameraFile* camera, std::string* wh
   std::stringstream text;
   text << in.rdbuf();
   const std::string raw = text.str();
+  if (raw.find_first_not_of(" \t\r\n") == std::string::npos)
+    return Fail(why, path + ": empty file");
   bool ok = false;
   if (raw.find("lensmodel") != std::string::npos) {
     ok = ReadMrcal(path, raw, camera, why);

@@ -13,7 +13,10 @@
 //                          reader must go by distortion_model, as for equidistant);
 //           image_width, image_height; then calibench's own fields: model, fku_px, fkv_px,
 //           phi_deg (exact, preferred on reading), rms_reproj_px, std_<parameter> (1 sigma, the
-//           names of ParamNames: std_xi, std_alpha, ..), view_rms_px.
+//           names of ParamNames: std_xi, std_alpha, ..), view_rms_px, and the projection
+//           uncertainty (batch/projection_uncertainty.h) when known: projection_covariance
+//           (Cov(z), 16 x 16), projection_sigma_px, projection_views, projection_scale (the
+//           jackknife's factor already in it: calib/calibration_uncertainty.h).
 //   kalibr  a camchain YAML (as kalibr_calibrate_cameras writes it) with one camera, cam0, in
 //           Kalibr's orders (kalibr_common/ConfigReader.py):
 //             camera_model pinhole  intrinsics [fu, fv, pu, pv], distortion_model radtan

@@ -64,6 +64,18 @@ void WriteOpenCvCamera(const CameraFile& camera, bool with_fit, const OpenCvFiel
     }
   }
   if (with_fit) out << name("view_rms_px") << camera.view_rms_px;
+  if (with_fit && camera.projection.IsSet()) {
+    cv::Mat covariance(ProjectionCovariance::kSize, ProjectionCovariance::kSize, CV_64F);
+    for (int r = 0; r < ProjectionCovariance::kSize; ++r) {
+      for (int c = 0; c < ProjectionCovariance::kSize; ++c) {
+        covariance.at<double>(r, c) = camera.projection.covariance(r, c);
+      }
+    }
+    out << name("projection_covariance") << covariance;
+    out << name("projection_sigma_px") << camera.projection.sigma_px;
+    out << name("projection_views") << camera.projection.num_views;
+    out << name("projection_scale") << camera.projection_scale;
+  }
 }
 
 bool WriteOpenCv(const std::string& path, const CameraFile& camera, std::string* why) {
@@ -214,6 +226,47 @@ bool ReadCameraMatrix(const std::string& path, const cv::FileStorage& in,
   return true;
 }
 
+// projection_covariance (16 x 16, symmetric, finite, non-negative diagonal), projection_sigma_px,
+// projection_views, projection_scale: the projection uncertainty's Cov(z), when present.
+bool ReadProjectionCovariance(const std::string& path, const cv::FileStorage& in,
+                              const OpenCvFieldName& field, CameraFile* camera, std::string* why) {
+  const cv::FileNode node = in[field("projection_covariance")];
+  if (node.empty()) return true;
+  constexpr int kSize = ProjectionCovariance::kSize;
+  const std::string name = path + ": " + field("projection_covariance");
+  cv::Mat covariance;
+  try {
+    node >> covariance;
+  } catch (const cv::Exception&) {
+    return Fail(why, name + ": expected a 16 x 16 matrix of doubles (rows, cols and data differ)");
+  }
+  if (covariance.rows != kSize || covariance.cols != kSize || covariance.type() != CV_64F) {
+    return Fail(why, name + ": expected a 16 x 16 matrix of doubles");
+  }
+  ProjectionCovariance& p = camera->projection;
+  for (int r = 0; r < kSize; ++r) {
+    for (int c = 0; c < kSize; ++c) p.covariance(r, c) = covariance.at<double>(r, c);
+  }
+  const double scale = p.covariance.cwiseAbs().maxCoeff();
+  if (!p.covariance.allFinite() || p.covariance.diagonal().minCoeff() < 0 ||
+      (p.covariance - p.covariance.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) {
+    p = ProjectionCovariance();
+    return Fail(why, name + ": expected a finite symmetric matrix with a non-negative diagonal");
+  }
+  const cv::FileNode views = in[field("projection_views")];
+  const cv::FileNode sigma = in[field("projection_sigma_px")];
+  p.num_views = views.empty() ? 1 : static_cast<int>(views);
+  if (!sigma.empty()) sigma >> p.sigma_px;
+  const cv::FileNode applied = in[field("projection_scale")];
+  if (!applied.empty()) applied >> camera->projection_scale;
+  if (p.num_views < 1 || !(camera->projection_scale >= 1.0)) {
+    p = ProjectionCovariance();
+    return Fail(why, path + ": " + field("projection_views") + " / " + field("projection_scale") +
+                         ": expected at least 1");
+  }
+  return true;
+}
+
 // calibench's own fields: the exact pinhole values, size, RMS, std_*, view RMS, model.
 bool ReadOpenCvExtras(const std::string& path, const cv::FileStorage& in,
                       const OpenCvFieldName& field, CameraFile* camera, std::string* why) {
@@ -238,6 +291,7 @@ bool ReadOpenCvExtras(const std::string& path, const cv::FileStorage& in,
     camera->intrinsics_std[i] = i == 2 ? s / kRadToDeg : s;
   }
   read("view_rms_px", &camera->view_rms_px);
+  if (!ReadProjectionCovariance(path, in, field, camera, why)) return false;
   InferModel(camera);
   std::string model;
   in[field("model")] >> model;
@@ -273,7 +327,11 @@ bool ReadOpenCv(const std::string& path, CameraFile* camera, std::string* why) {
     if (!in.isOpened()) return Fail(why, path + ": cannot open (not an OpenCV FileStorage file)");
     return ReadOpenCvCamera(path, in, SameName, camera, why);
   } catch (const cv::Exception& e) {
-    return Fail(why, path + ": " + e.what());
+    return Fail(why, path +
+                         ": not a camera file calibench reads (an OpenCV YAML/XML/JSON file with "
+                         "camera_matrix, a Kalibr camchain or an mrcal .cameramodel): OpenCV "
+                         "cannot parse it (" +
+                         e.err + ")");
   }
 }
 

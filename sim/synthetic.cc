@@ -50,6 +50,20 @@ TwistProfile ThesisMotionPreset(ThesisMotion motion, CalibrationCase c) {
   return p;
 }
 
+CameraIntrinsics ExampleCamera(LensFamily family, double axis_focal_px, double u0_px,
+                               double v0_px) {
+  const LensFamilyInfo& info = InfoOf(family);
+  CameraIntrinsics k;
+  k.family = family;
+  k.fku_px = axis_focal_px * info.example_focal_scale;
+  k.fkv_px = 1.002 * axis_focal_px * info.example_focal_scale;
+  k.u0_px = u0_px, k.v0_px = v0_px;
+  for (int i = 0; i < 5; ++i) {
+    if (double* field = LensField(&k, info.lens_params[i])) *field = info.example_lens[i];
+  }
+  return k;
+}
+
 CameraIntrinsics RandomIntrinsics(const RandomCameraOptions& o, Rng* rng) {
   CameraIntrinsics k;
   k.fku_px = rng->Uniform(o.min_focal_px, o.max_focal_px);

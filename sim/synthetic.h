@@ -77,6 +77,9 @@ struct RandomCameraOptions {
 };
 
 CameraIntrinsics RandomIntrinsics(const RandomCameraOptions& options, Rng* rng);
+// The family's example lens (LensFamilyInfo::example_lens), its focal length axis_focal_px times
+// the family's example_focal_scale (about the same image size for every family), no skew.
+CameraIntrinsics ExampleCamera(LensFamily family, double axis_focal_px, double u0_px, double v0_px);
 // A uniformly random proper rotation (unit quaternion from four Gaussians).
 Eigen::Matrix3d RandomRotation(Rng* rng);
 Rigid3 RandomPose(double max_translation_m, Rng* rng);

@@ -1,8 +1,11 @@
 #include "bench/app/calibrate_cmd.h"
 
 #include <iostream>
+#include <optional>
 
 #include "calib/calibrate_report.h"
+#include "calib/calibration_page.h"
+#include "calib/cross_validate.h"
 #include "io/camera_io.h"
 #include "io/points_io.h"
 #include "io/target_io.h"
@@ -19,16 +22,25 @@ std::string LensModelList() {
 
 namespace {
 
-// Writes camera.yaml of a usable calibration (exit 0), or exits 4 (unusable) or 3 (unwritable).
-int FinishCalibration(const CalibrateReport& report, const std::string& out_path,
-                      CameraFormat format) {
+// Writes camera.yaml of a usable calibration and its page (calib/calibration_page.h) beside it
+// (exit 0), or exits 4 (unusable) or 3 (unwritable).
+int FinishCalibration(const CalibrateResult& result, const CrossValidation* cross_validation,
+                      const std::string& out_path, CameraFormat format) {
   std::string why;
+  const CalibrateReport& report = result.calibration;
   if (!report.IsUsable()) return 4;
   if (!WriteCameraFile(out_path, format, report.camera, &why)) {
     std::cerr << "calibench: --out: " << why << "\n";
     return 3;
   }
   std::cerr << "calibench: wrote " << out_path << " (" << ToString(format) << ")\n";
+  CalibrationPageFiles page;
+  if (!WriteCalibrationPage(out_path, result, cross_validation, &page, &why)) {
+    std::cerr << "calibench: the calibration page: " << why << "\n";
+    return 3;
+  }
+  std::cerr << "calibench: wrote " << page.markdown << " and " << page.figures.size()
+            << " figures\n";
   return 0;
 }
 
@@ -126,7 +138,18 @@ int Calibrate(const CalibrateArgs& args) {
     result = CalibratePoints(data, options);
   }
   std::cout << FormatCalibrateReport(result);
-  return FinishCalibration(result.calibration, args.out_path, format);
+  std::optional<CrossValidation> cross_validation;
+  if (args.cross_validate && result.IsUsable()) {
+    if (args.evaluate) {
+      std::cerr << "calibench: --cross-validate: nothing to cross-validate with --evaluate (the "
+                   "given camera is kept fixed)\n";
+    } else {
+      cross_validation = CrossValidate(result, options);
+      std::cout << FormatCrossValidation(*cross_validation);
+    }
+  }
+  return FinishCalibration(result, cross_validation ? &*cross_validation : nullptr, args.out_path,
+                           format);
 }
 
 }  // namespace calibench

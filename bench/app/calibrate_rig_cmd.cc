@@ -8,6 +8,7 @@
 
 #include "bench/app/calibrate_cmd.h"
 #include "calib/calibrate_rig.h"
+#include "calib/calibration_page.h"
 #include "calib/image_points.h"
 #include "calib/rectify.h"
 #include "calib/rig_images.h"
@@ -216,6 +217,13 @@ int CalibrateRig(const CalibrateArgs& args) {
   // Best effort unless asked for: a rig whose cameras 0 and 1 cannot be rectified (they look apart)
   // or share no frame is calibrated all the same.
   const int rectified_status = WriteRectifiedPair(result, cameras, rectified);
+  CalibrationPageFiles page;
+  if (!WriteRigCalibrationPage(out, result, rectified, &page, &why)) {
+    std::cerr << "calibench: the calibration page: " << why << "\n";
+    return 3;
+  }
+  std::cerr << "calibench: wrote " << page.markdown << " and " << page.figures.size()
+            << " figures\n";
   return args.rectified_path.empty() ? 0 : rectified_status;
 }
 

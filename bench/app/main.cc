@@ -9,11 +9,13 @@
 #include <string>
 
 #include "bench/app/calibrate_cmd.h"
+#include "bench/app/compare_cmd.h"
 #include "bench/app/corner_bias_cmd.h"
 #include "bench/app/corners_csv.h"
 #include "bench/app/frames_io.h"
 #include "bench/app/report_cmd.h"
 #include "bench/app/target_cmd.h"
+#include "bench/app/uncertainty_study_cmd.h"
 #include "bench/config/config_io.h"
 #include "bench/config/config_reference.h"
 #include "bench/run/csv.h"
@@ -275,6 +277,9 @@ CLI::App* AddCalibrateCommand(CLI::App* app, calibench::CalibrateArgs* cal) {
                    "off")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
+  calibrate->add_flag("--cross-validate", cal->cross_validate,
+                      "Also calibrate the two halves of the views (alternate views) apart and "
+                      "compare them over the image against their uncertainty");
   calibrate->add_flag("--evaluate", cal->evaluate,
                       "With --init: keep that camera fixed, fit only each image's pose, report "
                       "the reprojection RMS per image and flag outliers. A rig (--init a "
@@ -340,6 +345,33 @@ CLI::App* AddCornerBiasCommand(CLI::App* app, calibench::CornerBiasArgs* bias_ar
                           "background (default 16; pixels on the board hold exact cell areas)");
   corner_bias->add_option("--threads", bias_args->threads, "Worker threads (default 2)");
   return corner_bias;
+}
+
+// `compare`: its options into *compare_args.
+CLI::App* AddCompareCommand(CLI::App* app, calibench::CompareArgs* compare_args) {
+  CLI::App* compare = app->add_subcommand(
+      "compare",
+      "Do two camera files (any format and lens family) describe the same camera? Their "
+      "projection difference after the fitted rotation, against their uncertainty");
+  compare->add_option("A", compare_args->a_path, "The first camera file")->required();
+  compare->add_option("B", compare_args->b_path, "The second camera file")->required();
+  compare->add_option("--out", compare_args->out_path, "The difference heatmap (PNG)");
+  compare->add_option("--distance", compare_args->distance,
+                      "Compare points at this distance (m; default: rays at infinity)");
+  compare->add_flag("--no-rotation", compare_args->no_rotation,
+                    "Do not fit the rotation between the two camera frames");
+  return compare;
+}
+
+// `uncertainty-study`: its options into *study_args.
+CLI::App* AddUncertaintyStudyCommand(CLI::App* app, calibench::UncertaintyStudyArgs* study_args) {
+  CLI::App* study = app->add_subcommand(
+      "uncertainty-study",
+      "Monte Carlo validation of the projection uncertainty over lens families, views and "
+      "distances (the table of docs/results/uncertainty.md)");
+  study->add_option("--out", study_args->out_path, "Markdown table (also printed)");
+  study->add_option("--draws", study_args->draws, "Re-solves per case (default 100)");
+  return study;
 }
 
 // `target`: its options into *target_args.
@@ -460,6 +492,10 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
   CLI::App* corner_bias = AddCornerBiasCommand(&app, &bias_args);
   calibench::TargetArgs target_args;
   CLI::App* target = AddTargetCommand(&app, &target_args);
+  calibench::CompareArgs compare_args;
+  CLI::App* compare = AddCompareCommand(&app, &compare_args);
+  calibench::UncertaintyStudyArgs study_args;
+  CLI::App* study = AddUncertaintyStudyCommand(&app, &study_args);
   CLI::App* config_reference =
       app.add_subcommand("config-reference",
                          "Print the scenario format's reference (Markdown) from its declarations: "
@@ -482,6 +518,8 @@ int main(int argc, char** argv) {  // NOLINT(bugprone-exception-escape)
     }
     if (corner_bias->parsed()) return calibench::CornerBias(bias_args);
     if (target->parsed()) return calibench::WriteTarget(target_args);
+    if (study->parsed()) return calibench::UncertaintyStudy(study_args);
+    if (compare->parsed()) return calibench::Compare(compare_args);
     if (config_reference->parsed()) {
       std::cout << calibench::ConfigurationReference();
       return 0;

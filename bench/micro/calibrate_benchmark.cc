@@ -58,17 +58,7 @@ std::vector<int64_t> ModelIndices() {
 }
 
 // The family's example lens (LensFamilyInfo::example_lens) at about the same image size.
-CameraIntrinsics Truth(LensFamily family) {
-  const LensFamilyInfo& info = InfoOf(family);
-  CameraIntrinsics k;
-  k.family = family;
-  k.fku_px = kAxisFocalPx, k.fkv_px = 1.002 * kAxisFocalPx, k.u0_px = 482, k.v0_px = 297;
-  for (int i = 0; i < 5; ++i) {
-    if (double* field = LensField(&k, info.lens_params[i])) *field = info.example_lens[i];
-  }
-  k.fku_px *= info.example_focal_scale, k.fkv_px *= info.example_focal_scale;
-  return k;
-}
+CameraIntrinsics Truth(LensFamily family) { return ExampleCamera(family, kAxisFocalPx, 482, 297); }
 
 const SyntheticBoardViews& Views(LensFamily family, int views) {
   static std::map<std::pair<int, int>, SyntheticBoardViews> cache;

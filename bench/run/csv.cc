@@ -1,11 +1,7 @@
 #include "bench/run/csv.h"
 
-#include <unistd.h>
-
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 
 namespace calibench {
@@ -65,22 +61,6 @@ bool CsvReader::Next(std::vector<std::string>* fields, std::string* why) {
            (quoted ? ": unterminated quoted field" : ": the last line has no newline (cut short?)");
   }
   return false;
-}
-
-bool WriteFileAtomically(const std::string& path, const std::string& contents, std::string* why) {
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  auto fail = [&](const std::string& what) {
-    if (why) *why = path + ": " + what + ": " + std::strerror(errno);
-    std::remove(tmp.c_str());
-    return false;
-  };
-  FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) return fail("cannot create the file");
-  const bool wrote = std::fwrite(contents.data(), 1, contents.size(), f) == contents.size();
-  const bool flushed = std::fflush(f) == 0 && ::fsync(fileno(f)) == 0;
-  if (std::fclose(f) != 0 || !wrote || !flushed) return fail("write failed");
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) return fail("rename failed");
-  return true;
 }
 
 }  // namespace calibench

@@ -6,13 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "util/format.h"  // FormatNumber: how a CSV file writes a number.
+#include "util/atomic_file.h"  // WriteFileAtomically: how a CSV file is written.
+#include "util/format.h"       // FormatNumber: how a CSV file writes a number.
 
 namespace calibench {
 
 std::string CsvLine(const std::vector<std::string>& fields);
-// Writes `contents` to `path` atomically. Returns false with a reason naming the path.
-bool WriteFileAtomically(const std::string& path, const std::string& contents, std::string* why);
 
 // Reads RFC 4180 records (quoted fields may hold commas, quotes and newlines) one at a time.
 class CsvReader {

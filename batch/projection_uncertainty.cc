@@ -1,0 +1,134 @@
+// Projection uncertainty (batch/projection_uncertainty.h).
+#include "batch/projection_uncertainty.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+#include "batch/projection_jacobian.h"
+
+namespace calibench {
+
+Eigen::Matrix<double, 6, 6> PoseTangentToFrameShare(const Rigid3& cam_from_board, int num_views) {
+  // phi_v = 2 delta (EigenQuaternionManifold: q' = [sin|delta| delta/|delta|, cos|delta|] q);
+  // eps_v = [t]x phi_v + dt.
+  Eigen::Matrix<double, 6, 6> share = Eigen::Matrix<double, 6, 6>::Zero();
+  share.topLeftCorner<3, 3>() = 2.0 * Eigen::Matrix3d::Identity();
+  share.bottomLeftCorner<3, 3>() = 2.0 * Hat(cam_from_board.translation);
+  share.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity();
+  return share / static_cast<double>(std::max(1, num_views));
+}
+
+double WorstStdPx(const Eigen::Matrix2d& covariance_px2) {
+  return std::sqrt(std::max(
+      0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(covariance_px2).eigenvalues()[1]));
+}
+
+Eigen::Matrix2d SampleCovariancePx2(const std::vector<Eigen::Vector2d>& pixels) {
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  if (pixels.size() < 2) return cov;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& q : pixels) mean += q;
+  mean /= static_cast<double>(pixels.size());
+  for (const Eigen::Vector2d& q : pixels) cov += (q - mean) * (q - mean).transpose();
+  return cov / static_cast<double>(pixels.size() - 1);
+}
+
+bool ProjectionUncertaintyAt(const CameraIntrinsics& camera, const ProjectionCovariance& covariance,
+                             const Eigen::Vector2d& pixel, double distance, PixelUncertainty* out,
+                             std::string* why) {
+  if (!covariance.IsSet()) {
+    if (why) *why = "no projection covariance (the calibration did not compute one)";
+    return false;
+  }
+  if (!(distance > 0)) {
+    if (why) *why = "distance must be positive (or infinity)";
+    return false;
+  }
+  Eigen::Vector3d ray;
+  if (!UnprojectToRay(camera, pixel, &ray)) {
+    if (why) *why = "the pixel does not unproject (outside the lens's field)";
+    return false;
+  }
+  const bool at_infinity = std::isinf(distance);
+  const Eigen::Vector3d point = at_infinity ? ray : Eigen::Vector3d(distance * ray);
+  const auto params = camera.Params();
+  ProjectionJacobian jacobian;
+  if (!ProjectWithJacobian(camera.family, params.data(), point, /*jacobians=*/true, &jacobian)) {
+    if (why) *why = "the unprojected ray does not project back";
+    return false;
+  }
+  Eigen::Matrix<double, 2, ProjectionCovariance::kSize> g;
+  g.leftCols<10>() = jacobian.d_intrinsics;
+  g.block<2, 3>(0, 10) = -jacobian.d_point * Hat(point);
+  g.rightCols<3>() = at_infinity ? Eigen::Matrix<double, 2, 3>::Zero() : jacobian.d_point;
+  out->covariance_px2 = g * covariance.covariance * g.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(out->covariance_px2);  // Ascending.
+  out->worst_std_px = std::sqrt(std::max(0.0, eig.eigenvalues()[1]));
+  out->smallest_std_px = std::sqrt(std::max(0.0, eig.eigenvalues()[0]));
+  const Eigen::Vector2d major = eig.eigenvectors().col(1);
+  out->major_angle_rad = std::atan2(major.y(), major.x());
+  return true;
+}
+
+void SummariseUncertaintyMap(UncertaintyMap* map) {
+  const ImageGrid& grid = map->worst_std_px;
+  std::vector<double> finite;
+  for (double v : grid.values) {
+    if (std::isfinite(v)) finite.push_back(v);
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  map->median_px = map->max_px = map->centre_px = nan;
+  if (finite.empty()) return;
+  std::nth_element(finite.begin(), finite.begin() + finite.size() / 2, finite.end());
+  map->median_px = finite[finite.size() / 2];
+  map->max_px = *std::max_element(finite.begin(), finite.end());
+  map->centre_px = grid.At(grid.cols / 2, grid.rows / 2);
+}
+
+UncertaintyMap ProjectionUncertaintyMap(const CameraIntrinsics& camera,
+                                        const ProjectionCovariance& covariance, int image_width,
+                                        int image_height, const UncertaintyMapOptions& options) {
+  UncertaintyMap map;
+  map.worst_std_px = ImageGrid::Over(image_width, image_height, options.cols);
+  ImageGrid& grid = map.worst_std_px;
+  for (int j = 0; j < grid.rows; ++j) {
+    for (int i = 0; i < grid.cols; ++i) {
+      PixelUncertainty u;
+      if (ProjectionUncertaintyAt(camera, covariance, grid.PixelAt(i, j), options.distance, &u,
+                                  nullptr)) {
+        grid.At(i, j) = u.worst_std_px;
+      }
+    }
+  }
+  SummariseUncertaintyMap(&map);
+  return map;
+}
+
+bool ReprojectThroughEstimate(const CameraIntrinsics& reference, const CameraIntrinsics& estimate,
+                              const std::vector<Rigid3>& reference_cam_from_board,
+                              const std::vector<Rigid3>& estimate_cam_from_board,
+                              const Eigen::Vector2d& pixel, double distance,
+                              Eigen::Vector2d* reprojected) {
+  if (reference_cam_from_board.empty() ||
+      reference_cam_from_board.size() != estimate_cam_from_board.size()) {
+    return false;
+  }
+  Eigen::Vector3d ray;
+  if (!UnprojectToRay(reference, pixel, &ray)) return false;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  const bool at_infinity = std::isinf(distance);
+  for (size_t v = 0; v < reference_cam_from_board.size(); ++v) {
+    const Rigid3& r = reference_cam_from_board[v];
+    const Rigid3& e = estimate_cam_from_board[v];
+    // A ray: the rotation alone (the point's scale does not change its projection).
+    mean += at_infinity ? Eigen::Vector3d(e.rotation * r.rotation.transpose() * ray)
+                        : Eigen::Vector3d(e.rotation * r.rotation.transpose() *
+                                              (distance * ray - r.translation) +
+                                          e.translation);
+  }
+  return ProjectPoint(estimate, mean / static_cast<double>(reference_cam_from_board.size()),
+                      reprojected);
+}
+
+}  // namespace calibench

@@ -1,0 +1,111 @@
+// Projection uncertainty: how far, in pixels, the projection of an observed ray may move when the
+// calibration is re-made from new noise. mrcal's definition (its "projection uncertainty"
+// documentation), with the camera frame's own uncertainty accounted for by averaging over the
+// frames, as mrcal's original method does (not its newer cross-reprojection variant, which needs
+// the whole optimisation at hand; the averaged method needs only the 16 x 16 matrix below, so a
+// camera file can carry it).
+//
+// A calibration estimates the intrinsics theta and, per view v, cam_from_board_v = (R_v, t_v).
+// Take a pixel q and a distance d (infinity by default). Unproject: p = d * ray(q) in the camera
+// frame. In each board frame that point is x_v = cam_from_board_v^-1 p. A re-made calibration
+// (theta', R_v', t_v') sees it at the average of cam_from_board_v' x_v over the views, and projects
+// it through theta'. To first order, with the left perturbation R_v' = Exp(phi_v) R_v,
+// t_v' = t_v + dt_v:
+//     p' - p = -[p]x phi_bar + eps,  phi_bar = mean_v phi_v,  eps = mean_v ([t_v]x phi_v + dt_v),
+// so the projection q' = Project(theta', p') depends on the calibration only through
+//     z = [theta (10, the raw order of camera/camera.h, phi in radians), phi_bar (3, rad), eps
+//     (3)],
+// eps in the target's unit (metres). Var(q) = G Cov(z) G^T, G = [dq/dtheta, -dq/dp [p]x, dq/dp];
+// at infinity p = ray(q) (the projection is invariant to the point's scale) and the eps columns
+// vanish. Cov(z) = L Cov(theta, poses) L^T, with Cov(theta, poses) = sigma^2 (J^T J)^-1 of the
+// whole refinement (sigma: the known pixel noise or sigma_hat from the residuals) and L the linear
+// map above; RefineCalibration computes it (RefineResult::projection) with the poses' Schur
+// complement, without forming the whole inverse.
+//
+// A gauge fixed instead (one board held, or the camera) gives a larger figure (mrcal's
+// documentation says why); a single shared pose (a scenario's constant extrinsic) is the case of
+// one view. The figure is formal: on real images, where the corner noise is not independent, it is
+// too small (docs/uncertainty.md gives the measured factor and what calibrate does about it).
+#pragma once
+
+#include <Eigen/Core>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "camera/camera.h"
+#include "camera/image_grid.h"
+#include "camera/pose.h"
+
+namespace calibench {
+
+// Cov(z) of the header comment: what a calibration's projection uncertainty needs.
+struct ProjectionCovariance {
+  static constexpr int kSize = 16;
+  using Matrix = Eigen::Matrix<double, kSize, kSize>;
+  // Over z = [raw intrinsics (10; fixed ones 0), phi_bar (3, rad), eps (3, target units)], with
+  // sigma^2 included (px^2 for the pixels it maps to).
+  Matrix covariance = Matrix::Zero();
+  double sigma_px = 0.0;  // The per-coordinate pixel noise it was scaled by.
+  int num_views = 0;      // Views averaged over (0: not computed).
+  bool IsSet() const { return num_views > 0; }
+};
+
+// The linear map L of the header comment, from the tangent of one view's pose (3 of the quaternion
+// tangent of ceres::EigenQuaternionManifold, whose rotation vector is twice it, then 3 of
+// translation) to that view's share of [phi_bar, eps] (num_views: the views averaged over).
+Eigen::Matrix<double, 6, 6> PoseTangentToFrameShare(const Rigid3& cam_from_board, int num_views);
+
+// The uncertainty of one pixel's projection.
+struct PixelUncertainty {
+  Eigen::Matrix2d covariance_px2 = Eigen::Matrix2d::Zero();
+  double worst_std_px = 0.0;     // sqrt of the larger eigenvalue: the ellipse's semi-major axis.
+  double smallest_std_px = 0.0;  // The semi-minor axis.
+  double major_angle_rad = 0.0;  // Direction of the major axis from the image's x axis.
+};
+
+// The worst-direction std (sqrt of the larger eigenvalue) of a 2 x 2 pixel covariance.
+double WorstStdPx(const Eigen::Matrix2d& covariance_px2);
+// The spread of pixels (e.g. one pixel's projections through re-made calibrations): their sample
+// covariance about their mean, sum (q - mean)(q - mean)^T / (n - 1). Zero for fewer than 2.
+Eigen::Matrix2d SampleCovariancePx2(const std::vector<Eigen::Vector2d>& pixels);
+
+// The uncertainty at `pixel` for a point at `distance` (target units; infinity: a ray) through
+// `camera`. False with *why where the pixel does not unproject (outside the lens's field) or the
+// ray does not project back.
+bool ProjectionUncertaintyAt(const CameraIntrinsics& camera, const ProjectionCovariance& covariance,
+                             const Eigen::Vector2d& pixel, double distance, PixelUncertainty* out,
+                             std::string* why);
+
+struct UncertaintyMapOptions {
+  int cols = 40;  // Grid samples across the image (rows follow the aspect ratio).
+  double distance = std::numeric_limits<double>::infinity();  // Target units; infinity: rays.
+};
+// The worst-direction std over a grid of the image (camera/image_grid.h); NaN where a pixel does
+// not unproject.
+struct UncertaintyMap {
+  ImageGrid worst_std_px;
+  double median_px = std::numeric_limits<double>::quiet_NaN();  // Over the finite samples.
+  double max_px = std::numeric_limits<double>::quiet_NaN();
+  double centre_px = std::numeric_limits<double>::quiet_NaN();  // At the image centre.
+};
+UncertaintyMap ProjectionUncertaintyMap(const CameraIntrinsics& camera,
+                                        const ProjectionCovariance& covariance, int image_width,
+                                        int image_height, const UncertaintyMapOptions& options);
+// Fills median_px, max_px (over the finite samples) and centre_px (the sample nearest the image
+// centre) from map->worst_std_px.
+void SummariseUncertaintyMap(UncertaintyMap* map);
+
+// The pixel where `estimate` projects what `reference` sees at `pixel`: the point at `distance`
+// along reference's ray, taken into each view's board frame by `reference_cam_from_board`, brought
+// back by `estimate_cam_from_board` and averaged (the camera frame the uncertainty is defined in),
+// then projected by `estimate`. Its distance from `pixel` is the estimate's projection error
+// against the reference (the truth in a simulation, the full fit in a jackknife). False where
+// either camera fails to (un)project or the pose lists differ in length or are empty.
+bool ReprojectThroughEstimate(const CameraIntrinsics& reference, const CameraIntrinsics& estimate,
+                              const std::vector<Rigid3>& reference_cam_from_board,
+                              const std::vector<Rigid3>& estimate_cam_from_board,
+                              const Eigen::Vector2d& pixel, double distance,
+                              Eigen::Vector2d* reprojected);
+
+}  // namespace calibench

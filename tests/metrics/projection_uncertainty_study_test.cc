@@ -1,0 +1,76 @@
+// The projection uncertainty validated by Monte Carlo re-solves (metrics/projection_uncertainty_
+// study.h): a narrow and a wide lens, rays and a near point. docs/results/uncertainty.md has the
+// full table (calibench uncertainty-study).
+#include "metrics/projection_uncertainty_study.h"
+
+#include <gtest/gtest.h>
+
+#include "sim/synthetic.h"
+#include "util/random.h"
+
+namespace calibench {
+namespace {
+
+// mrcal's own tolerance for its Monte Carlo check (test-projection-uncertainty.py): the predicted
+// std within 20 % of the observed. With 100 draws the observed std itself scatters by
+// 1 / sqrt(2 * 100) = 7 %, so a correct formula passes and a factor-2 slip (the quaternion
+// tangent) or a missing frame term (2-5x at the image's edge) fails.
+constexpr double kMedianRatioTol = 0.20;
+// Single grid samples: 10th-90th percentile of observed / predicted within 35 % (the 7 %
+// sampling scatter of each sample's std, at 1.3 sigma either side, plus the 20 %).
+constexpr double kSampleRatioTol = 0.35;
+constexpr int kDraws = 100;
+
+void ExpectValidated(const UncertaintyStudyResult& r) {
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_GE(r.draws_used, kDraws - 2);
+  EXPECT_NEAR(r.median_ratio, 1.0, kMedianRatioTol)
+      << "observed " << r.median_observed_px << " px, predicted " << r.median_predicted_px;
+  EXPECT_GT(r.p10_ratio, 1.0 - kSampleRatioTol);
+  EXPECT_LT(r.p90_ratio, 1.0 + kSampleRatioTol);
+  // Each draw's own prediction (sigma_hat from its residuals) tells the same.
+  EXPECT_NEAR(r.median_draw_ratio, 1.0, kMedianRatioTol);
+}
+
+TEST(ProjectionUncertaintyStudy, PinholeRaysAndNearPointsMatchTheirMonteCarloSpread) {
+  const CameraIntrinsics truth{520.0, 515.0, 90.0, 322.0, 236.0, -0.21, 0.08};
+  SyntheticBoardOptions board;
+  board.num_views = 12;
+  Rng rng(21);
+  const SyntheticBoardViews data = MakeBoardViews(truth, board, &rng);
+  UncertaintyStudyOptions options;
+  options.draws = kDraws;
+  options.max_distance_to_data_px = 40;
+  ExpectValidated(RunUncertaintyStudy(truth, data.views, data.cam_from_board, 640, 480, options));
+  options.distance = 0.5;  // At the boards' distance: the eps terms count.
+  ExpectValidated(RunUncertaintyStudy(truth, data.views, data.cam_from_board, 640, 480, options));
+}
+
+TEST(ProjectionUncertaintyStudy, WideDoubleSphereMatchesItsMonteCarloSpread) {
+  CameraIntrinsics truth;
+  truth.family = LensFamily::kDoubleSphere;
+  truth.fku_px = 330, truth.fkv_px = 331, truth.u0_px = 511, truth.v0_px = 509;
+  truth.xi = -0.2, truth.alpha = 0.6;
+  WideBoardOptions board;
+  board.num_views = 15;
+  board.max_angle_deg = 80;
+  Rng rng(22);
+  const SyntheticBoardViews data = MakeWideBoardViews(truth, board, &rng);
+  UncertaintyStudyOptions options;
+  options.model = LensModel::kDoubleSphere;
+  options.draws = kDraws;
+  options.max_distance_to_data_px = 60;
+  ExpectValidated(RunUncertaintyStudy(truth, data.views, data.cam_from_board, board.image_width,
+                                      board.image_height, options));
+}
+
+TEST(ProjectionUncertaintyStudy, BadOptionsAreRefusedWithAReason) {
+  UncertaintyStudyOptions options;
+  options.draws = 3;
+  const UncertaintyStudyResult r = RunUncertaintyStudy({}, {View{}}, {Rigid3{}}, 640, 480, options);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("draws"), std::string::npos) << r.message;
+}
+
+}  // namespace
+}  // namespace calibench
