@@ -35,13 +35,13 @@ Eigen::Matrix2d SampleCovariancePx2(const std::vector<Eigen::Vector2d>& pixels) 
 }
 
 bool ProjectionUncertaintyAt(const CameraIntrinsics& camera, const ProjectionCovariance& covariance,
-                             const Eigen::Vector2d& pixel, double distance, PixelUncertainty* out,
+                             const Eigen::Vector2d& pixel, double distance_m, PixelUncertainty* out,
                              std::string* why) {
   if (!covariance.IsSet()) {
     if (why) *why = "no projection covariance (the calibration did not compute one)";
     return false;
   }
-  if (!(distance > 0)) {
+  if (!(distance_m > 0)) {
     if (why) *why = "distance must be positive (or infinity)";
     return false;
   }
@@ -50,8 +50,8 @@ bool ProjectionUncertaintyAt(const CameraIntrinsics& camera, const ProjectionCov
     if (why) *why = "the pixel does not unproject (outside the lens's field)";
     return false;
   }
-  const bool at_infinity = std::isinf(distance);
-  const Eigen::Vector3d point = at_infinity ? ray : Eigen::Vector3d(distance * ray);
+  const bool at_infinity = std::isinf(distance_m);
+  const Eigen::Vector3d point = at_infinity ? ray : Eigen::Vector3d(distance_m * ray);
   const auto params = camera.Params();
   ProjectionJacobian jacobian;
   if (!ProjectWithJacobian(camera.family, params.data(), point, /*jacobians=*/true, &jacobian)) {
@@ -63,6 +63,10 @@ bool ProjectionUncertaintyAt(const CameraIntrinsics& camera, const ProjectionCov
   g.block<2, 3>(0, 10) = -jacobian.d_point * Hat(point);
   g.rightCols<3>() = at_infinity ? Eigen::Matrix<double, 2, 3>::Zero() : jacobian.d_point;
   out->covariance_px2 = g * covariance.covariance * g.transpose();
+  if (!out->covariance_px2.allFinite()) {
+    if (why) *why = "the covariance or the projection's derivatives are not finite there";
+    return false;
+  }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(out->covariance_px2);  // Ascending.
   out->worst_std_px = std::sqrt(std::max(0.0, eig.eigenvalues()[1]));
   out->smallest_std_px = std::sqrt(std::max(0.0, eig.eigenvalues()[0]));
@@ -95,7 +99,7 @@ UncertaintyMap ProjectionUncertaintyMap(const CameraIntrinsics& camera,
   for (int j = 0; j < grid.rows; ++j) {
     for (int i = 0; i < grid.cols; ++i) {
       PixelUncertainty u;
-      if (ProjectionUncertaintyAt(camera, covariance, grid.PixelAt(i, j), options.distance, &u,
+      if (ProjectionUncertaintyAt(camera, covariance, grid.PixelAt(i, j), options.distance_m, &u,
                                   nullptr)) {
         grid.At(i, j) = u.worst_std_px;
       }
@@ -108,7 +112,7 @@ UncertaintyMap ProjectionUncertaintyMap(const CameraIntrinsics& camera,
 bool ReprojectThroughEstimate(const CameraIntrinsics& reference, const CameraIntrinsics& estimate,
                               const std::vector<Rigid3>& reference_cam_from_board,
                               const std::vector<Rigid3>& estimate_cam_from_board,
-                              const Eigen::Vector2d& pixel, double distance,
+                              const Eigen::Vector2d& pixel, double distance_m,
                               Eigen::Vector2d* reprojected) {
   if (reference_cam_from_board.empty() ||
       reference_cam_from_board.size() != estimate_cam_from_board.size()) {
@@ -117,14 +121,14 @@ bool ReprojectThroughEstimate(const CameraIntrinsics& reference, const CameraInt
   Eigen::Vector3d ray;
   if (!UnprojectToRay(reference, pixel, &ray)) return false;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  const bool at_infinity = std::isinf(distance);
+  const bool at_infinity = std::isinf(distance_m);
   for (size_t v = 0; v < reference_cam_from_board.size(); ++v) {
     const Rigid3& r = reference_cam_from_board[v];
     const Rigid3& e = estimate_cam_from_board[v];
     // A ray: the rotation alone (the point's scale does not change its projection).
     mean += at_infinity ? Eigen::Vector3d(e.rotation * r.rotation.transpose() * ray)
                         : Eigen::Vector3d(e.rotation * r.rotation.transpose() *
-                                              (distance * ray - r.translation) +
+                                              (distance_m * ray - r.translation) +
                                           e.translation);
   }
   return ProjectPoint(estimate, mean / static_cast<double>(reference_cam_from_board.size()),

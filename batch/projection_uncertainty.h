@@ -70,16 +70,16 @@ double WorstStdPx(const Eigen::Matrix2d& covariance_px2);
 // covariance about their mean, sum (q - mean)(q - mean)^T / (n - 1). Zero for fewer than 2.
 Eigen::Matrix2d SampleCovariancePx2(const std::vector<Eigen::Vector2d>& pixels);
 
-// The uncertainty at `pixel` for a point at `distance` (target units; infinity: a ray) through
+// The uncertainty at `pixel` for a point at `distance_m` (target units; infinity: a ray) through
 // `camera`. False with *why where the pixel does not unproject (outside the lens's field) or the
 // ray does not project back.
 bool ProjectionUncertaintyAt(const CameraIntrinsics& camera, const ProjectionCovariance& covariance,
-                             const Eigen::Vector2d& pixel, double distance, PixelUncertainty* out,
+                             const Eigen::Vector2d& pixel, double distance_m, PixelUncertainty* out,
                              std::string* why);
 
 struct UncertaintyMapOptions {
   int cols = 40;  // Grid samples across the image (rows follow the aspect ratio).
-  double distance = std::numeric_limits<double>::infinity();  // Target units; infinity: rays.
+  double distance_m = std::numeric_limits<double>::infinity();  // Target units; infinity: rays.
 };
 // The worst-direction std over a grid of the image (camera/image_grid.h); NaN where a pixel does
 // not unproject.
@@ -96,7 +96,7 @@ UncertaintyMap ProjectionUncertaintyMap(const CameraIntrinsics& camera,
 // centre) from map->worst_std_px.
 void SummariseUncertaintyMap(UncertaintyMap* map);
 
-// The pixel where `estimate` projects what `reference` sees at `pixel`: the point at `distance`
+// The pixel where `estimate` projects what `reference` sees at `pixel`: the point at `distance_m`
 // along reference's ray, taken into each view's board frame by `reference_cam_from_board`, brought
 // back by `estimate_cam_from_board` and averaged (the camera frame the uncertainty is defined in),
 // then projected by `estimate`. Its distance from `pixel` is the estimate's projection error
@@ -105,7 +105,7 @@ void SummariseUncertaintyMap(UncertaintyMap* map);
 bool ReprojectThroughEstimate(const CameraIntrinsics& reference, const CameraIntrinsics& estimate,
                               const std::vector<Rigid3>& reference_cam_from_board,
                               const std::vector<Rigid3>& estimate_cam_from_board,
-                              const Eigen::Vector2d& pixel, double distance,
+                              const Eigen::Vector2d& pixel, double distance_m,
                               Eigen::Vector2d* reprojected);
 
 }  // namespace calibench

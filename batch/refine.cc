@@ -382,17 +382,22 @@ bool FillCovariance(ceres::Problem* problem, Parameters* params, const RefineOpt
     result->projection.covariance = to_z * result->joint_covariance * to_z.transpose();
     result->projection.sigma_px = sigma;
     result->projection.num_views = 1;
-  } else if (!effective.shared_pose) {
-    IntrinsicsCovariance per_view;
-    if (!PerViewIntrinsicsCovariance(problem, params, fixed, sigma * sigma, &per_view,
+  } else if (!effective.shared_pose && AnalyticJacobians(effective)) {
+    if (!PerViewIntrinsicsCovariance(problem, params, fixed, sigma * sigma, &result->covariance,
                                      &result->projection, why)) {
       return false;
     }
-    // Autodiff keeps ceres::Covariance's figure: the reference (header comment).
-    if (AnalyticJacobians(effective)) {
-      result->covariance = per_view;
-    } else if (!CovarianceOfIntrinsics(problem, params, sigma * sigma, &result->covariance, why)) {
+  } else if (!effective.shared_pose) {
+    // Autodiff keeps ceres::Covariance's figure (the reference, header comment); the projection
+    // covariance is an extra that does not fail the refinement.
+    if (!CovarianceOfIntrinsics(problem, params, sigma * sigma, &result->covariance, why)) {
       return false;
+    }
+    IntrinsicsCovariance unused;
+    std::string projection_why;
+    if (!PerViewIntrinsicsCovariance(problem, params, fixed, sigma * sigma, &unused,
+                                     &result->projection, &projection_why)) {
+      result->projection = ProjectionCovariance();
     }
   } else if (!CovarianceOfIntrinsics(problem, params, sigma * sigma, &result->covariance, why)) {
     return false;

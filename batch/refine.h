@@ -94,7 +94,8 @@ struct RefineResult : MethodSummary {
   IntrinsicsArray intrinsics_std{};     // NaN where fixed or not computed; phi in radians.
   IntrinsicsCovariance covariance = IntrinsicsCovariance::Zero();
   // compute_pose_covariance: 16 x 16 over [intrinsics (10, raw order; fixed ones 0), rotation (3,
-  // the tangent of cam_from_object's quaternion: R' = Exp(d) R), translation (3)], scaled as
+  // the tangent d of cam_from_object's quaternion in ceres::EigenQuaternionManifold: R' =
+  // Exp(2 d) R), translation (3)], scaled as
   // `covariance`. Empty otherwise.
   Eigen::MatrixXd joint_covariance;
   // Cov(z) of batch/projection_uncertainty.h, for the projection uncertainty: computed with the

@@ -274,7 +274,7 @@ struct FrameBlocks {
 ProjectionCovariance RigProjection(const std::vector<RigFrame>& frames, const RigParameters& params,
                                    int c, const std::vector<int>& free, int intrinsics_at,
                                    int pose_at, const std::vector<FrameBlocks>& frame_blocks,
-                                   const Eigen::MatrixXd& s_inverse, double sigma) {
+                                   const Eigen::MatrixXd& s_inverse, double sigma_px) {
   constexpr int kZ = ProjectionCovariance::kSize;
   ProjectionCovariance out;
   const Rigid3 cam_from_rig = params.CamFromRig(c);
@@ -306,9 +306,9 @@ ProjectionCovariance RigProjection(const std::vector<RigFrame>& frames, const Ri
     frame_part.noalias() += m * blocks->d_inverse * m.transpose();
   }
   const Eigen::MatrixXd k_w = k - w;
-  out.covariance = sigma * sigma * (k_w * s_inverse * k_w.transpose() + frame_part);
+  out.covariance = sigma_px * sigma_px * (k_w * s_inverse * k_w.transpose() + frame_part);
   out.covariance = 0.5 * (out.covariance + out.covariance.transpose()).eval();
-  out.sigma_px = sigma;
+  out.sigma_px = sigma_px;
   out.num_views = static_cast<int>(seen.size());
   return out;
 }
@@ -318,8 +318,8 @@ ProjectionCovariance RigProjection(const std::vector<RigFrame>& frames, const Ri
 // (rotations) and t' = t + dt, from the analytic projection Jacobians; each frame's 6 x 6 block D_f
 // eliminated by the Schur complement S = A - sum_f B_f D_f^-1 B_f^T (a residual sees one frame
 // pose). Dense: a rig has at most a few dozen such parameters. Fills intrinsics_std,
-// intrinsics_covariance and pose_uncertainty of *out (the loss is not applied: at a robust optimum
-// the inliers' curvature).
+// intrinsics_covariance, pose_uncertainty and projection of *out (the loss is not applied: at a
+// robust optimum the inliers' curvature).
 bool FillRigCovariance(const std::vector<RigFrame>& frames, const RigParameters& params,
                        const RigRefineOptions& options, double sigma, RigRefineResult* out,
                        std::string* why) {

@@ -175,6 +175,21 @@ void AddJackknife(const PointData& data, const CalibrateOptions& options, Calibr
   report->jackknife = JackknifeIntrinsics(used, report->ceres, jackknife);
 }
 
+void AddProjectionUncertainty(const PointData& data, const CalibrateOptions& options,
+                              CalibrateReport* report) {
+  RefineOptions refine;  // As the refinement's (CalibrateFromPoints) and the jackknife's.
+  refine.model = options.model;
+  refine.estimate_skew = options.estimate_skew;
+  report->uncertainty =
+      AssessProjectionUncertainty(UsedViews(data, report->zhang), refine, report->ceres,
+                                  report->jackknife, data.image_width, data.image_height, {});
+  if (report->uncertainty) {
+    report->camera.projection = report->uncertainty->quoted;
+    report->camera.projection_scale = report->uncertainty->scale;
+    report->camera.projection_source = report->uncertainty->jackknife ? "jackknife" : "formal";
+  }
+}
+
 namespace {
 
 // The corners of two detections of the same images matched by image and target point: the RMS

@@ -73,6 +73,12 @@ CalibrateReport CalibrateFromPoints(const PointData& data, const CalibrateOption
 // options.jackknife asks; a jackknife that fails is kept with its reason (the report says it).
 void AddJackknife(const PointData& data, const CalibrateOptions& options, CalibrateReport* report);
 
+// The projection uncertainty of a usable report of `data` (calib/calibration_uncertainty.h), after
+// AddJackknife (it scales by the jackknife when there is one), into report->uncertainty and the
+// camera file's projection fields; nullopt without a covariance (evaluate-only).
+void AddProjectionUncertainty(const PointData& data, const CalibrateOptions& options,
+                              CalibrateReport* report);
+
 // A given camera (`init`, read from `init_path`) fits images of `data`'s size: false with *why
 // naming the file, its image_width / image_height and the images' size (from `images_dir`)
 // otherwise. A camera file without a size (0) fits any.

@@ -28,19 +28,7 @@ bool FitCamera(const PointData& data, CalibrateOptions* options, CalibrateResult
 void Finish(const CalibrateOptions& options, CalibrateResult* result) {
   result->model = options.model;
   AddJackknife(result->data, options, &result->calibration);
-  CalibrateReport& report = result->calibration;
-  std::vector<View> used;
-  for (int v : report.zhang.used_views) used.push_back(result->data.views[v]);
-  RefineOptions refine;
-  refine.model = options.model;
-  refine.estimate_skew = options.estimate_skew;
-  report.uncertainty =
-      AssessProjectionUncertainty(used, refine, report.ceres, report.jackknife,
-                                  result->data.image_width, result->data.image_height, {});
-  if (report.uncertainty) {
-    report.camera.projection = report.uncertainty->quoted;
-    report.camera.projection_scale = report.uncertainty->scale;
-  }
+  AddProjectionUncertainty(result->data, options, &result->calibration);
   result->status = result->calibration.IsUsable() ? CalibrateResult::Status::kOk
                                                   : CalibrateResult::Status::kFailed;
 }

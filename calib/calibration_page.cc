@@ -1,6 +1,7 @@
 // The calibration page beside a camera file (calib/calibration_page.h).
 #include "calib/calibration_page.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -28,6 +29,42 @@ HeatmapOptions UncertaintyHeatmap(const UncertaintyMap& map, const std::string& 
   heat.title = "Projection uncertainty (" + what + "), rays at infinity, 1 sigma";
   if (map.max_px > 4 * map.median_px) heat.max_value = 4 * map.median_px;
   return heat;
+}
+
+// How much of the field of view the corners reach, by angle from the optical axis.
+struct FieldCoverage {
+  double corners_max_deg = 0, image_max_deg = 0;
+  double rings_covered = 0;  // Share of the 5-degree rings up to image_max_deg with a corner.
+};
+FieldCoverage FieldCoverageOf(const CameraIntrinsics& camera, int width, int height,
+                              const std::vector<std::vector<Eigen::Vector2d>>& pixels) {
+  FieldCoverage out;
+  const auto angle_deg = [&](const Eigen::Vector2d& q, double* deg) {
+    Eigen::Vector3d ray;
+    if (!UnprojectToRay(camera, q, &ray)) return false;
+    *deg = std::acos(std::clamp(ray.normalized().z(), -1.0, 1.0)) * 180.0 / M_PI;
+    return true;
+  };
+  double deg = 0;
+  for (int k = 0; k <= 100; ++k) {  // The image's border.
+    const double s = k / 100.0;
+    for (const Eigen::Vector2d& q :
+         {Eigen::Vector2d(s * (width - 1), 0), Eigen::Vector2d(s * (width - 1), height - 1),
+          Eigen::Vector2d(0, s * (height - 1)), Eigen::Vector2d(width - 1, s * (height - 1))}) {
+      if (angle_deg(q, &deg)) out.image_max_deg = std::max(out.image_max_deg, deg);
+    }
+  }
+  const int rings = std::max(1, static_cast<int>(std::ceil(out.image_max_deg / 5.0)));
+  std::vector<bool> ring(rings, false);
+  for (const std::vector<Eigen::Vector2d>& view : pixels) {
+    for (const Eigen::Vector2d& q : view) {
+      if (!angle_deg(q, &deg)) continue;
+      out.corners_max_deg = std::max(out.corners_max_deg, deg);
+      ring[std::min(rings - 1, static_cast<int>(deg / 5.0))] = true;
+    }
+  }
+  out.rings_covered = static_cast<double>(std::count(ring.begin(), ring.end(), true)) / rings;
+  return out;
 }
 
 }  // namespace
@@ -174,9 +211,16 @@ bool WriteCalibrationPage(const std::string& camera_path, const CalibrateResult&
       return false;
     }
     files->figures.push_back(path);
+    const FieldCoverage field =
+        FieldCoverageOf(report.ceres.intrinsics, width, height, residuals.pixels);
     md << "The corners cover " << Fixed(100 * covered, 0)
        << " % of the image's 10 x 10 cells. Cells without corners are where the lens is "
-          "extrapolated.\n\n![coverage]("
+          "extrapolated. Of the field of view, they reach "
+       << Fixed(field.corners_max_deg, 1) << " deg from the optical axis, the image "
+       << Fixed(field.image_max_deg, 1) << " deg (its farthest pixel that the lens images), and "
+       << Fixed(100 * field.rings_covered, 0)
+       << " % of the 5-degree rings of angle from the axis up to there hold a corner.\n\n"
+          "![coverage]("
        << stem << "-coverage.png)\n";
   }
   files->markdown = beside(".md");

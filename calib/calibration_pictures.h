@@ -3,7 +3,7 @@
 // (kFigureWidthPx or HeatmapOptions::width_px) whatever the camera's resolution, the image frame
 // scaled with its aspect ratio kept, a title, axes in image pixels, a colour bar with its unit.
 //
-// Contract: every Write* function writes `path` atomically (path + ".tmp.png", then rename) and
+// Contract: every Write* function writes `path` atomically (util/atomic_file.h) and
 // returns true, or returns false with *why (if not null) naming the path and the reason (an
 // unwritable path, an empty map, sizes that disagree); no exception escapes, nothing aborts.
 // Only the standard library, Eigen and OpenCV (core, imgproc, imgcodecs) are used.

@@ -14,7 +14,7 @@ namespace {
 
 // The leave-one-view-out spread of the projection over the formal map's grid.
 std::optional<UncertaintyMap> JackknifeMap(const RefineResult& fit, const JackknifeResult& jack,
-                                           const ImageGrid& shape, double distance) {
+                                           const ImageGrid& shape, double distance_m) {
   const size_t n = jack.leave_one_out.size();
   if (!jack.IsUsable() || n < 2 || jack.leave_one_out_poses.size() != n ||
       fit.cam_from_object.size() != n) {
@@ -37,7 +37,7 @@ std::optional<UncertaintyMap> JackknifeMap(const RefineResult& fit, const Jackkn
       bool all = true;
       for (size_t i = 0; i < n && all; ++i) {
         all = ReprojectThroughEstimate(fit.intrinsics, jack.leave_one_out[i], reference[i],
-                                       jack.leave_one_out_poses[i], shape.PixelAt(c, j), distance,
+                                       jack.leave_one_out_poses[i], shape.PixelAt(c, j), distance_m,
                                        &q[i]);
       }
       if (!all) continue;
@@ -65,9 +65,12 @@ void HeldOutViews(const std::vector<View>& views, const RefineOptions& refine,
   pose_only.fix_intrinsics = true;
   pose_only.compute_covariance = false;
   pose_only.view_names.clear();
-  const double sigma = u->quoted.sigma_px / u->scale;  // sigma_hat, per coordinate.
+  const double sigma_px = u->quoted.sigma_px / u->scale;  // sigma_hat, per coordinate.
+  const double noise_var = sigma_px * sigma_px;
+  // Refit i has one view fewer than the fit whose covariance is at hand: N / (N - 1) times it.
+  const double refit_factor = views.size() > 1 ? views.size() / (views.size() - 1.0) : 1.0;
   const auto params = fit.intrinsics.Params();
-  std::vector<double> rms, ratio;
+  std::vector<double> rms, formal_ratio, quoted_ratio;
   double excess_sum = 0, calibration_sum = 0;
   for (size_t i = 0; i < views.size(); ++i) {
     const View& view = views[i];
@@ -94,13 +97,16 @@ void HeldOutViews(const std::vector<View>& views, const RefineOptions& refine,
     const Eigen::MatrixXd absorbed =
         j_pose * (j_pose.transpose() * j_pose).ldlt().solve(j_pose.transpose() * j_theta);
     const Eigen::MatrixXd left = j_theta - absorbed;
-    const double calibration_part = (left * fit.covariance * left.transpose()).trace();
-    const double expected = sigma * sigma * (2 * n - 6) + calibration_part;
+    const double calibration_part =
+        refit_factor * (left * fit.covariance * left.transpose()).trace();
+    const double noise_part = noise_var * (2 * n - 6);
     const double per_coordinate = held.rms_reproj_px / std::sqrt(2.0);
     rms.push_back(per_coordinate);
-    ratio.push_back(per_coordinate / std::sqrt(expected / (2 * n)));
-    const double observed_sq = held.rms_reproj_px * held.rms_reproj_px * n;
-    excess_sum += observed_sq - sigma * sigma * (2 * n - 6);
+    formal_ratio.push_back(per_coordinate / std::sqrt((noise_part + calibration_part) / (2 * n)));
+    quoted_ratio.push_back(
+        per_coordinate /
+        std::sqrt((noise_part + u->scale * u->scale * calibration_part) / (2 * n)));
+    excess_sum += held.rms_reproj_px * held.rms_reproj_px * n - noise_part;
     calibration_sum += calibration_part;
   }
   u->held_out_excess_ratio = calibration_sum > 0
@@ -108,8 +114,8 @@ void HeldOutViews(const std::vector<View>& views, const RefineOptions& refine,
                                  : std::numeric_limits<double>::quiet_NaN();
   u->held_out_views = static_cast<int>(rms.size());
   u->held_out_rms_px = Median(rms);
-  u->held_out_formal_ratio = Median(ratio);
-  u->held_out_quoted_ratio = u->held_out_formal_ratio / u->scale;
+  u->held_out_formal_ratio = Median(formal_ratio);
+  u->held_out_quoted_ratio = Median(quoted_ratio);
 }
 
 }  // namespace
@@ -122,14 +128,14 @@ std::optional<CalibrationUncertainty> AssessProjectionUncertainty(
     return std::nullopt;
   }
   CalibrationUncertainty u;
-  u.distance = options.distance;
+  u.distance_m = options.distance_m;
   UncertaintyMapOptions map_options;
   map_options.cols = options.grid_cols;
-  map_options.distance = options.distance;
+  map_options.distance_m = options.distance_m;
   u.formal = ProjectionUncertaintyMap(fit.intrinsics, fit.projection, image_width, image_height,
                                       map_options);
   if (jackknife)
-    u.jackknife = JackknifeMap(fit, *jackknife, u.formal.worst_std_px, options.distance);
+    u.jackknife = JackknifeMap(fit, *jackknife, u.formal.worst_std_px, options.distance_m);
   if (u.jackknife) {
     std::vector<double> ratios;
     const std::vector<double>& f = u.formal.worst_std_px.values;
@@ -156,10 +162,10 @@ std::optional<CalibrationUncertainty> AssessProjectionUncertainty(
 }
 
 std::string FormatProjectionUncertainty(const CalibrationUncertainty& u) {
-  char line[400];
-  const std::string at = std::isinf(u.distance)
+  char line[1024];
+  const std::string at = std::isinf(u.distance_m)
                              ? std::string("rays at infinity")
-                             : "points at " + std::to_string(u.distance).substr(0, 4) + " m";
+                             : "points at " + std::to_string(u.distance_m).substr(0, 4) + " m";
   const std::string region = WorstRegion(u.quoted_map.worst_std_px, nullptr);
   std::snprintf(line, sizeof(line),
                 "Projection uncertainty (%s, worst direction, 1 sigma): centre %.3f px, median "

@@ -14,14 +14,13 @@
 // Held-out views check it: view i's corners against refit i (the calibration without view i),
 // its pose fitted with refit i's intrinsics fixed. Linearised, the residual after the pose fit is
 // r = (I - H)(e + J_theta d_theta), H the projection onto the view's 6 pose columns, e the
-// corners' noise, d_theta the calibration's error, so
-//     E |r|^2 = sigma^2 (2n - 6) + tr((I - H) J_theta Cov(theta) J_theta^T):
-// the noise plus what of the calibration's uncertainty a pose cannot absorb. The median over
-// views of the observed RMS per coordinate against sqrt(E |r|^2 / 2n) says whether the formal
-// figure (sigma_hat, formal Cov(theta)) explains the errors of views the calibration has not seen
-// (ratio ~1) or the quoted one does (the formal ratio ~ s). On simulated, independent noise s ~ 1;
-// on real images the formal figure is 2-9x too small (docs/results/uncertainty.md), and the quoted
-// one says so.
+// corners' noise, d_theta refit i's error (its covariance N / (N - 1) times the full fit's), so
+//     E |r|^2 = sigma^2 (2n - 6) + C,  C = tr((I - H) J_theta Cov(theta) J_theta^T):
+// the noise plus what of the calibration's uncertainty a pose cannot absorb. The noise dominates
+// a single view's error, so the telling figure is the excess over it summed over the views,
+// sqrt(sum (|r|^2 - sigma^2 (2n - 6)) / sum C): ~1 when the formal Cov(theta) is right, ~s when
+// the quoted one is. The per-view ratios to sqrt(E |r|^2 / 2n) (formal C, and s^2 C) are printed
+// beside it.
 #pragma once
 
 #include <optional>
@@ -35,8 +34,8 @@
 namespace calibench {
 
 struct CalibrationUncertaintyOptions {
-  int grid_cols = 40;                                         // Samples across the image.
-  double distance = std::numeric_limits<double>::infinity();  // Target units; infinity: rays.
+  int grid_cols = 40;                                           // Samples across the image.
+  double distance_m = std::numeric_limits<double>::infinity();  // Target units; infinity: rays.
 };
 
 struct CalibrationUncertainty {
@@ -47,10 +46,9 @@ struct CalibrationUncertainty {
   double scale = 1.0;           // max(1, jackknife_ratio): applied to the quoted figure.
   ProjectionCovariance quoted;  // The formal Cov(z) times scale^2.
   UncertaintyMap quoted_map;
-  double distance = std::numeric_limits<double>::infinity();
+  double distance_m = std::numeric_limits<double>::infinity();
   // Held-out views (with a jackknife): the median over views of their RMS error per coordinate
-  // (px) and of its ratio to the formal and to the quoted prediction (header comment; the quoted
-  // ratio is the formal one / scale).
+  // (px) and of its ratio to the formal and to the quoted prediction (header comment).
   int held_out_views = 0;
   double held_out_rms_px = std::numeric_limits<double>::quiet_NaN();
   double held_out_formal_ratio = std::numeric_limits<double>::quiet_NaN();

@@ -25,6 +25,9 @@ struct CameraFile {
   // (num_views 0) when the file carries none. Only the opencv format keeps it.
   ProjectionCovariance projection;
   double projection_scale = 1.0;  // The jackknife's scale already applied to it (>= 1).
+  // "jackknife": the scale comes from a leave-one-view-out spread; "formal": none was computed
+  // (too many views, --jackknife off): on real images the figure is then usually too small.
+  std::string projection_source = "formal";
   // e.g. "pinhole-k2" or "pinhole-k2+skew".
   std::string ModelName() const {
     return std::string(ToString(lens_model)) + (estimate_skew ? "+skew" : "");

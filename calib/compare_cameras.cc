@@ -25,10 +25,10 @@ bool InsideImage(const Eigen::Vector2d& q, int width, int height) {
 }
 
 // The worst-direction std of `camera`'s projection at `pixel`, NaN without an uncertainty.
-double SigmaAt(const CameraFile& camera, const Eigen::Vector2d& pixel, double distance) {
+double SigmaAt(const CameraFile& camera, const Eigen::Vector2d& pixel, double distance_m) {
   PixelUncertainty u;
   if (!camera.projection.IsSet() || !ProjectionUncertaintyAt(camera.intrinsics, camera.projection,
-                                                             pixel, distance, &u, nullptr)) {
+                                                             pixel, distance_m, &u, nullptr)) {
     return std::numeric_limits<double>::quiet_NaN();
   }
   return u.worst_std_px;
@@ -59,7 +59,7 @@ Eigen::Matrix3d FitRotation(const std::vector<Sample>& samples, const std::vecto
 bool CompareOptions::Check(std::string* why) const {
   std::string problem;
   if (grid_cols < 4) problem = "grid_cols must be at least 4";
-  if (!(distance > 0)) problem = "distance must be positive (or infinity)";
+  if (!(distance_m > 0)) problem = "distance_m must be positive (or infinity)";
   if (why) *why = problem;
   return problem.empty();
 }
@@ -101,6 +101,8 @@ CameraComparison CompareCameras(const CameraFile& a, const CameraFile& b_given,
   const CameraFile b = c.b_scale != 1.0 ? ScaleCamera(b_given, c.b_scale) : b_given;
   c.a_has_uncertainty = a.projection.IsSet();
   c.b_has_uncertainty = b.projection.IsSet();
+  c.a_formal_only = c.a_has_uncertainty && a.projection_source == "formal";
+  c.b_formal_only = c.b_has_uncertainty && b.projection_source == "formal";
   c.difference_px = ImageGrid::Over(a.image_width, a.image_height, options.grid_cols);
   c.sigma_px = c.difference_px;
   std::vector<Sample> samples;
@@ -112,7 +114,7 @@ CameraComparison CompareCameras(const CameraFile& a, const CameraFile& b_given,
           !UnprojectToRay(b.intrinsics, s.pixel, &s.ray_b)) {
         continue;
       }
-      s.sigma_a = SigmaAt(a, s.pixel, options.distance);
+      s.sigma_a = SigmaAt(a, s.pixel, options.distance_m);
       samples.push_back(s);
     }
   }
@@ -131,7 +133,7 @@ CameraComparison CompareCameras(const CameraFile& a, const CameraFile& b_given,
   if (any) {
     for (size_t s = 0; s < samples.size(); ++s) {
       const double var =
-          variance(samples[s].sigma_a, SigmaAt(b, samples[s].pixel, options.distance));
+          variance(samples[s].sigma_a, SigmaAt(b, samples[s].pixel, options.distance_m));
       weight[s] = std::isfinite(var) && var > 0 ? 1.0 / var : 0.0;
     }
   }
@@ -174,7 +176,7 @@ CameraComparison CompareCameras(const CameraFile& a, const CameraFile& b_given,
     finite.push_back(d[s]);
     if (!any) continue;
     const double sigma =
-        std::sqrt(variance(samples[s].sigma_a, SigmaAt(b, q_b[s], options.distance)));
+        std::sqrt(variance(samples[s].sigma_a, SigmaAt(b, q_b[s], options.distance_m)));
     if (!std::isfinite(sigma) || sigma <= 0) continue;
     c.sigma_px.At(samples[s].i, samples[s].j) = sigma;
     ratio_grid.At(samples[s].i, samples[s].j) = d[s] / sigma;
@@ -205,7 +207,7 @@ CameraComparison CompareCameras(const CameraFile& a, const CameraFile& b_given,
 std::string FormatComparison(const CameraComparison& c, const std::string& a_name,
                              const std::string& b_name) {
   if (!c.ok) return "comparison failed: " + c.message + "\n";
-  char line[512];
+  char line[1024];
   std::string text;
   if (c.b_scale != 1.0) {
     std::snprintf(line, sizeof(line),
@@ -250,6 +252,14 @@ std::string FormatComparison(const CameraComparison& c, const std::string& a_nam
       break;
   }
   text += line;
+  for (const auto& [formal, name] :
+       {std::make_pair(c.a_formal_only, a_name), std::make_pair(c.b_formal_only, b_name)}) {
+    if (formal && c.verdict != CameraComparison::Verdict::kNoUncertainty) {
+      text += "note: " + name +
+              "'s uncertainty is formal only (no leave-one-view-out scale): on real images it is "
+              "usually 2-9x too small, and a DIFFER may be that\n";
+    }
+  }
   return text;
 }
 

@@ -14,7 +14,7 @@
 //       pull the rotation);
 //   difference(q) = |project_B(R r_A(q)) - q| (px), where it falls inside B's image;
 //   sigma(q) = sqrt(sigma_A(q)^2 + sigma_B(q')^2), each the worst-direction std of its model at
-//       q (A) and at q' = project_B(R r_A(q)) (B), rays at `distance`; a model whose file carries
+//       q (A) and at q' = project_B(R r_A(q)) (B), rays at `distance_m`; a model whose file carries
 //       no uncertainty (a published calibration) counts 0: the verdict is then against the other
 //       one's alone, a lower bound of the combined figure, and says so.
 // Verdict: "agree" when the difference is within kAgreeSigmas * sigma on at least
@@ -40,8 +40,8 @@ constexpr double kAgreeSigmas = 2.0;
 constexpr double kAgreeFraction = 0.9;
 
 struct CompareOptions {
-  int grid_cols = 60;                                         // Samples across A's image.
-  double distance = std::numeric_limits<double>::infinity();  // Target units; infinity: rays.
+  int grid_cols = 60;                                           // Samples across A's image.
+  double distance_m = std::numeric_limits<double>::infinity();  // Target units; infinity: rays.
   bool fit_rotation = true;  // false: the camera frames are taken as the same.
   bool Check(std::string* why) const;
 };
@@ -59,6 +59,8 @@ struct CameraComparison {
   double p90_px = std::numeric_limits<double>::quiet_NaN();
   double max_px = std::numeric_limits<double>::quiet_NaN();
   bool a_has_uncertainty = false, b_has_uncertainty = false;
+  // A file's uncertainty is formal only (CameraFile::projection_source): said beside the verdict.
+  bool a_formal_only = false, b_formal_only = false;
   // With both uncertainties: the share of the common field within kAgreeSigmas * sigma, and the
   // median of difference / sigma.
   double within_fraction = std::numeric_limits<double>::quiet_NaN();

@@ -156,8 +156,9 @@ bool ReadCameraFile(const std::string& path, CameraFile* camera, std::string* wh
   std::stringstream text;
   text << in.rdbuf();
   const std::string raw = text.str();
-  if (raw.find_first_not_of(" \t\r\n") == std::string::npos)
+  if (raw.find_first_not_of(" \t\r\n") == std::string::npos) {
     return Fail(why, path + ": empty file");
+  }
   bool ok = false;
   if (raw.find("lensmodel") != std::string::npos) {
     ok = ReadMrcal(path, raw, camera, why);
@@ -171,7 +172,7 @@ bool ReadCameraFile(const std::string& path, CameraFile* camera, std::string* wh
       return Fail(why, path + ": (yaml): " + e.what());
     }
     ok = root.IsMap() && root["cam0"] ? ReadKalibr(path, root, camera, why)
-                                      : ReadOpenCv(path, camera, why);
+                                      : ReadOpenCv(path, camera, why, raw);
   }
   if (!ok) return false;
   std::string reason;

@@ -53,7 +53,9 @@ void WriteOpenCvCamera(const CameraFile& camera, bool with_fit, const OpenCvFiel
                        cv::FileStorage* out);
 bool ReadOpenCvCamera(const std::string& path, const cv::FileStorage& in,
                       const OpenCvFieldName& name, CameraFile* camera, std::string* why);
-bool ReadOpenCv(const std::string& path, CameraFile* camera, std::string* why);
+// `yaml_text`: the file's YAML when it lacks OpenCV's "%YAML:1.0" first line (read from memory).
+bool ReadOpenCv(const std::string& path, CameraFile* camera, std::string* why,
+                const std::string& yaml_text = "");
 bool WriteKalibr(const std::string& path, const CameraFile& camera, std::string* why);
 // Whether Kalibr can hold the camera (no skew, no k3, a family with a camera_model); the reason
 // after `at` ("file: kalibr: ..").

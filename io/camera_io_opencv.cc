@@ -1,3 +1,4 @@
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <filesystem>
 #include <opencv2/core.hpp>
@@ -75,6 +76,7 @@ void WriteOpenCvCamera(const CameraFile& camera, bool with_fit, const OpenCvFiel
     out << name("projection_sigma_px") << camera.projection.sigma_px;
     out << name("projection_views") << camera.projection.num_views;
     out << name("projection_scale") << camera.projection_scale;
+    out << name("projection_source") << camera.projection_source;
   }
 }
 
@@ -248,10 +250,17 @@ bool ReadProjectionCovariance(const std::string& path, const cv::FileStorage& in
     for (int c = 0; c < kSize; ++c) p.covariance(r, c) = covariance.at<double>(r, c);
   }
   const double scale = p.covariance.cwiseAbs().maxCoeff();
-  if (!p.covariance.allFinite() || p.covariance.diagonal().minCoeff() < 0 ||
-      (p.covariance - p.covariance.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) {
+  const bool symmetric =
+      p.covariance.allFinite() &&
+      (p.covariance - p.covariance.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * scale;
+  if (!symmetric || !(scale > 0) ||
+      Eigen::SelfAdjointEigenSolver<ProjectionCovariance::Matrix>(p.covariance)
+              .eigenvalues()
+              .minCoeff() < -1e-9 * scale) {
     p = ProjectionCovariance();
-    return Fail(why, name + ": expected a finite symmetric matrix with a non-negative diagonal");
+    return Fail(why, name +
+                         ": expected a finite, symmetric, positive semi-definite and non-zero "
+                         "covariance");
   }
   const cv::FileNode views = in[field("projection_views")];
   const cv::FileNode sigma = in[field("projection_sigma_px")];
@@ -259,6 +268,8 @@ bool ReadProjectionCovariance(const std::string& path, const cv::FileStorage& in
   if (!sigma.empty()) sigma >> p.sigma_px;
   const cv::FileNode applied = in[field("projection_scale")];
   if (!applied.empty()) applied >> camera->projection_scale;
+  const cv::FileNode source = in[field("projection_source")];
+  if (!source.empty()) source >> camera->projection_source;
   if (p.num_views < 1 || !(camera->projection_scale >= 1.0)) {
     p = ProjectionCovariance();
     return Fail(why, path + ": " + field("projection_views") + " / " + field("projection_scale") +
@@ -321,9 +332,16 @@ bool ReadOpenCvCamera(const std::string& path, const cv::FileStorage& in,
   return ReadOpenCvLens(path, in, name, &k, why) && ReadOpenCvExtras(path, in, name, camera, why);
 }
 
-bool ReadOpenCv(const std::string& path, CameraFile* camera, std::string* why) {
+bool ReadOpenCv(const std::string& path, CameraFile* camera, std::string* why,
+                const std::string& yaml_text) {
   try {
-    cv::FileStorage in(path, cv::FileStorage::READ);
+    // OpenCV refuses a YAML file without its "%YAML:1.0" line: a hand-written file is read from
+    // memory with the line added.
+    cv::FileStorage in = yaml_text.empty()
+                             ? cv::FileStorage(path, cv::FileStorage::READ)
+                             : cv::FileStorage("%YAML:1.0\n" + yaml_text,
+                                               cv::FileStorage::READ | cv::FileStorage::MEMORY |
+                                                   cv::FileStorage::FORMAT_YAML);
     if (!in.isOpened()) return Fail(why, path + ": cannot open (not an OpenCV FileStorage file)");
     return ReadOpenCvCamera(path, in, SameName, camera, why);
   } catch (const cv::Exception& e) {

@@ -23,6 +23,8 @@ RefineOptions StudyRefineOptions(const UncertaintyStudyOptions& options) {
   RefineOptions refine;
   refine.model = options.model;
   refine.estimate_skew = false;
+  refine.shared_pose = options.shared_pose;
+  refine.compute_pose_covariance = options.shared_pose;  // Cov(z) of a shared pose needs it.
   return refine;
 }
 
@@ -32,7 +34,7 @@ bool UncertaintyStudyOptions::Check(std::string* why) const {
   std::string problem;
   if (!(pixel_sigma_px > 0)) problem = "pixel_sigma_px must be positive";
   if (draws < 10) problem = "draws must be at least 10";
-  if (!(distance > 0)) problem = "distance must be positive (or infinity)";
+  if (!(distance_m > 0)) problem = "distance_m must be positive (or infinity)";
   if (grid_cols < 2) problem = "grid_cols must be at least 2";
   if (!(max_distance_to_data_px >= 0)) problem = "max_distance_to_data_px must be >= 0";
   if (why) *why = problem;
@@ -50,8 +52,8 @@ UncertaintyStudyResult RunUncertaintyStudy(const CameraIntrinsics& truth,
     result.message = "uncertainty study options: " + why;
     return result;
   }
-  if (views.empty() || views.size() != cam_from_board.size()) {
-    result.message = "need one true pose per view";
+  if (views.empty() || cam_from_board.size() != (options.shared_pose ? 1 : views.size())) {
+    result.message = options.shared_pose ? "need one true pose" : "need one true pose per view";
     return result;
   }
   const RefineOptions refine = StudyRefineOptions(options);
@@ -71,7 +73,7 @@ UncertaintyStudyResult RunUncertaintyStudy(const CameraIntrinsics& truth,
     for (int i = 0; i < grid_shape.cols; ++i) {
       const Eigen::Vector2d q = grid_shape.PixelAt(i, j);
       PixelUncertainty u;
-      if (!ProjectionUncertaintyAt(exact.intrinsics, exact.projection, q, options.distance, &u,
+      if (!ProjectionUncertaintyAt(exact.intrinsics, exact.projection, q, options.distance_m, &u,
                                    nullptr)) {
         continue;
       }
@@ -110,16 +112,17 @@ UncertaintyStudyResult RunUncertaintyStudy(const CameraIntrinsics& truth,
     std::vector<Eigen::Vector2d> draw(pixels.size());
     bool all = true;
     for (size_t s = 0; s < pixels.size() && all; ++s) {
-      all = ReprojectThroughEstimate(truth, solved.intrinsics, cam_from_board,
-                                     solved.cam_from_object, pixels[s], options.distance, &draw[s]);
+      all =
+          ReprojectThroughEstimate(truth, solved.intrinsics, cam_from_board, solved.cam_from_object,
+                                   pixels[s], options.distance_m, &draw[s]);
     }
     if (!all) continue;
     ++result.draws_used;
     for (size_t s = 0; s < pixels.size(); ++s) {
       reprojected[s].push_back(draw[s]);
       PixelUncertainty own;
-      if (ProjectionUncertaintyAt(solved.intrinsics, solved.projection, pixels[s], options.distance,
-                                  &own, nullptr)) {
+      if (ProjectionUncertaintyAt(solved.intrinsics, solved.projection, pixels[s],
+                                  options.distance_m, &own, nullptr)) {
         draw_predictions[s].push_back(own.worst_std_px);
       }
     }

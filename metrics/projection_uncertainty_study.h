@@ -1,7 +1,7 @@
 // Monte Carlo validation of the projection uncertainty (batch/projection_uncertainty.h), as
 // mrcal's test-projection-uncertainty does: one set of views (fixed geometry), re-solved with new
 // pixel noise `draws` times; at each sample of a grid over the image, the world point that the
-// truth sees there (at `distance`, or a ray) is taken into each view's board frame with the true
+// truth sees there (at `distance_m`, or a ray) is taken into each view's board frame with the true
 // poses, brought back with each re-solve's poses (averaged over the views) and projected through
 // its intrinsics: the spread of those pixels (the worst-direction std of their 2 x 2 sample
 // covariance) is the observed uncertainty; the prediction is the formula's at the truth with the
@@ -24,12 +24,15 @@ struct UncertaintyStudyOptions {
   LensModel model = LensModel::kPinholeK2;  // What each re-solve estimates (no skew).
   double pixel_sigma_px = 0.3;              // Noise on u and v of every corner, each draw.
   int draws = 100;  // Re-solves; the std of a std from n draws is ~1 / sqrt(2 n) (7 % at 100).
-  double distance = std::numeric_limits<double>::infinity();  // Target units; infinity: rays.
+  double distance_m = std::numeric_limits<double>::infinity();  // Target units; infinity: rays.
   int grid_cols = 12;  // Samples across the image (rows by the aspect ratio).
   // Grid samples farther than this from every observed corner (px) are left out of the summary:
   // far outside the data the linearisation is not what is being validated. 0: keep all.
   double max_distance_to_data_px = 0.0;
   uint64_t seed = 1;  // Draw d's noise: Rng(seed + d, kPixelNoise).
+  // One pose for every view (the views' points in one parent frame: a scenario's fixed camera,
+  // RefineOptions::shared_pose); cam_from_board then holds that one pose.
+  bool shared_pose = false;
   bool Check(std::string* why) const;
 };
 
@@ -55,7 +58,8 @@ struct UncertaintyStudyResult {
 };
 
 // `views` hold noise-free pixels of `truth` seen at `cam_from_board` (e.g. sim/synthetic.h's
-// MakeBoardViews or MakeWideBoardViews with pixel_sigma_px = 0).
+// MakeBoardViews or MakeWideBoardViews with pixel_sigma_px = 0), one pose per view or, with
+// options.shared_pose, one for all.
 UncertaintyStudyResult RunUncertaintyStudy(const CameraIntrinsics& truth,
                                            const std::vector<View>& views,
                                            const std::vector<Rigid3>& cam_from_board,

@@ -22,10 +22,10 @@ std::string LensModelList() {
 
 namespace {
 
-// Writes camera.yaml of a usable calibration and its page (calib/calibration_page.h) beside it
-// (exit 0), or exits 4 (unusable) or 3 (unwritable).
+// Writes camera.yaml of a usable calibration and, with `page`, its page (calib/calibration_page.h)
+// beside it (exit 0), or exits 4 (unusable) or 3 (the camera file unwritable).
 int FinishCalibration(const CalibrateResult& result, const CrossValidation* cross_validation,
-                      const std::string& out_path, CameraFormat format) {
+                      const std::string& out_path, CameraFormat format, bool page) {
   std::string why;
   const CalibrateReport& report = result.calibration;
   if (!report.IsUsable()) return 4;
@@ -34,12 +34,14 @@ int FinishCalibration(const CalibrateResult& result, const CrossValidation* cros
     return 3;
   }
   std::cerr << "calibench: wrote " << out_path << " (" << ToString(format) << ")\n";
-  CalibrationPageFiles page;
-  if (!WriteCalibrationPage(out_path, result, cross_validation, &page, &why)) {
-    std::cerr << "calibench: the calibration page: " << why << "\n";
-    return 3;
+  if (!page) return 0;
+  // The camera file is what was asked for: a page that cannot be written is a warning.
+  CalibrationPageFiles files;
+  if (!WriteCalibrationPage(out_path, result, cross_validation, &files, &why)) {
+    std::cerr << "calibench: warning: the calibration page was not written: " << why << "\n";
+    return 0;
   }
-  std::cerr << "calibench: wrote " << page.markdown << " and " << page.figures.size()
+  std::cerr << "calibench: wrote " << files.markdown << " and " << files.figures.size()
             << " figures\n";
   return 0;
 }
@@ -149,7 +151,7 @@ int Calibrate(const CalibrateArgs& args) {
     }
   }
   return FinishCalibration(result, cross_validation ? &*cross_validation : nullptr, args.out_path,
-                           format);
+                           format, !args.no_page);
 }
 
 }  // namespace calibench

@@ -22,6 +22,7 @@ struct CalibrateArgs {
   std::string corner_refinement;   // Empty: the default (photometric; see ImagePointOptions).
   std::string jackknife = "auto";  // auto | on | off (CalibrateOptions::Jackknife).
   bool cross_validate = false;     // Also calibrate two halves of the views and compare them.
+  bool no_page = false;            // No page of figures beside the camera file.
   // A rig of two cameras or more: the rectified first pair written as one PNG (empty: beside
   // --out, <out stem>-rectified.png, for the first two cameras).
   std::string rectified_path;

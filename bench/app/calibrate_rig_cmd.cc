@@ -217,13 +217,14 @@ int CalibrateRig(const CalibrateArgs& args) {
   // Best effort unless asked for: a rig whose cameras 0 and 1 cannot be rectified (they look apart)
   // or share no frame is calibrated all the same.
   const int rectified_status = WriteRectifiedPair(result, cameras, rectified);
+  // The rig file is what was asked for: a page that cannot be written is a warning.
   CalibrationPageFiles page;
-  if (!WriteRigCalibrationPage(out, result, rectified, &page, &why)) {
-    std::cerr << "calibench: the calibration page: " << why << "\n";
-    return 3;
+  if (!args.no_page && !WriteRigCalibrationPage(out, result, rectified, &page, &why)) {
+    std::cerr << "calibench: warning: the calibration page was not written: " << why << "\n";
+  } else if (!args.no_page) {
+    std::cerr << "calibench: wrote " << page.markdown << " and " << page.figures.size()
+              << " figures\n";
   }
-  std::cerr << "calibench: wrote " << page.markdown << " and " << page.figures.size()
-            << " figures\n";
   return args.rectified_path.empty() ? 0 : rectified_status;
 }
 

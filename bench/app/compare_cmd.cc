@@ -19,7 +19,7 @@ int Compare(const CompareArgs& args) {
     return 2;
   }
   CompareOptions options;
-  options.distance = args.distance;
+  options.distance_m = args.distance_m;
   options.fit_rotation = !args.no_rotation;
   if (!options.Check(&why)) {
     std::cerr << "calibench: compare: " << why << "\n";

@@ -12,7 +12,7 @@ namespace calibench {
 struct CompareArgs {
   std::string a_path, b_path;
   std::string out_path;  // Difference heatmap (PNG); empty: none.
-  double distance = std::numeric_limits<double>::infinity();  // m; infinity: rays.
+  double distance_m = std::numeric_limits<double>::infinity();  // m; infinity: rays.
   bool no_rotation = false;  // Do not fit the rotation between the camera frames.
 };
 

@@ -277,6 +277,8 @@ CLI::App* AddCalibrateCommand(CLI::App* app, calibench::CalibrateArgs* cal) {
                    "off")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
+  calibrate->add_flag("--no-page", cal->no_page,
+                      "Do not write the page of figures (STEM.md and its PNGs) beside --out");
   calibrate->add_flag("--cross-validate", cal->cross_validate,
                       "Also calibrate the two halves of the views (alternate views) apart and "
                       "compare them over the image against their uncertainty");
@@ -356,7 +358,7 @@ CLI::App* AddCompareCommand(CLI::App* app, calibench::CompareArgs* compare_args)
   compare->add_option("A", compare_args->a_path, "The first camera file")->required();
   compare->add_option("B", compare_args->b_path, "The second camera file")->required();
   compare->add_option("--out", compare_args->out_path, "The difference heatmap (PNG)");
-  compare->add_option("--distance", compare_args->distance,
+  compare->add_option("--distance", compare_args->distance_m,
                       "Compare points at this distance (m; default: rays at infinity)");
   compare->add_flag("--no-rotation", compare_args->no_rotation,
                     "Do not fit the rotation between the two camera frames");

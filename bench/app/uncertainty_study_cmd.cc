@@ -1,8 +1,10 @@
 // `calibench uncertainty-study` (bench/app/uncertainty_study_cmd.h).
 #include "bench/app/uncertainty_study_cmd.h"
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -20,7 +22,7 @@ struct StudyCase {
   LensModel model;
   double half_field_deg;  // The boards' reach from the axis (MakeWideBoardViews' max_angle_deg).
   int views;
-  double distance;                // Evaluation distance (m; infinity: rays).
+  double distance_m;              // Evaluation distance (m; infinity: rays).
   double board_distance_m = 0.4;  // Camera to board centre, +-20 %.
 };
 
@@ -81,13 +83,14 @@ int UncertaintyStudy(const UncertaintyStudyArgs& args) {
     UncertaintyStudyOptions options;
     options.model = c.model;
     options.draws = args.draws;
-    options.distance = c.distance;
+    options.distance_m = c.distance_m;
     options.max_distance_to_data_px = 60;
     options.seed = 100000 * static_cast<uint64_t>(index);
     const UncertaintyStudyResult r = RunUncertaintyStudy(
         truth, data.views, data.cam_from_board, board.image_width, board.image_height, options);
     char line[512];
-    const std::string distance = std::isinf(c.distance) ? "infinity" : Fixed1(c.distance) + " m";
+    const std::string distance =
+        std::isinf(c.distance_m) ? "infinity" : Fixed1(c.distance_m) + " m";
     if (!r.ok) {
       all_ok = false;
       std::snprintf(line, sizeof(line), "| %s | %.0f | %d | %.1f m | %s | failed: %s |||||\n",

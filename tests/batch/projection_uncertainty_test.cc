@@ -130,6 +130,28 @@ TEST(ProjectionUncertainty, SchurCovarianceEqualsTheDenseInverse) {
   EXPECT_LT(map.centre_px, map.max_px);
 }
 
+TEST(ProjectionUncertainty, AutodiffRefinementGivesTheSameCovariance) {
+  SyntheticBoardOptions board;
+  board.num_views = 8;
+  board.pixel_sigma_px = 0.3;
+  Rng rng(12);
+  const SyntheticBoardViews data = MakeBoardViews(kTruth, board, &rng);
+  RefineOptions options;
+  options.model = LensModel::kPinholeK2;
+  options.estimate_skew = false;
+  const RefineResult analytic = RefineCalibration(data.views, kTruth, data.cam_from_board, options);
+  options.autodiff = true;
+  const RefineResult jet = RefineCalibration(data.views, kTruth, data.cam_from_board, options);
+  ASSERT_TRUE(analytic.projection.IsSet() && jet.projection.IsSet());
+  // The same optimum (to ~1e-10) and the same Jacobians: 1e-6 of each entry's scale.
+  const ProjectionCovariance::Matrix& a = analytic.projection.covariance;
+  for (int r = 0; r < 16; ++r) {
+    for (int c = 0; c < 16; ++c) {
+      EXPECT_NEAR(jet.projection.covariance(r, c), a(r, c), 1e-6 * std::sqrt(a(r, r) * a(c, c)));
+    }
+  }
+}
+
 TEST(ProjectionUncertainty, RefusesWithoutCovarianceOrOutsideTheField) {
   PixelUncertainty u;
   std::string why;
@@ -140,6 +162,14 @@ TEST(ProjectionUncertainty, RefusesWithoutCovarianceOrOutsideTheField) {
   c.num_views = 1;
   EXPECT_FALSE(ProjectionUncertaintyAt(kTruth, c, {320, 240}, -1.0, &u, &why));
   EXPECT_NE(why.find("distance"), std::string::npos) << why;
+  // A 190-degree double sphere's image circle ends ~700 px from its centre.
+  CameraIntrinsics fisheye;
+  fisheye.family = LensFamily::kDoubleSphere;
+  fisheye.fku_px = fisheye.fkv_px = 330, fisheye.u0_px = fisheye.v0_px = 512;
+  fisheye.xi = -0.2, fisheye.alpha = 0.6;
+  EXPECT_FALSE(ProjectionUncertaintyAt(fisheye, c, {2000, 2000},
+                                       std::numeric_limits<double>::infinity(), &u, &why));
+  EXPECT_NE(why.find("does not unproject"), std::string::npos) << why;
 }
 
 }  // namespace

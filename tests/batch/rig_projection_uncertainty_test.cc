@@ -31,70 +31,95 @@ std::vector<Rigid3> CameraPoses(const std::vector<RigFrame>& frames, const Camer
   return poses;
 }
 
-TEST(RigProjectionUncertainty, EachCameraMatchesItsMonteCarloSpread) {
-  const CameraRig truth = ExampleStereoRig();
+// For each camera of `truth`, rays at infinity and points at 0.6 m (the camera's translation in
+// the rig counts there), against kDraws re-solves of `num_frames` frames.
+void ExpectEachCameraMatchesItsSpread(const CameraRig& truth, int num_frames, bool whole_board) {
   RigFramesOptions o;
-  o.num_frames = 12;
+  o.num_frames = num_frames;
+  o.whole_board = whole_board;
   Rng rng(77);
   const SyntheticRigFrames exact = MakeRigFrames(truth, o, &rng);
-  ASSERT_EQ(exact.frames.size(), 12u);
+  ASSERT_EQ(static_cast<int>(exact.frames.size()), num_frames);
   RigRefineOptions refine;
   for (const RigCamera& camera : truth.cameras) refine.models.push_back(camera.lens_model);
   constexpr double kSigmaPx = 0.3;
-  std::string why;
   refine.known_pixel_sigma_px = kSigmaPx;
   const RigRefineResult predicted = RefineRig(exact.frames, truth, exact.rig_from_board, refine);
   ASSERT_TRUE(predicted.IsUsable()) << predicted.message;
-  ASSERT_EQ(predicted.projection.size(), 2u);
+  ASSERT_EQ(static_cast<int>(predicted.projection.size()), truth.NumCameras());
   refine.known_pixel_sigma_px = 0;
   refine.compute_covariance = false;
-  for (int c = 0; c < 2; ++c) {
+  std::vector<RigRefineResult> solves;
+  std::vector<std::vector<RigFrame>> noisy_frames;
+  for (int d = 0; d < kDraws; ++d) {
+    Rng noise(1000 + d, RngStream::kPixelNoise);
+    std::vector<RigFrame> noisy = exact.frames;
+    for (RigFrame& frame : noisy) {
+      for (View& view : frame.views_by_camera) {
+        for (Eigen::Vector2d& p : view.pixels) {
+          p += kSigmaPx * Eigen::Vector2d(noise.Normal(), noise.Normal());
+        }
+      }
+    }
+    solves.push_back(RefineRig(noisy, truth, exact.rig_from_board, refine));
+    ASSERT_TRUE(solves.back().IsUsable()) << solves.back().message;
+    noisy_frames.push_back(std::move(noisy));
+  }
+  for (int c = 0; c < truth.NumCameras(); ++c) {
     ASSERT_TRUE(predicted.projection[c].IsSet()) << c;
     const RigCamera& camera = truth.cameras[c];
     const std::vector<Rigid3> true_poses =
         CameraPoses(exact.frames, truth, exact.rig_from_board, c);
-    // A 6 x 5 grid inside the corners' reach.
+    // The pixels within 40 px of a corner the camera saw, on a 12-column grid.
+    const ImageGrid grid = ImageGrid::Over(camera.image_width, camera.image_height, 12);
     std::vector<Eigen::Vector2d> pixels;
-    for (int j = 1; j <= 5; ++j) {
-      for (int i = 1; i <= 6; ++i) {
-        pixels.emplace_back(camera.image_width * (0.15 + 0.7 * (i - 1) / 5.0),
-                            camera.image_height * (0.15 + 0.7 * (j - 1) / 4.0));
-      }
-    }
-    std::vector<std::vector<Eigen::Vector2d>> draws(pixels.size());
-    for (int d = 0; d < kDraws; ++d) {
-      Rng noise(1000 + d, RngStream::kPixelNoise);
-      std::vector<RigFrame> noisy = exact.frames;
-      for (RigFrame& frame : noisy) {
-        for (View& view : frame.views_by_camera) {
-          for (Eigen::Vector2d& p : view.pixels) {
-            p += kSigmaPx * Eigen::Vector2d(noise.Normal(), noise.Normal());
+    for (int j = 0; j < grid.rows; ++j) {
+      for (int i = 0; i < grid.cols; ++i) {
+        bool near = false;
+        for (const RigFrame& frame : exact.frames) {
+          for (const Eigen::Vector2d& p : frame.views_by_camera[c].pixels) {
+            near = near || (p - grid.PixelAt(i, j)).norm() < 40;
           }
         }
-      }
-      const RigRefineResult solved = RefineRig(noisy, truth, exact.rig_from_board, refine);
-      ASSERT_TRUE(solved.IsUsable()) << solved.message;
-      const std::vector<Rigid3> poses = CameraPoses(noisy, solved.rig, solved.rig_from_board, c);
-      for (size_t s = 0; s < pixels.size(); ++s) {
-        Eigen::Vector2d q;
-        ASSERT_TRUE(ReprojectThroughEstimate(camera.intrinsics, solved.rig.cameras[c].intrinsics,
-                                             true_poses, poses, pixels[s],
-                                             std::numeric_limits<double>::infinity(), &q));
-        draws[s].push_back(q);
+        if (near) pixels.push_back(grid.PixelAt(i, j));
       }
     }
-    std::vector<double> ratios;
-    for (size_t s = 0; s < pixels.size(); ++s) {
-      const double observed = WorstStdPx(SampleCovariancePx2(draws[s]));
-      PixelUncertainty u;
-      ASSERT_TRUE(ProjectionUncertaintyAt(camera.intrinsics, predicted.projection[c], pixels[s],
-                                          std::numeric_limits<double>::infinity(), &u, &why))
-          << why;
-      ratios.push_back(observed / u.worst_std_px);
+    ASSERT_GE(pixels.size(), 10u) << "camera " << c;
+    for (const double distance_m : {std::numeric_limits<double>::infinity(), 0.6}) {
+      std::vector<double> ratios;
+      for (const Eigen::Vector2d& pixel : pixels) {
+        std::vector<Eigen::Vector2d> draws;
+        for (int d = 0; d < kDraws; ++d) {
+          const std::vector<Rigid3> poses =
+              CameraPoses(noisy_frames[d], solves[d].rig, solves[d].rig_from_board, c);
+          Eigen::Vector2d q;
+          ASSERT_TRUE(ReprojectThroughEstimate(camera.intrinsics,
+                                               solves[d].rig.cameras[c].intrinsics, true_poses,
+                                               poses, pixel, distance_m, &q));
+          draws.push_back(q);
+        }
+        PixelUncertainty u;
+        std::string why;
+        ASSERT_TRUE(ProjectionUncertaintyAt(camera.intrinsics, predicted.projection[c], pixel,
+                                            distance_m, &u, &why))
+            << why;
+        ratios.push_back(WorstStdPx(SampleCovariancePx2(draws)) / u.worst_std_px);
+      }
+      std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+      EXPECT_NEAR(ratios[ratios.size() / 2], 1.0, kMedianRatioTol)
+          << "camera " << c << " at " << distance_m << " m";
     }
-    std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
-    EXPECT_NEAR(ratios[ratios.size() / 2], 1.0, kMedianRatioTol) << "camera " << c;
   }
+}
+
+TEST(RigProjectionUncertainty, StereoCamerasMatchTheirMonteCarloSpread) {
+  ExpectEachCameraMatchesItsSpread(ExampleStereoRig(), 12, true);
+}
+
+// Cameras turned by 45 and 90 degrees (a missing R_c or translation term shows), a double sphere
+// among them, partial boards.
+TEST(RigProjectionUncertainty, MixedThreeCameraRigMatchesItsMonteCarloSpread) {
+  ExpectEachCameraMatchesItsSpread(ExampleMixedThreeCameraRig(), 16, false);
 }
 
 }  // namespace

@@ -139,9 +139,16 @@ TEST(CompareCameras, AScaledCopyIsTakenToThePixelsOfTheOther) {
   EXPECT_DOUBLE_EQ(c.b_scale, 2.0);
   EXPECT_LT(c.max_px, kSameCameraPx);
   EXPECT_DOUBLE_EQ(c.common_fraction, 1.0);
-  // The covariance goes along: the same sigma at the same place once back at A's scale.
-  const CameraFile back = ScaleCamera(half, 2.0);
-  EXPECT_LT((back.projection.covariance - a.projection.covariance).cwiseAbs().maxCoeff(), 1e-12);
+  // The covariance goes along: at the same point of the image, half the pixels' sigma.
+  for (const Eigen::Vector2d& q : {Eigen::Vector2d(320, 240), Eigen::Vector2d(40, 400)}) {
+    PixelUncertainty full_u, half_u;
+    const double inf = std::numeric_limits<double>::infinity();
+    ASSERT_TRUE(ProjectionUncertaintyAt(a.intrinsics, a.projection, q, inf, &full_u, nullptr));
+    ASSERT_TRUE(ProjectionUncertaintyAt(
+        half.intrinsics, half.projection,
+        0.5 * (q + Eigen::Vector2d(0.5, 0.5)) - Eigen::Vector2d(0.5, 0.5), inf, &half_u, nullptr));
+    EXPECT_NEAR(half_u.worst_std_px, 0.5 * full_u.worst_std_px, 1e-9 * full_u.worst_std_px);
+  }
 }
 
 TEST(CompareCameras, CamerasWithoutCommonFieldAreRefused) {
@@ -150,7 +157,7 @@ TEST(CompareCameras, CamerasWithoutCommonFieldAreRefused) {
   b.image_width = 0;
   EXPECT_FALSE(CompareCameras(a, b, {}).ok);
   CompareOptions bad;
-  bad.distance = -1;
+  bad.distance_m = -1;
   const CameraComparison c = CompareCameras(a, a, bad);
   EXPECT_FALSE(c.ok);
   EXPECT_NE(c.message.find("distance"), std::string::npos) << c.message;

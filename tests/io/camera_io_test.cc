@@ -473,5 +473,30 @@ TEST(CameraFile, MrcalProjectsOurCameraModelWhereWeDo) {
   }
 }
 
+// A hand-written OpenCV file without its "%YAML:1.0" line (OpenCV's reader refuses it) reads as
+// the same camera; an empty file and YAML that is no camera are refused with the reason.
+TEST(CameraFile, OpenCvYamlWithoutItsDirectiveLineReads) {
+  const std::string with = Temp("directive.yaml");
+  std::string why;
+  ASSERT_TRUE(
+      WriteCameraFile(with, CameraFormat::kOpenCv, Radtan(LensModel::kPinholeRadTan4), &why))
+      << why;
+  std::ifstream in(with);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(text.rfind("%YAML:1.0\n", 0), 0u);
+  const std::string without = Temp("no_directive.yaml");
+  std::ofstream(without) << text.substr(10);
+  CameraFile a, b;
+  ASSERT_TRUE(ReadCameraFile(with, &a, &why)) << why;
+  ASSERT_TRUE(ReadCameraFile(without, &b, &why)) << why;
+  EXPECT_TRUE(a.intrinsics == b.intrinsics);
+  std::ofstream(Temp("empty.yaml")) << "\n";
+  EXPECT_FALSE(ReadCameraFile(Temp("empty.yaml"), &b, &why));
+  EXPECT_NE(why.find("empty file"), std::string::npos) << why;
+  std::ofstream(Temp("notcam.yaml")) << "foo: 1\n";
+  EXPECT_FALSE(ReadCameraFile(Temp("notcam.yaml"), &b, &why));
+  EXPECT_NE(why.find("camera_matrix"), std::string::npos) << why;
+}
+
 }  // namespace
 }  // namespace calibench

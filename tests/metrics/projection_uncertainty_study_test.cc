@@ -42,7 +42,7 @@ TEST(ProjectionUncertaintyStudy, PinholeRaysAndNearPointsMatchTheirMonteCarloSpr
   options.draws = kDraws;
   options.max_distance_to_data_px = 40;
   ExpectValidated(RunUncertaintyStudy(truth, data.views, data.cam_from_board, 640, 480, options));
-  options.distance = 0.5;  // At the boards' distance: the eps terms count.
+  options.distance_m = 0.5;  // At the boards' distance: the eps terms count.
   ExpectValidated(RunUncertaintyStudy(truth, data.views, data.cam_from_board, 640, 480, options));
 }
 
@@ -62,6 +62,34 @@ TEST(ProjectionUncertaintyStudy, WideDoubleSphereMatchesItsMonteCarloSpread) {
   options.max_distance_to_data_px = 60;
   ExpectValidated(RunUncertaintyStudy(truth, data.views, data.cam_from_board, board.image_width,
                                       board.image_height, options));
+}
+
+TEST(ProjectionUncertaintyStudy, OneSharedPoseMatchesItsMonteCarloSpread) {
+  // A scenario's fixed camera: 10 frames of 40 points each, spread in depth 1-3 m in front of it,
+  // in one parent frame; one pose for all (the joint covariance of batch/refine.cc FillCovariance).
+  const CameraIntrinsics truth{520.0, 515.0, 90.0, 322.0, 236.0, -0.21, 0.08};
+  Rng rng(23);
+  const Rigid3 cam_from_parent = RandomPose(0.5, &rng);
+  std::vector<View> views(10);
+  for (View& view : views) {
+    while (view.points.size() < 40) {
+      const Eigen::Vector3d in_cam(rng.Uniform(-1, 1), rng.Uniform(-0.8, 0.8), rng.Uniform(1, 3));
+      Eigen::Vector2d pixel;
+      if (!ProjectPoint(truth, in_cam, &pixel) || pixel.x() < 0 || pixel.y() < 0 ||
+          pixel.x() > 639 || pixel.y() > 479) {
+        continue;
+      }
+      view.points.push_back(cam_from_parent.Inverse() * in_cam);
+      view.pixels.push_back(pixel);
+    }
+  }
+  UncertaintyStudyOptions options;
+  options.shared_pose = true;
+  options.draws = kDraws;
+  options.max_distance_to_data_px = 40;
+  ExpectValidated(RunUncertaintyStudy(truth, views, {cam_from_parent}, 640, 480, options));
+  options.distance_m = 2.0;
+  ExpectValidated(RunUncertaintyStudy(truth, views, {cam_from_parent}, 640, 480, options));
 }
 
 TEST(ProjectionUncertaintyStudy, BadOptionsAreRefusedWithAReason) {
