@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "batch/projection_jacobian.h"
+#include "camera/estimate.h"
 
 namespace calibench {
 
@@ -17,6 +18,24 @@ Eigen::Matrix<double, 6, 6> PoseTangentToFrameShare(const Rigid3& cam_from_board
   share.bottomLeftCorner<3, 3>() = 2.0 * Hat(cam_from_board.translation);
   share.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity();
   return share / static_cast<double>(std::max(1, num_views));
+}
+
+bool ProjectionCovarianceOfEstimate(const Eigen::MatrixXd& estimate_covariance,
+                                    const Rigid3& cam_from_parent, ProjectionCovariance* out) {
+  constexpr int kEstimateSize = CameraEstimate::kCovarianceSize;
+  if (estimate_covariance.rows() != kEstimateSize || estimate_covariance.cols() != kEstimateSize ||
+      !estimate_covariance.allFinite()) {
+    return false;
+  }
+  Eigen::Matrix<double, ProjectionCovariance::kSize, kEstimateSize> l =
+      Eigen::Matrix<double, ProjectionCovariance::kSize, kEstimateSize>::Zero();
+  l.topLeftCorner<5, 5>().setIdentity();             // fku, fkv, phi (rad), u0, v0: raw slots 0..4.
+  l.block<3, 3>(10, 5) = -cam_from_parent.rotation;  // phi_bar = -R_C^T delta.
+  l.block<3, 3>(13, 8) = -cam_from_parent.rotation;  // eps = -R_C^T dx_C.
+  out->covariance = l * estimate_covariance * l.transpose();
+  out->sigma_px = 0.0;
+  out->num_views = 1;
+  return true;
 }
 
 double WorstStdPx(const Eigen::Matrix2d& covariance_px2) {

@@ -56,6 +56,19 @@ struct ProjectionCovariance {
 // translation) to that view's share of [phi_bar, eps] (num_views: the views averaged over).
 Eigen::Matrix<double, 6, 6> PoseTangentToFrameShare(const Rigid3& cam_from_board, int num_views);
 
+// Cov(z) of an estimate that carries camera/estimate.h's 11 x 11 covariance C over [fku, fkv,
+// phi_rad, u0, v0, delta (3, rad), x_C (3)] of its camera with one pose (the case of one view).
+// With the perturbation R_C' = Exp(delta) R_C (parent frame), x_C' = x_C + dx_C and
+// cam_from_parent = (R_C^T, -R_C^T x_C), a camera point moves by p' - p = [p]x R_C^T delta -
+// R_C^T dx_C, so in z's convention (p' - p = -[p]x phi_bar + eps) phi_bar = -R_C^T delta and
+// eps = -R_C^T dx_C: Cov(z) = L C L^T, L (16 x 11) = [I_5 on the pinhole intrinsics; -R_C^T on
+// delta; -R_C^T on dx_C] (the distortion rows stay 0: C has none). The sign convention of C
+// (estimate minus truth or truth minus estimate) does not matter as long as it is the same for
+// every entry. R_C^T is cam_from_parent.rotation. False (out unchanged) unless C is 11 x 11 and
+// finite. sigma_px is left 0 (the method's own noise model is inside C); num_views = 1.
+bool ProjectionCovarianceOfEstimate(const Eigen::MatrixXd& estimate_covariance,
+                                    const Rigid3& cam_from_parent, ProjectionCovariance* out);
+
 // The uncertainty of one pixel's projection.
 struct PixelUncertainty {
   Eigen::Matrix2d covariance_px2 = Eigen::Matrix2d::Zero();

@@ -51,7 +51,8 @@ struct RefineOptions {
   int max_iterations = 200;
   bool compute_covariance = true;
   // With shared_pose: also the joint covariance of the intrinsics and the pose
-  // (RefineResult::joint_covariance).
+  // (RefineResult::joint_covariance) and RefineResult::projection. With normal_equations the
+  // reported intrinsics covariance is its corner; without, ceres::Covariance's (the reference).
   bool compute_pose_covariance = false;
   double known_pixel_sigma_px =
       0.0;                // > 0: scale the covariance by it; 0: estimate from residuals.
@@ -117,6 +118,15 @@ struct RefineResult : MethodSummary {
 RefineResult RefineCalibration(const std::vector<View>& views, const CameraIntrinsics& initial,
                                const std::vector<Rigid3>& initial_poses,
                                const RefineOptions& options);
+
+// camera/estimate.h's 11 x 11 covariance over [fku, fkv, phi_rad, u0, v0, dtheta (3, rad), x_C
+// (3)] of a shared-pose refinement, from its joint_covariance over [intrinsics (10), rotation
+// tangent (3), translation (3)] of cam_from_parent = {R, t}. Ceres' EigenQuaternionManifold moves
+// the quaternion by [sin|d| d/|d|, cos|d|] * q: R' = Exp(2 d) R, so R_C' = R_C Exp(-2 d) =
+// Exp(-2 R_C d) R_C, dtheta = -2 R^T d; x_C = -R^T t gives dx_C = -R^T dt - 2 R^T [t]x d.
+// Empty when joint_covariance is not 16 x 16.
+Eigen::MatrixXd EstimateCovarianceOfSharedPose(const Eigen::MatrixXd& joint_covariance,
+                                               const Rigid3& cam_from_parent);
 
 // sigma^2 (J^T J)^-1 for the free intrinsics at the given parameters (poses are nuisance
 // parameters, marginalised). At the truth this is the CRLB. Returns false if J is rank deficient.

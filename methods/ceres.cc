@@ -2,10 +2,12 @@
 // constant extrinsic (batch/refine.h with one shared pose: the points are already in the parent
 // frame through the known body motion), on every frame. It starts from the estimate of its `init`
 // (the scenario's instance of that name, or that type's default: dlt or zhang) and reports the
-// covariance's standard deviations. Its rows carry the Cramer-Rao bound of its parametrisation.
+// covariance's standard deviations and the joint covariance of the intrinsics and the extrinsic
+// (camera/estimate.h's layout; batch/refine.h EstimateCovarianceOfSharedPose), from which the
+// metrics predict its projection uncertainty. Its rows carry the Cramer-Rao bound of its
+// parametrisation.
 // Online mode (window_s, every_s; methods/online.h): each window's solve starts from the previous
-// window's solution (the first from its init on that window) and reports the joint covariance of
-// the intrinsics and the extrinsic (camera/estimate.h's layout).
+// window's solution (the first from its init on that window).
 // `views: init` (the twin of a planar-target calibration): instead of every frame with the rig
 // constraint, exactly the views its init used (zhang's, after max_views), with one board pose per
 // view and no rig constraint, the extrinsic then by chordal averaging of the per-view poses as
@@ -93,7 +95,7 @@ class CeresMethod final : public Method {
       if (views_ == Views::kInit) return SolveOnInitViews(init);
     }
     RefineOptions options = options_;
-    options.compute_pose_covariance = online_.Online();
+    options.compute_pose_covariance = true;  // The estimate's covariance (its projection's).
     options.normal_equations = online_.Online();
     const RefineResult r = RefineCalibration(input.Frames().views, start->intrinsics,
                                              {start->cam_from_parent}, options);
@@ -106,7 +108,7 @@ class CeresMethod final : public Method {
     e.cam_from_parent = r.cam_from_object[0];
     e.parent_from_cam = r.cam_from_object[0].Inverse();
     e.intrinsics_std = r.intrinsics_std;
-    if (r.joint_covariance.size() > 0) e.covariance = EstimateCovariance(r, e);
+    e.covariance = EstimateCovarianceOfSharedPose(r.joint_covariance, e.cam_from_parent);
     return result;
   }
 
@@ -141,22 +143,6 @@ class CeresMethod final : public Method {
     e.intrinsics_std = r.intrinsics_std;
     e.fit_rms_px = r.rms_reproj_px;  // One pose per view, as zhang's figure.
     return result;
-  }
-
-  // camera/estimate.h's covariance from refine's joint one over [intrinsics (10), rotation tangent
-  // (3), translation (3)] of cam_from_parent = {R, t}. Ceres' EigenQuaternionManifold moves the
-  // quaternion by [sin|d| d/|d|, cos|d|] * q: R' = Exp(2 d) R, so R_C' = R_C Exp(-2 d) =
-  // Exp(-2 R_C d) R_C, dtheta = -2 R^T d; x_C = -R^T t gives dx_C = -R^T dt - 2 R^T [t]x d.
-  static Eigen::MatrixXd EstimateCovariance(const RefineResult& r, const CameraEstimate& e) {
-    constexpr int kN = CameraEstimate::kCovarianceSize;
-    Eigen::MatrixXd j = Eigen::MatrixXd::Zero(kN, 16);
-    for (int i = 0; i < 5; ++i) j(i, i) = 1.0;  // fku, fkv, phi, u0, v0.
-    const Eigen::Matrix3d& r_cam = e.cam_from_parent.rotation;
-    const Eigen::Vector3d& t = e.cam_from_parent.translation;
-    j.block<3, 3>(5, 10) = -2.0 * r_cam.transpose();
-    j.block<3, 3>(8, 10) = -2.0 * r_cam.transpose() * Hat(t);
-    j.block<3, 3>(8, 13) = -r_cam.transpose();
-    return j * r.joint_covariance * j.transpose();
   }
 
   std::string init_ = "dlt";

@@ -26,6 +26,7 @@ class Entry {
   Entry& Ranked() { return spec_.ranked = true, *this; }
   Entry& Target(double bound) { return spec_.target = bound, *this; }
   Entry& Headline() { return spec_.headline = true, *this; }
+  Entry& Projection(const char* role) { return spec_.projection = role, *this; }
   operator MetricSpec() const { return spec_; }  // NOLINT: the table is a list of entries.
 
  private:
@@ -129,6 +130,21 @@ std::vector<MetricSpec> MakeTable() {
       Entry(M::kFramesNoDetection, "frames_no_detection", "", "frames without detections",
             "frames without any detection (rendered; -1 for oracle)")
           .Integer(),
+      // RMSE over trials: the RMS of the per-trial RMS over the image.
+      Entry(M::kProjErr, "proj_err_px", "px", "projection error",
+            "RMS over a 16-column grid of the truth's image of the distance between a pixel and "
+            "where the estimate projects the ray the truth sees there (rays at infinity; pixels "
+            "where the truth unprojects; metrics/metrics.h)")
+          .Summarised(S::kWithRmse)
+          .Projection("error"),
+      // RMSE over trials: the RMS of the ratio, ~1 for a method that knows its uncertainty.
+      Entry(M::kProjErrRatio, "proj_err_ratio", "", "projection error / predicted std",
+            "proj_err_px over the RMS on the same grid of the projection error the estimate's "
+            "covariance predicts (sqrt of the trace of each pixel's covariance): ~1 consistent, "
+            ">> 1 overconfident (NaN: no covariance (adaptive, zhang, dlt), or a lens model with "
+            "free distortion terms, which the covariance lacks)")
+          .Summarised(S::kWithRmse)
+          .Projection("ratio"),
   };
   for (size_t i = 0; i < table.size(); ++i) {  // A programmer error: the table is out of order.
     if (static_cast<size_t>(table[i].id) != i) {

@@ -64,6 +64,8 @@ enum class Metric {
   kCornerRadialBias,
   kCornerCrlb,
   kFramesNoDetection,
+  kProjErr,
+  kProjErrRatio,
   // Not in the table: the id of a quantity a method type declares (methods/method.h OutputSpec).
   kMethodOutput,
 };
@@ -106,6 +108,9 @@ struct MetricSpec {
   // The report's first page answers each question on it (f*ku for the intrinsics, the geodesic
   // angle for the extrinsic rotation).
   bool headline = false;
+  // The report's section on where each method's image projects right (proj_err_px: "error",
+  // proj_err_ratio: "ratio"); nullptr for the others.
+  const char* projection = nullptr;
 };
 
 // The table, in Metric order.

@@ -1,6 +1,9 @@
 #include "metrics/metrics.h"
 
 #include <cmath>
+#include <limits>
+
+#include "camera/image_grid.h"
 
 namespace calibench {
 
@@ -74,9 +77,69 @@ double RmsReprojectionPx(const CameraEstimate& e, const std::vector<View>& views
   return count ? std::sqrt(sum / count) : kNoValue;
 }
 
+namespace {
+
+// Whether `model` estimates lens terms beyond the pinhole's (the 11 x 11 covariance has none).
+bool FreesDistortion(LensModel model) {
+  for (const LensModelInfo& info : LensModels()) {
+    if (info.model == model) return !info.free_distortion.empty();
+  }
+  return false;
+}
+
+}  // namespace
+
+ProjectionError ProjectionErrorAgainst(const CameraEstimate& estimate, const CameraSpec& truth,
+                                       int image_width, int image_height,
+                                       const ProjectionErrorOptions& options) {
+  ProjectionError out;
+  if (!estimate.has_camera || image_width <= 0 || image_height <= 0) return out;
+  const std::vector<Rigid3> true_pose = {truth.ParentFromCam().Inverse()};
+  const std::vector<Rigid3> estimated_pose = {estimate.cam_from_parent};
+  // The prediction: only from a complete covariance (no free distortion terms it would miss).
+  ProjectionCovariance predicted;
+  const bool predicts =
+      !FreesDistortion(estimate.lens) &&
+      ProjectionCovarianceOfEstimate(estimate.covariance, estimate.cam_from_parent, &predicted);
+  const double infinity = std::numeric_limits<double>::infinity();
+  const ImageGrid grid = ImageGrid::Over(image_width, image_height, options.cols);
+  double sum_sq_err = 0.0, sum_sq_std = 0.0;
+  int predicted_pixels = 0;
+  for (int j = 0; j < grid.rows; ++j) {
+    for (int i = 0; i < grid.cols; ++i) {
+      const Eigen::Vector2d q = grid.PixelAt(i, j);
+      Eigen::Vector2d reprojected;
+      if (!ReprojectThroughEstimate(truth.intrinsics, estimate.intrinsics, true_pose,
+                                    estimated_pose, q, infinity, &reprojected)) {
+        continue;
+      }
+      sum_sq_err += (reprojected - q).squaredNorm();
+      ++out.pixels;
+      PixelUncertainty u;
+      if (predicts &&
+          ProjectionUncertaintyAt(estimate.intrinsics, predicted, q, infinity, &u, nullptr)) {
+        // E|q' - q|^2 = trace of the 2 x 2 covariance: the sum of the ellipse's axes squared (the
+        // worst direction alone would make a consistent method's ratio up to sqrt(2)).
+        sum_sq_std += u.worst_std_px * u.worst_std_px + u.smallest_std_px * u.smallest_std_px;
+        ++predicted_pixels;
+      }
+    }
+  }
+  if (out.pixels == 0) return out;
+  out.rms_px = std::sqrt(sum_sq_err / out.pixels);
+  // The ratio only where the prediction covers every pixel of the error.
+  if (predicts && predicted_pixels == out.pixels && sum_sq_std > 0) {
+    out.predicted_px = std::sqrt(sum_sq_std / predicted_pixels);
+    out.ratio = out.rms_px / out.predicted_px;
+  }
+  return out;
+}
+
 EstimateMetrics EvaluateEstimate(MethodStatus status, const CameraEstimate& estimate,
-                                 const CameraSpec& truth, const std::vector<View>& views) {
+                                 const CameraSpec& truth, int image_width, int image_height,
+                                 const std::vector<View>& views) {
   EstimateMetrics m;
+  m.projection = ProjectionErrorAgainst(estimate, truth, image_width, image_height, {});
   m.errors = CameraErrorsAgainst(estimate, truth);
   m.theta_err_norm = ThetaErrorOf(estimate, truth);
   if (std::isfinite(estimate.fit_rms_px)) {

@@ -10,6 +10,19 @@
 //                   parameters"): theta_hat scaled so that the third row of its 3x3 block has unit
 //                   norm, with the sign that best matches theta (itself normalised). Distortion is
 //                   not part of theta.
+//   projection      the estimate's projection error against the truth over the image: at a grid of
+//                   the truth's image (ProjectionErrorOptions), the ray the truth sees at pixel q
+//                   is brought into the parent frame by the true pose, back by the estimate's and
+//                   projected by the estimate (batch/projection_uncertainty.h
+//                   ReprojectThroughEstimate); proj_err_px is the RMS of |q' - q| over the pixels
+//                   where the truth unprojects. proj_err_ratio divides it by the RMS over the same
+//                   pixels of the predicted |q' - q|, sqrt(trace) of the 2 x 2 projection
+//                   covariance the estimate's own covariance predicts there
+//                   (ProjectionCovarianceOfEstimate; the worst-direction std alone would put a
+//                   consistent method anywhere in [1, sqrt 2]): ~1 when the method knows how wrong
+//                   it is, >> 1 overconfident. NaN without a covariance, and for a lens model with
+//                   free distortion terms (the 11 x 11 covariance has none: the prediction would
+//                   miss them).
 //   reprojection    per-point Euclidean RMS (px) of the estimate's projection (camera/estimate.h)
 //                   against the measured pixels of the trial's frames.
 //   CRLB            the Cramer-Rao standard deviations of the intrinsics for white pixel noise of
@@ -25,6 +38,7 @@
 #include <utility>
 #include <vector>
 
+#include "batch/projection_uncertainty.h"
 #include "batch/refine.h"
 #include "camera/estimate.h"
 #include "camera/parametrisation.h"
@@ -64,16 +78,36 @@ double ThetaErrorOf(const CameraEstimate& estimate, const CameraSpec& truth);
 // as a missing point: RMS over the others.
 double RmsReprojectionPx(const CameraEstimate& estimate, const std::vector<View>& views);
 
+// The grid of the projection error (header comment).
+struct ProjectionErrorOptions {
+  int cols = 16;  // Grid columns across the truth's image; rows follow its aspect ratio.
+};
+struct ProjectionError {
+  double rms_px = kNoValue;  // proj_err_px.
+  double ratio = kNoValue;   // proj_err_ratio: rms_px / predicted_px.
+  // RMS over the grid of the predicted |q' - q| (sqrt of the trace of the pixel covariance).
+  double predicted_px = kNoValue;
+  int pixels = 0;  // Grid pixels used (the truth unprojects, the estimate projects).
+};
+// NaN figures for an estimate without a camera, an image size that is not positive or a grid where
+// no pixel reprojects.
+ProjectionError ProjectionErrorAgainst(const CameraEstimate& estimate, const CameraSpec& truth,
+                                       int image_width, int image_height,
+                                       const ProjectionErrorOptions& options);
+
 // The figures of one method's result against the truth and the trial's frames.
 struct EstimateMetrics {
   CameraErrors errors;  // When the estimate has a camera.
   double theta_err_norm = kNoValue;
   double rms_reproj_px = kNoValue;  // Of an ok result; the method's own fit_rms_px if set.
+  ProjectionError projection;       // Of an estimate with a camera, over the truth's image.
   // A finding the row must carry, e.g. a reflection estimated for a proper camera.
   std::string warning;
 };
+// image_width, image_height: the truth camera's image (px), for the projection error.
 EstimateMetrics EvaluateEstimate(MethodStatus status, const CameraEstimate& estimate,
-                                 const CameraSpec& truth, const std::vector<View>& views);
+                                 const CameraSpec& truth, int image_width, int image_height,
+                                 const std::vector<View>& views);
 
 // Cramer-Rao standard deviations of f*ku, f*kv, phi (deg; NaN without skew), u0, v0 (px).
 struct CrlbStd {

@@ -214,6 +214,8 @@ const std::vector<Column>& Columns() {
         Count(M::kObsUsed, &RunRow::n_obs_used),
         Of(M::kCornerRadialBias, kValueColumn, &RunRow::corner_radial_bias_px),
         Of(M::kCornerCrlb, kValueColumn, &RunRow::corner_crlb_px),
+        Of(M::kProjErr, kValueColumn, &RunRow::proj_err_px),
+        Of(M::kProjErrRatio, kValueColumn, &RunRow::proj_err_ratio),
     };
     c = ExpandMethodOutputs(std::move(c));
     CheckAgainstTheTable(c);

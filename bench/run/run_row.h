@@ -89,6 +89,10 @@ struct RunRow {
   // Observation::crlb_px): the floor corner_rms_px / sqrt(2) is measured against. NaN for oracle
   // and for refinements that report none. Appended after corner_radial_bias_px.
   double corner_crlb_px = kUnset;
+  // The estimate's projection error against the truth over the image and its ratio to the
+  // projection std its own covariance predicts (metrics/metrics.h ProjectionErrorAgainst; NaN:
+  // no camera, or no covariance for the ratio). Appended after corner_crlb_px.
+  double proj_err_px = kUnset, proj_err_ratio = kUnset;
   // Rig runs: the row's camera (its index in rig.cameras; 0 for a scenario without rig). Written
   // (the `camera` column of runs.csv and of the other per-row files) only in rig runs.
   int camera = 0;

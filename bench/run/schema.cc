@@ -101,7 +101,8 @@ std::string QuantityJson(const MetricSpec& m) {
          (m.summary == Summary::kNone ? std::string("null") : Quote(SummaryColumn(m))) +
          ", \"ranked\": " + Bool(m.ranked) +
          ", \"target\": " + (m.target > 0 ? FormatNumber(m.target) : std::string("null")) +
-         ", \"headline\": " + Bool(m.headline) + "}";
+         ", \"headline\": " + Bool(m.headline) +
+         ", \"projection\": " + (m.projection ? Quote(m.projection) : std::string("null")) + "}";
 }
 
 std::string FileJson(const std::vector<ColumnInfo>& columns, const std::string& indent) {

@@ -6,8 +6,9 @@
 //                label, doc, its columns (value, error, std, crlb), integer, tracked, how
 //                summary.csv summarises it (summary: null | "statistics" | "with_rmse", and
 //                the `metric` value it has there), ranked (methods are compared on it), target
-//                (Algers 2018's bound on the 97.5th percentile of |error|, or null) and headline
-//                (the report's first page answers on it);
+//                (Algers 2018's bound on the 97.5th percentile of |error|, or null), headline
+//                (the report's first page answers on it) and projection (null, or "error" /
+//                "ratio": the report's section on the projection error reads it);
 //   files        per CSV file its columns in file order: name, unit ("" when dimensionless), doc;
 //   sweeps       per swept scenario (SweepPoint::sweep, in config order): its name, the role the
 //                report gives it (scenario field report.role; "" when none), detections (oracle |

@@ -223,7 +223,8 @@ class ScenarioTrial {
     row.status = ToString(r.status);
     row.steps = r.iterations;
     const CameraEstimate& e = r.estimate;
-    const EstimateMetrics m = EvaluateEstimate(r.status, e, s_.truth, input_.Frames().views);
+    const EstimateMetrics m = EvaluateEstimate(r.status, e, s_.truth, input_.image_width,
+                                               input_.image_height, input_.Frames().views);
     row.message =
         m.warning.empty() ? r.message : m.warning + (r.message.empty() ? "" : "; " + r.message);
     if (e.has_camera) {
@@ -252,6 +253,8 @@ class ScenarioTrial {
       row.err_yaw_deg = m.errors.yaw_deg;
       row.ortho_defect = e.orthogonality_defect;
       row.improper = e.improper ? 1 : 0;
+      row.proj_err_px = m.projection.rms_px;
+      row.proj_err_ratio = m.projection.ratio;
       if (s_.rig.Any() && r.IsUsable()) row.est_parent_from_cam = PoseOf(e);
     }
     row.theta_err_norm = m.theta_err_norm;

@@ -4,7 +4,7 @@ import os
 
 from calibench_report import io, stats
 from calibench_report.sections import (Context, answers, convergence, corner_bias, dynamic, gain,
-                                       oracle_rendered, rig, sweeps, uncertainty)
+                                       oracle_rendered, projection, rig, sweeps, uncertainty)
 
 
 def header(ctx):
@@ -67,7 +67,8 @@ def build(data, out):
     """{page (relative to out): Markdown text}; the figures are written into `out`."""
     ctx = Context(data, out)
     parts = [sweeps.section(ctx, role) for role in sweeps.ROLES]
-    parts += [gain.section(ctx), uncertainty.section(ctx), oracle_rendered.section(ctx),
+    parts += [gain.section(ctx), uncertainty.section(ctx), projection.section(ctx),
+              oracle_rendered.section(ctx),
               convergence.section(ctx), corner_bias.section(ctx), dynamic.section(ctx),
               rig.section(ctx)]
     parts = [p for p in parts if p is not None]

@@ -30,6 +30,9 @@ class Quantity:
     ranked: bool  # Methods are compared on it.
     target: Optional[float]  # Algers 2018's bound (§1.2) on the 97.5th percentile of |error|.
     headline: bool  # The first page answers on it.
+    # None | "error" (proj_err_px) | "ratio" (proj_err_ratio): the projection section reads it
+    # (absent from run directories written before the projection error).
+    projection: Optional[str] = None
 
     def column(self, kind):
         """Its runs.csv column of a kind (value, error, std, crlb), or None."""
@@ -110,6 +113,10 @@ class Schema:
         it, and its efficiency is measured against the bound."""
         return next((q for q in self.headline() if q.column("crlb")), None)
 
+    def projection(self, role):
+        """The quantity of the projection section's role ("error", "ratio"), or None."""
+        return next((q for q in self.quantities if q.projection == role), None)
+
     def targeted(self):
         return [q for q in self.quantities if q.target]
 
@@ -128,7 +135,7 @@ def _quantity(q):
     return Quantity(name=q["name"], unit=q["unit"], label=q["label"], doc=q["doc"],
                     columns=tuple(q["columns"].items()), tracked=q["tracked"],
                     summary=q["summary"], summary_metric=q["summary_metric"], ranked=q["ranked"],
-                    target=q["target"], headline=q["headline"])
+                    target=q["target"], headline=q["headline"], projection=q.get("projection"))
 
 
 def _sweep(s):

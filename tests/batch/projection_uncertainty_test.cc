@@ -1,7 +1,9 @@
 // The projection uncertainty's algebra (batch/projection_uncertainty.h): the linear map from the
 // poses' tangents against finite perturbations through Ceres' own quaternion manifold, and
 // RefineCalibration's Cov(z) from the Schur complement against ceres::Covariance's dense inverse of
-// the whole problem. The Monte Carlo validation is tests/metrics/projection_uncertainty_study_test.
+// the whole problem; the 11 x 11 covariance of an estimate (camera/estimate.h) mapped to Cov(z)
+// against a shared-pose refinement's own. The Monte Carlo validation is
+// tests/metrics/projection_uncertainty_study_test.
 #include "batch/projection_uncertainty.h"
 
 #include <ceres/ceres.h>
@@ -150,6 +152,57 @@ TEST(ProjectionUncertainty, AutodiffRefinementGivesTheSameCovariance) {
       EXPECT_NEAR(jet.projection.covariance(r, c), a(r, c), 1e-6 * std::sqrt(a(r, r) * a(c, c)));
     }
   }
+}
+
+// A shared-pose refinement (a scenario's constant extrinsic): Cov(z) two ways from its joint
+// covariance. RefineResult::projection maps the quaternion tangent straight to z
+// (PoseTangentToFrameShare); ProjectionCovarianceOfEstimate maps the method ceres's 11 x 11 (its
+// estimate's covariance, EstimateCovarianceOfSharedPose) through R_C's perturbation in the parent
+// frame. Two linear maps of one matrix whose products are algebraically equal: rounding only.
+TEST(ProjectionUncertainty, EstimateCovarianceMapsToTheSharedPoseProjectionCovariance) {
+  SyntheticBoardOptions board;
+  board.num_views = 8;
+  board.pixel_sigma_px = 0.3;
+  Rng rng(13);
+  const CameraIntrinsics pinhole{kTruth.fku_px, kTruth.fkv_px, 90.0, kTruth.u0_px, kTruth.v0_px};
+  const SyntheticBoardViews data = MakeBoardViews(pinhole, board, &rng);
+  // The boards' points in a parent frame the camera sits in at an arbitrary pose (a rotation
+  // away from the identity, and a translation, so that every block of the maps is exercised).
+  const Rigid3 cam_from_parent = RandomPose(0.4, &rng);
+  std::vector<View> views = data.views;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const Rigid3 parent_from_board = cam_from_parent.Inverse() * data.cam_from_board[v];
+    for (Eigen::Vector3d& x : views[v].points) x = parent_from_board * x;
+  }
+  RefineOptions options;
+  options.model = LensModel::kPinhole;
+  options.shared_pose = true;
+  options.compute_pose_covariance = true;
+  const RefineResult fit = RefineCalibration(views, pinhole, {cam_from_parent}, options);
+  ASSERT_TRUE(fit.IsUsable()) << fit.message;
+  ASSERT_TRUE(fit.projection.IsSet());
+  const Eigen::MatrixXd estimate_covariance =
+      EstimateCovarianceOfSharedPose(fit.joint_covariance, fit.cam_from_object[0]);
+  ASSERT_EQ(estimate_covariance.rows(), 11);
+  ProjectionCovariance mapped;
+  ASSERT_TRUE(ProjectionCovarianceOfEstimate(estimate_covariance, fit.cam_from_object[0], &mapped));
+  EXPECT_EQ(mapped.num_views, 1);
+  // Rounding of a few 3 x 3 products on entries spanning ~8 orders: 1e-9 of each entry's scale.
+  constexpr double kRelTol = 1e-9;
+  for (int a = 0; a < 16; ++a) {
+    for (int b = 0; b < 16; ++b) {
+      const double scale =
+          std::sqrt(fit.projection.covariance(a, a) * fit.projection.covariance(b, b));
+      if (scale == 0) {  // Distortion slots, fixed by the pinhole model: 0 in both.
+        EXPECT_EQ(mapped.covariance(a, b), 0.0) << "z(" << a << ", " << b << ")";
+        continue;
+      }
+      EXPECT_NEAR(mapped.covariance(a, b), fit.projection.covariance(a, b), kRelTol * scale)
+          << "z(" << a << ", " << b << ")";
+    }
+  }
+  // Not 11 x 11: refused.
+  EXPECT_FALSE(ProjectionCovarianceOfEstimate(Eigen::MatrixXd(), cam_from_parent, &mapped));
 }
 
 TEST(ProjectionUncertainty, RefusesWithoutCovarianceOrOutsideTheField) {

@@ -92,6 +92,18 @@ class ReportTest(unittest.TestCase):
         self.assertTrue(os.path.exists(os.path.join(self.out, "tracking_step.png")))
 
 
+    def test_projection_section(self):
+        # The noise sweep's methods: ceres predicts its projection error (a finite RMS ratio),
+        # the adaptive estimator and the DLT report no covariance; the load step (its truth
+        # changes) is not in it.
+        section = self.md.split("## Where each method's image projects right")[1].split("\n## ")[0]
+        self.assertRegex(section,
+                         r"\| noise +\| ceres +\| [0-9.e-]+ +\| [0-9.]+ +\| \w+ +\| 12 +\|")
+        self.assertRegex(section,
+                         r"\| noise +\| adaptive +\| [0-9.e-]+ +\| – +\| no covariance +\|")
+        self.assertNotIn("| step ", section)
+
+
 class RigReportTest(unittest.TestCase):
     """A rig run (tests/bench/rig/short_rig.yaml: a knock of camera 1 at 15 s, 2 trials) reported
     with a sweep (tests/bench/report/noise.yaml's: summary.csv without the rig's camera column),

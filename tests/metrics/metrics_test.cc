@@ -104,12 +104,15 @@ TEST(Metrics, ReprojectionRmsOfAKnownShift) {
   // EvaluateEstimate: the method's own fit RMS wins; a diverged run has none; a reflection
   // estimated for a proper camera is flagged.
   camera_form.fit_rms_px = 0.125;
-  EXPECT_EQ(EvaluateEstimate(MethodStatus::kOk, camera_form, truth, {view}).rms_reproj_px, 0.125);
-  EXPECT_TRUE(std::isnan(
-      EvaluateEstimate(MethodStatus::kDiverged, linear_form, truth, {view}).rms_reproj_px));
+  EXPECT_EQ(EvaluateEstimate(MethodStatus::kOk, camera_form, truth, 640, 480, {view}).rms_reproj_px,
+            0.125);
+  EXPECT_TRUE(
+      std::isnan(EvaluateEstimate(MethodStatus::kDiverged, linear_form, truth, 640, 480, {view})
+                     .rms_reproj_px));
   CameraEstimate improper = EstimateOf(truth);
   improper.improper = true;
-  EXPECT_NE(EvaluateEstimate(MethodStatus::kOk, improper, truth, {view}).warning.find("improper"),
+  EXPECT_NE(EvaluateEstimate(MethodStatus::kOk, improper, truth, 640, 480, {view})
+                .warning.find("improper"),
             std::string::npos);
 }
 
