@@ -101,15 +101,24 @@ ProjectionCovariance::Matrix DenseCovZ(const std::vector<View>& views, const Ref
   return s2 * l * sigma * l.transpose();
 }
 
-TEST(ProjectionUncertainty, SchurCovarianceEqualsTheDenseInverse) {
+// 8 views of kTruth with 0.3 px noise, and the pinhole-k2 refinement's options.
+SyntheticBoardViews EightViews(uint64_t seed) {
   SyntheticBoardOptions board;
   board.num_views = 8;
   board.pixel_sigma_px = 0.3;
-  Rng rng(11);
-  const SyntheticBoardViews data = MakeBoardViews(kTruth, board, &rng);
+  Rng rng(seed);
+  return MakeBoardViews(kTruth, board, &rng);
+}
+RefineOptions PinholeK2() {
   RefineOptions options;
   options.model = LensModel::kPinholeK2;
   options.estimate_skew = false;
+  return options;
+}
+
+TEST(ProjectionUncertainty, SchurCovarianceEqualsTheDenseInverse) {
+  const SyntheticBoardViews data = EightViews(11);
+  const RefineOptions options = PinholeK2();
   const RefineResult fit = RefineCalibration(data.views, kTruth, data.cam_from_board, options);
   ASSERT_TRUE(fit.IsUsable()) << fit.message;
   ASSERT_TRUE(fit.projection.IsSet());
@@ -133,14 +142,8 @@ TEST(ProjectionUncertainty, SchurCovarianceEqualsTheDenseInverse) {
 }
 
 TEST(ProjectionUncertainty, AutodiffRefinementGivesTheSameCovariance) {
-  SyntheticBoardOptions board;
-  board.num_views = 8;
-  board.pixel_sigma_px = 0.3;
-  Rng rng(12);
-  const SyntheticBoardViews data = MakeBoardViews(kTruth, board, &rng);
-  RefineOptions options;
-  options.model = LensModel::kPinholeK2;
-  options.estimate_skew = false;
+  const SyntheticBoardViews data = EightViews(12);
+  RefineOptions options = PinholeK2();
   const RefineResult analytic = RefineCalibration(data.views, kTruth, data.cam_from_board, options);
   options.autodiff = true;
   const RefineResult jet = RefineCalibration(data.views, kTruth, data.cam_from_board, options);
