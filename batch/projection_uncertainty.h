@@ -36,20 +36,11 @@
 #include "camera/camera.h"
 #include "camera/image_grid.h"
 #include "camera/pose.h"
+#include "camera/projection_covariance.h"
 
 namespace calibench {
 
-// Cov(z) of the header comment: what a calibration's projection uncertainty needs.
-struct ProjectionCovariance {
-  static constexpr int kSize = 16;
-  using Matrix = Eigen::Matrix<double, kSize, kSize>;
-  // Over z = [raw intrinsics (10; fixed ones 0), phi_bar (3, rad), eps (3, target units)], with
-  // sigma^2 included (px^2 for the pixels it maps to).
-  Matrix covariance = Matrix::Zero();
-  double sigma_px = 0.0;  // The per-coordinate pixel noise it was scaled by.
-  int num_views = 0;      // Views averaged over (0: not computed).
-  bool IsSet() const { return num_views > 0; }
-};
+// Cov(z) of the header comment: camera/projection_covariance.h's ProjectionCovariance.
 
 // The linear map L of the header comment, from the tangent of one view's pose (3 of the quaternion
 // tangent of ceres::EigenQuaternionManifold, whose rotation vector is twice it, then 3 of

@@ -19,6 +19,7 @@
 
 #include "camera/camera.h"
 #include "camera/pose.h"
+#include "camera/projection_covariance.h"
 #include "camera/projection_matrix.h"
 
 namespace calibench {
@@ -34,6 +35,10 @@ struct CameraEstimate {
   bool improper = false;              // The estimated rotation is a reflection (det < 0).
   double orthogonality_defect = 0.0;  // ||R^T R - I||_F before orthonormalisation (linear forms).
   std::optional<Vector16d> theta;     // The linear form (see above); may exist without a camera.
+  // Cov(z) of the projection (camera/projection_covariance.h) with every lens term, when the
+  // method computes it (ceres with one shared pose); unset otherwise (the metrics then map
+  // `covariance`, which has no lens terms).
+  ProjectionCovariance projection;
 
   // Reported standard deviations of the intrinsics (raw-array order, phi in radians); NaN where the
   // method reports none.

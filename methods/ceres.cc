@@ -109,6 +109,7 @@ class CeresMethod final : public Method {
     e.parent_from_cam = r.cam_from_object[0].Inverse();
     e.intrinsics_std = r.intrinsics_std;
     e.covariance = EstimateCovarianceOfSharedPose(r.joint_covariance, e.cam_from_parent);
+    e.projection = r.projection;  // With the lens terms the 11 x 11 lacks.
     return result;
   }
 

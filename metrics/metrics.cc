@@ -97,10 +97,12 @@ ProjectionError ProjectionErrorAgainst(const CameraEstimate& estimate, const Cam
   const std::vector<Rigid3> true_pose = {truth.ParentFromCam().Inverse()};
   const std::vector<Rigid3> estimated_pose = {estimate.cam_from_parent};
   // The prediction: only from a complete covariance (no free distortion terms it would miss).
-  ProjectionCovariance predicted;
+  // The estimate's own Cov(z) (every lens term), else its 11 x 11 mapped (pinhole models only).
+  ProjectionCovariance predicted = estimate.projection;
   const bool predicts =
-      !FreesDistortion(estimate.lens) &&
-      ProjectionCovarianceOfEstimate(estimate.covariance, estimate.cam_from_parent, &predicted);
+      predicted.IsSet() ||
+      (!FreesDistortion(estimate.lens) &&
+       ProjectionCovarianceOfEstimate(estimate.covariance, estimate.cam_from_parent, &predicted));
   const double infinity = std::numeric_limits<double>::infinity();
   const ImageGrid grid = ImageGrid::Over(image_width, image_height, options.cols);
   double sum_sq_err = 0.0, sum_sq_std = 0.0;
