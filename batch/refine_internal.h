@@ -12,6 +12,7 @@
 
 #include "batch/projection_uncertainty.h"
 #include "batch/refine.h"
+#include "camera/rig.h"
 
 namespace calibench {
 namespace refine_internal {
@@ -66,6 +67,29 @@ void SetIntrinsicsBounds(LensFamily family, double* intrinsics, ceres::Problem* 
 // the matrix scaled to a unit diagonal, passes 1e14 (refine_covariance.cc).
 bool InvertInformationMatrix(const Eigen::MatrixXd& information, Eigen::MatrixXd* inverse,
                              std::string* why);
+
+// The rig refinement's covariance (batch/rig_refine.cc FillRigCovariance) by camera: one frame's
+// blocks of J^T J, B_f (rig parameters x frame pose) and D_f^-1, with the frame's pose; and where
+// camera c's parameters sit among the rig's (its free raw intrinsics from intrinsics_at, its
+// [d, t] in the rig at pose_at, -1 for none).
+struct RigFrameBlocks {
+  int frame;
+  Rigid3 rig_from_board;
+  Eigen::MatrixXd b;
+  Eigen::Matrix<double, 6, 6> d_inverse;
+};
+struct RigCameraColumns {
+  std::vector<int> free;
+  int intrinsics_at = 0;
+  int pose_at = -1;
+};
+// Camera c's Cov(z) (batch/projection_uncertainty.h), averaged over the frames it saw, from the
+// Schur complement's inverse `s_inverse` (unscaled) and the frames' blocks (rig_projection.cc).
+ProjectionCovariance RigCameraProjection(const std::vector<RigFrame>& frames, int c,
+                                         const Rigid3& cam_from_rig,
+                                         const RigCameraColumns& columns,
+                                         const std::vector<RigFrameBlocks>& frame_blocks,
+                                         const Eigen::MatrixXd& s_inverse, double sigma_px);
 
 }  // namespace refine_internal
 }  // namespace calibench

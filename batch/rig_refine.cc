@@ -256,63 +256,6 @@ RigPoseUncertainty PoseUncertaintyOf(const Eigen::Matrix<double, 6, 6>& covarian
   return out;
 }
 
-// One frame's blocks of J^T J: B_f (rig parameters x frame pose) and D_f^-1.
-struct FrameBlocks {
-  int frame;
-  Eigen::MatrixXd b;
-  Eigen::Matrix<double, 6, 6> d_inverse;
-};
-
-// Camera c's Cov(z) (batch/projection_uncertainty.h), averaged over the frames it saw. A point p
-// in camera c, y = cam_from_rig_c^-1 p in the rig, moves with camera c's pose [d_c, dt_c] and the
-// frames' [d_f, dt_f] (R' = Exp(d) R) by
-//     -[p]x Phi + E,  Phi = d_c + R_c mean_f d_f,
-//     E = [t_c]x Phi + dt_c + R_c mean_f ([t_f]x d_f + dt_f),
-// so z_c = [theta_c, Phi, E] = K a + sum_f M_f b_f over the rig parameters a and the frame poses
-// b_f. With the frames eliminated (S the Schur complement, W = sum_f M_f D_f^-1 B_f^T):
-//     Cov(z_c) = sigma^2 ((K - W) S^-1 (K - W)^T + sum_f M_f D_f^-1 M_f^T).
-ProjectionCovariance RigProjection(const std::vector<RigFrame>& frames, const RigParameters& params,
-                                   int c, const std::vector<int>& free, int intrinsics_at,
-                                   int pose_at, const std::vector<FrameBlocks>& frame_blocks,
-                                   const Eigen::MatrixXd& s_inverse, double sigma_px) {
-  constexpr int kZ = ProjectionCovariance::kSize;
-  ProjectionCovariance out;
-  const Rigid3 cam_from_rig = params.CamFromRig(c);
-  const Eigen::Matrix3d& r_c = cam_from_rig.rotation;
-  const Eigen::Matrix3d t_c = Hat(cam_from_rig.translation);
-  std::vector<const FrameBlocks*> seen;
-  for (const FrameBlocks& blocks : frame_blocks) {
-    if (!frames[blocks.frame].views_by_camera[c].points.empty()) seen.push_back(&blocks);
-  }
-  if (seen.empty()) return out;
-  const int size = static_cast<int>(s_inverse.rows());
-  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(kZ, size);
-  for (size_t i = 0; i < free.size(); ++i) k(free[i], intrinsics_at + static_cast<int>(i)) = 1.0;
-  if (pose_at >= 0) {
-    k.block<3, 3>(10, pose_at).setIdentity();
-    k.block<3, 3>(13, pose_at) = t_c;
-    k.block<3, 3>(13, pose_at + 3).setIdentity();
-  }
-  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(kZ, size);
-  ProjectionCovariance::Matrix frame_part = ProjectionCovariance::Matrix::Zero();
-  const double n = static_cast<double>(seen.size());
-  for (const FrameBlocks* blocks : seen) {
-    const Rigid3 rig_from_board = params.RigFromBoard(blocks->frame);
-    Eigen::Matrix<double, kZ, 6> m = Eigen::Matrix<double, kZ, 6>::Zero();
-    m.block<3, 3>(10, 0) = r_c / n;
-    m.block<3, 3>(13, 0) = (t_c * r_c + r_c * Hat(rig_from_board.translation)) / n;
-    m.block<3, 3>(13, 3) = r_c / n;
-    w.noalias() += m * blocks->d_inverse * blocks->b.transpose();
-    frame_part.noalias() += m * blocks->d_inverse * m.transpose();
-  }
-  const Eigen::MatrixXd k_w = k - w;
-  out.covariance = sigma_px * sigma_px * (k_w * s_inverse * k_w.transpose() + frame_part);
-  out.covariance = 0.5 * (out.covariance + out.covariance.transpose()).eval();
-  out.sigma_px = sigma_px;
-  out.num_views = static_cast<int>(seen.size());
-  return out;
-}
-
 // sigma^2 (J^T J)^-1 of the rig parameters (every camera's free intrinsics, then [d, t] of cameras
 // 1..N-1 unless fix_extrinsics) with the frame poses marginalised: J in the tangents R' = Exp(d) R
 // (rotations) and t' = t + dt, from the analytic projection Jacobians; each frame's 6 x 6 block D_f
@@ -349,7 +292,7 @@ bool FillRigCovariance(const std::vector<RigFrame>& frames, const RigParameters&
   Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(size, size);
   Eigen::MatrixXd b(size, 6), j_rig(2, size);
   // Per frame seen: B_f and D_f^-1, for the cameras' projection covariance (RigProjection below).
-  std::vector<FrameBlocks> frame_blocks;
+  std::vector<refine_internal::RigFrameBlocks> frame_blocks;
   for (size_t f = 0; f < frames.size(); ++f) {
     const Rigid3 rig_from_board = params.RigFromBoard(static_cast<int>(f));
     Eigen::Matrix<double, 6, 6> d = Eigen::Matrix<double, 6, 6>::Zero();
@@ -391,16 +334,17 @@ bool FillRigCovariance(const std::vector<RigFrame>& frames, const RigParameters&
       return false;
     }
     schur.noalias() -= b * ldlt.solve(b.transpose());
-    frame_blocks.push_back(
-        {static_cast<int>(f), b, ldlt.solve(Eigen::Matrix<double, 6, 6>::Identity())});
+    frame_blocks.push_back({static_cast<int>(f), rig_from_board, b,
+                            ldlt.solve(Eigen::Matrix<double, 6, 6>::Identity())});
   }
   Eigen::MatrixXd inverse;
   if (!refine_internal::InvertInformationMatrix(schur, &inverse, why)) return false;
   const Eigen::MatrixXd covariance = sigma * sigma * inverse;
   out->projection.assign(num_cameras, ProjectionCovariance());
   for (int c = 0; c < num_cameras; ++c) {
-    out->projection[c] = RigProjection(frames, params, c, free[c], intrinsics_at[c], pose_at[c],
-                                       frame_blocks, inverse, sigma);
+    out->projection[c] = refine_internal::RigCameraProjection(
+        frames, c, cam_from_rig[c], {free[c], intrinsics_at[c], pose_at[c]}, frame_blocks, inverse,
+        sigma);
   }
   for (int c = 0; c < num_cameras; ++c) {
     const int n = static_cast<int>(free[c].size());

@@ -1,7 +1,6 @@
 // `calibench compare` (bench/app/compare_cmd.h).
 #include "bench/app/compare_cmd.h"
 
-#include <cmath>
 #include <filesystem>
 #include <iostream>
 
@@ -33,12 +32,11 @@ int Compare(const CompareArgs& args) {
             << "B: " << args.b_path << " (" << b.ModelName() << ", " << b.image_width << " x "
             << b.image_height << (b.projection.IsSet() ? ", with" : ", without")
             << " projection uncertainty)\n";
-  const double kx = static_cast<double>(a.image_width) / b.image_width;
-  if ((a.image_width != b.image_width || a.image_height != b.image_height) &&
-      std::abs(kx - static_cast<double>(a.image_height) / b.image_height) > 1e-9) {
+  const CameraComparison c = CompareCameras(a, b, options);
+  // A scaled copy is said by FormatComparison (b_scale); other sizes here.
+  if ((a.image_width != b.image_width || a.image_height != b.image_height) && c.b_scale == 1.0) {
     std::cout << "note: the image sizes differ: compared over the pixels both images hold\n";
   }
-  const CameraComparison c = CompareCameras(a, b, options);
   std::cout << FormatComparison(c, a_name, b_name);
   if (!c.ok) return 4;
   if (!args.out_path.empty()) {

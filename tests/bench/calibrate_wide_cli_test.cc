@@ -12,6 +12,7 @@
 
 #include "io/camera_io.h"
 #include "sim/synthetic.h"
+#include "tests/common/cli_run.h"
 #include "util/random.h"
 
 namespace calibench {
@@ -34,21 +35,7 @@ void WriteCalibDat(const std::string& path, const SyntheticBoardViews& data, int
   }
 }
 
-struct CliRun {
-  int status = -1;
-  std::string output;
-};
-CliRun Calibench(const std::string& args) {
-  const std::string out = Temp("cli_out.txt");
-  CliRun run;
-  run.status =
-      std::system((std::string(CALIBENCH_BINARY) + " " + args + " > " + out + " 2>&1").c_str());
-  std::ifstream in(out);
-  std::stringstream text;
-  text << in.rdbuf();
-  run.output = text.str();
-  return run;
-}
+CliRun Calibench(const std::string& args) { return RunCli(CALIBENCH_BINARY, args); }
 
 // Mutation caught: the CLI without --model auto (exit 2: "unknown lens model 'auto'").
 TEST(CalibrateCli, WideModelsAndAutoEndToEnd) {

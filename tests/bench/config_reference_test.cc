@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/common/cli_run.h"
 #include "tests/common/option_specs.h"
 #include "tests/common/temp_files.h"
 
@@ -91,18 +92,7 @@ TEST(ConfigReference, ConfigurationReferenceHoldsEveryTypesBlock) {
   }
 }
 
-struct CliRun {
-  int status = -1;
-  std::string output;
-};
-CliRun Calibench(const std::string& args) {
-  const std::string out = testing::TempDir() + "config_reference_cli.txt";
-  CliRun run;
-  run.status =
-      std::system((std::string(CALIBENCH_BINARY) + " " + args + " > " + out + " 2>&1").c_str());
-  run.output = Slurp(out);
-  return run;
-}
+CliRun Calibench(const std::string& args) { return RunCli(CALIBENCH_BINARY, args); }
 
 TEST(ConfigReference, MethodsCommandPrintsTheReferenceAndRefusesAnUnknownType) {
   std::string text, why;
