@@ -234,6 +234,8 @@ bool TagFit::Classify(const ParamVector& x, PhotometricFitResult* result) {
     // The row's span inside the region: each limit line is linear in i along the row.
     double lo = i0, hi = i1;
     RowSpan(j, region, outline_spans, lines, reach, &lo, &hi);
+    if (!(lo <= hi)) continue;  // The region misses the row (RowSpan's empty span is +-1e300).
+    lo = std::max(lo, i0 - 1.0), hi = std::min(hi, i1 + 1.0);  // In int range: the loop's bounds.
     const int row_lo = static_cast<int>(std::floor(lo)), row_hi = static_cast<int>(std::ceil(hi));
     const int first_i = std::max(i0, row_lo);
     if (!camera_) {  // Along the row each line's distance grows by a constant: l.x / S a pixel.
