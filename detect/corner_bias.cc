@@ -511,7 +511,8 @@ CornerBiasResult MeasureCornerBias(const CornerBiasCase& c, int case_index,
   for (int v = 0; v < options.views; ++v) {
     const uint64_t view_seed = Mix64(options.seed ^ Mix64(1000003ULL * case_index + v));
     Rng shift_rng(view_seed);
-    const Eigen::Vector2d shift(shift_rng.Uniform(-0.5, 0.5), shift_rng.Uniform(-0.5, 0.5));
+    const double shift_y = shift_rng.Uniform(-0.5, 0.5);  // y first (util/random.h).
+    const Eigen::Vector2d shift(shift_rng.Uniform(-0.5, 0.5), shift_y);
     TagView view = view0;  // View 0 is the case's own; the others are shifted.
     if (v > 0 &&
         !MakeView(c, centre_px + shift, depth, grid, family, camera, &view, &result.message))

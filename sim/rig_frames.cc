@@ -118,7 +118,7 @@ SyntheticRigFrames MakeRigFrames(const CameraRig& rig, const RigFramesOptions& o
     if (seen < options.min_cameras) continue;
     for (View& view : frame.views_by_camera) {
       for (Eigen::Vector2d& pixel : view.pixels) {
-        pixel += options.pixel_sigma_px * Eigen::Vector2d(rng->Normal(), rng->Normal());
+        pixel += options.pixel_sigma_px * NormalPair<Eigen::Vector2d>(rng);
       }
     }
     frame.name = std::to_string(out.frames.size());

@@ -75,7 +75,9 @@ CameraIntrinsics RandomIntrinsics(const RandomCameraOptions& o, Rng* rng) {
 }
 
 Eigen::Matrix3d RandomRotation(Rng* rng) {
-  Eigen::Quaterniond q(rng->Normal(), rng->Normal(), rng->Normal(), rng->Normal());
+  // Drawn z, y, x, w (util/random.h: one call's arguments are never draws).
+  const double z = rng->Normal(), y = rng->Normal(), x = rng->Normal(), w = rng->Normal();
+  Eigen::Quaterniond q(w, x, y, z);
   q.normalize();
   return q.toRotationMatrix();
 }
@@ -152,8 +154,8 @@ SyntheticBoardViews MakeBoardViews(const CameraIntrinsics& intrinsics,
     Rigid3 cam_from_board;
     cam_from_board.rotation =
         ExpSO3(tilt * axis) * ExpSO3(Eigen::Vector3d(0, 0, rng->Uniform(-0.3, 0.3)));
-    const Eigen::Vector3d offset(rng->Uniform(-0.1, 0.1) * distance,
-                                 rng->Uniform(-0.1, 0.1) * distance, distance);
+    const double offset_y = rng->Uniform(-0.1, 0.1) * distance;  // y first (util/random.h).
+    const Eigen::Vector3d offset(rng->Uniform(-0.1, 0.1) * distance, offset_y, distance);
     cam_from_board.translation = offset - cam_from_board.rotation * centre;
     View view;
     bool inside = true;
@@ -164,7 +166,7 @@ SyntheticBoardViews MakeBoardViews(const CameraIntrinsics& intrinsics,
         inside = false;
         break;
       }
-      pixel += o.pixel_sigma_px * Eigen::Vector2d(rng->Normal(), rng->Normal());
+      pixel += o.pixel_sigma_px * NormalPair<Eigen::Vector2d>(rng);
       view.points.push_back(p);
       view.pixels.push_back(pixel);
     }
@@ -221,8 +223,7 @@ SyntheticBoardViews MakeWideBoardViews(const CameraIntrinsics& intrinsics,
         continue;
       }
       view.points.push_back(p);
-      view.pixels.push_back(pixel +
-                            o.pixel_sigma_px * Eigen::Vector2d(rng->Normal(), rng->Normal()));
+      view.pixels.push_back(pixel + o.pixel_sigma_px * NormalPair<Eigen::Vector2d>(rng));
     }
     if (view.points.size() < min_points) continue;
     out.views.push_back(std::move(view));

@@ -4,7 +4,10 @@
 //
 // Generator: xoshiro256** seeded by SplitMix64 (both public-domain algorithms by Vigna), with our
 // own uniform and Gaussian transforms (Box-Muller) so the numbers are the same with any standard
-// library.
+// library. And with any compiler: the arguments of one call are evaluated in an order the
+// compiler picks (g++ last first, clang++ first first), so two draws are never arguments of one
+// call (a constructor's included). They are drawn in sequence, in g++'s order (the last
+// coordinate first), the order every published number was drawn in: NormalPair below.
 #pragma once
 
 #include <cstdint>
@@ -46,5 +49,12 @@ class Rng {
   bool has_spare_ = false;
   double spare_ = 0.0;
 };
+
+// A 2-vector (any type constructible from two doubles) of standard normals, y drawn first.
+template <typename Vector2>
+Vector2 NormalPair(Rng* rng) {
+  const double y = rng->Normal();
+  return Vector2(rng->Normal(), y);
+}
 
 }  // namespace calibench

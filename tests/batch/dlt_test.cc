@@ -23,7 +23,8 @@ Scene RandomScene(Rng* rng, int n) {
   s.intrinsics = RandomIntrinsics({}, rng);
   s.cam_from_parent = RandomPose(5, rng);
   for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d in_cam(rng->Uniform(-2, 2), rng->Uniform(-2, 2), rng->Uniform(4, 10));
+    const double z = rng->Uniform(4, 10), y = rng->Uniform(-2, 2);  // Last first: util/random.h.
+    const Eigen::Vector3d in_cam(rng->Uniform(-2, 2), y, z);
     s.points.push_back(s.cam_from_parent.Inverse() * in_cam);
     Eigen::Vector2d pixel;
     ProjectPoint(s.intrinsics, in_cam, &pixel);

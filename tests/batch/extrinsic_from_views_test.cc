@@ -74,7 +74,7 @@ std::vector<Rigid3> NoisyCamFromBoard(const RigViews& r, Rng* rng) {
       Eigen::Vector2d pixel;
       EXPECT_TRUE(ProjectPoint(r.intrinsics, cam_from_board * p, &pixel));
       view.points.push_back(p);
-      view.pixels.push_back(pixel + kPixelSigmaPx * Eigen::Vector2d(rng->Normal(), rng->Normal()));
+      view.pixels.push_back(pixel + kPixelSigmaPx * NormalPair<Eigen::Vector2d>(rng));
     }
     Rigid3 pose;
     std::string why;
@@ -163,8 +163,9 @@ TEST(HandEyeTsai, LargeRelativeTurnsGiveTheExtrinsic) {
   parent_from_points.reserve(30);
   int beyond = 0;
   for (int v = 0; v < 30; ++v) {
-    parent_from_points.push_back(
-        {RandomRotation(&rng), Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal())});
+    const Eigen::Matrix3d rotation = RandomRotation(&rng);
+    const double z = rng.Normal(), y = rng.Normal();  // Last first (util/random.h).
+    parent_from_points.push_back({rotation, Eigen::Vector3d(rng.Normal(), y, z)});
   }
   for (int i = 0; i < 30; ++i) {
     for (int j = i + 1; j < 30; ++j) {

@@ -202,12 +202,16 @@ TEST(ReprojectionCostFunction, JacobiansMatchAutodiff) {
     std::array<double, 10> intr = k.Params();
     const Eigen::Quaterniond q(RandomRotation(&rng));
     std::array<double, 4> rot = {q.x(), q.y(), q.z(), q.w()};
-    const Eigen::Vector3d point(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
+    // Each vector's draws last first (util/random.h).
+    const double pz = rng.Uniform(-1, 1), py = rng.Uniform(-1, 1);
+    const Eigen::Vector3d point(rng.Uniform(-1, 1), py, pz);
     // Translation that puts the point 2-6 m in front of the camera.
-    const Eigen::Vector3d in_cam(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(2, 6));
+    const double cz = rng.Uniform(2, 6), cy = rng.Uniform(-1, 1);
+    const Eigen::Vector3d in_cam(rng.Uniform(-1, 1), cy, cz);
     const Eigen::Vector3d t = in_cam - q * point;
     std::array<double, 3> trans = {t.x(), t.y(), t.z()};
-    const Eigen::Vector2d pixel(rng.Uniform(0, 640), rng.Uniform(0, 480));
+    const double v = rng.Uniform(0, 480);
+    const Eigen::Vector2d pixel(rng.Uniform(0, 640), v);
     const double* params[3] = {intr.data(), rot.data(), trans.data()};
 
     const AutodiffComparison c = CompareWithAutodiff(pixel, point, LensFamily::kRadTan, params);
@@ -238,8 +242,7 @@ TEST(Refine, CovarianceMatchesMonteCarloSpread) {
     Rng noise(TrialSeed(99, t), RngStream::kPixelNoise);
     std::vector<View> views = clean.views;
     for (View& v : views) {
-      for (Eigen::Vector2d& p : v.pixels)
-        p += sigma * Eigen::Vector2d(noise.Normal(), noise.Normal());
+      for (Eigen::Vector2d& p : v.pixels) p += sigma * NormalPair<Eigen::Vector2d>(&noise);
     }
     const RefineResult r = RefineCalibration(views, kTruth, clean.cam_from_board, options);
     ASSERT_TRUE(r.IsUsable()) << r.message;
@@ -300,8 +303,8 @@ CameraIntrinsics RandomLens(LensFamily family, Rng* rng) {
 // the edge), past 90 deg from the axis where the family sees there.
 Eigen::Vector3d RandomPointInView(const CameraIntrinsics& k, Rng* rng) {
   for (;;) {
-    const Eigen::Vector3d dir =
-        Eigen::Vector3d(rng->Normal(), rng->Normal(), rng->Normal()).normalized();
+    const double z = rng->Normal(), y = rng->Normal();  // Last first (util/random.h).
+    const Eigen::Vector3d dir = Eigen::Vector3d(rng->Normal(), y, z).normalized();
     const Eigen::Vector3d axis = Eigen::Vector3d::UnitZ().cross(dir);
     const double step = 2 * M_PI / 180;
     const Eigen::Vector3d further =
@@ -328,10 +331,12 @@ TEST(ReprojectionCostFunction, JacobiansMatchAutodiffForEveryFamily) {
       std::array<double, 10> intr = k.Params();
       const Eigen::Quaterniond q(RandomRotation(&rng));
       std::array<double, 4> rot = {q.x(), q.y(), q.z(), q.w()};
-      const Eigen::Vector3d point(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
+      const double pz = rng.Uniform(-1, 1), py = rng.Uniform(-1, 1);  // Last first.
+      const Eigen::Vector3d point(rng.Uniform(-1, 1), py, pz);
       const Eigen::Vector3d t = RandomPointInView(k, &rng) - q * point;
       std::array<double, 3> trans = {t.x(), t.y(), t.z()};
-      const Eigen::Vector2d pixel(rng.Uniform(0, 640), rng.Uniform(0, 480));
+      const double v = rng.Uniform(0, 480);
+      const Eigen::Vector2d pixel(rng.Uniform(0, 640), v);
       const double* params[3] = {intr.data(), rot.data(), trans.data()};
       const AutodiffComparison c = CompareWithAutodiff(pixel, point, family, params);
       ASSERT_TRUE(c.autodiff_ok) << ToString(family);

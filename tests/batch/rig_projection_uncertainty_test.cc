@@ -57,7 +57,7 @@ void ExpectEachCameraMatchesItsSpread(const CameraRig& truth, int num_frames, bo
     for (RigFrame& frame : noisy) {
       for (View& view : frame.views_by_camera) {
         for (Eigen::Vector2d& p : view.pixels) {
-          p += kSigmaPx * Eigen::Vector2d(noise.Normal(), noise.Normal());
+          p += kSigmaPx * NormalPair<Eigen::Vector2d>(&noise);
         }
       }
     }

@@ -368,7 +368,7 @@ MonteCarloOutcome RunMonteCarlo(const CameraRig& truth, const SyntheticRigFrames
     for (RigFrame& frame : frames) {
       for (View& view : frame.views_by_camera) {
         for (Eigen::Vector2d& p : view.pixels) {
-          p += sigma_px * Eigen::Vector2d(noise.Normal(), noise.Normal());
+          p += sigma_px * NormalPair<Eigen::Vector2d>(&noise);
         }
       }
     }

@@ -208,7 +208,8 @@ TEST(WideInit, FailuresSayWhyWithTheBestRmsFound) {
   Rng rng(5);
   for (View& v : noise) {
     for (Eigen::Vector2d& pixel : v.pixels) {
-      pixel = Eigen::Vector2d(rng.Uniform(0, kImageSide), rng.Uniform(0, kImageSide));
+      const double v_px = rng.Uniform(0, kImageSide);  // Last first (util/random.h).
+      pixel = Eigen::Vector2d(rng.Uniform(0, kImageSide), v_px);
     }
   }
   const WideInitResult none = InitializeWideCamera(noise, o);

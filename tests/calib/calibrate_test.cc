@@ -68,7 +68,8 @@ TEST(CalibrateFromPoints, AFailureNamesTheViewItIsTracedTo) {
   EXPECT_EQ(data.view_names[2], "data3.txt");
   Rng rng(7);
   for (Eigen::Vector2d& pixel : data.views[2].pixels) {
-    pixel = Eigen::Vector2d(rng.Uniform(0, 640), rng.Uniform(0, 480));
+    const double v = rng.Uniform(0, 480);  // Last first (util/random.h).
+    pixel = Eigen::Vector2d(rng.Uniform(0, 640), v);
   }
   CalibrateOptions options;
   options.model = LensModel::kPinholeK2;

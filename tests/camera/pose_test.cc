@@ -39,7 +39,8 @@ TEST(Rotation, OrthonormalityToleranceIsOneNanoUnit) {
 TEST(Rotation, ExpMatchesAngleAxisAndAnglesRoundTrip) {
   Rng rng(3);
   for (int i = 0; i < 200; ++i) {
-    const Eigen::Vector3d w(rng.Normal(), rng.Normal(), rng.Normal());
+    const double wz = rng.Normal(), wy = rng.Normal();  // Last first (util/random.h).
+    const Eigen::Vector3d w(rng.Normal(), wy, wz);
     const Eigen::Matrix3d expected = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
     EXPECT_LT((ExpSO3(w) - expected).norm(), 1e-14);
     // Geodesic angle between Exp(w) and I is |w| (wrapped to [0, pi]).
@@ -74,8 +75,8 @@ constexpr double kLogRoundTrip = 1e-12;
 TEST(Rotation, LogInvertsExpNearZero) {
   Rng rng(13);
   for (const double angle : {1e-2, 1e-5, 1e-8, 1e-11, 1e-14, 0.0}) {
-    const Eigen::Vector3d axis =
-        Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()).normalized();
+    const double z = rng.Normal(), y = rng.Normal();  // Last first (util/random.h).
+    const Eigen::Vector3d axis = Eigen::Vector3d(rng.Normal(), y, z).normalized();
     const Eigen::Vector3d w = angle * axis;
     EXPECT_LT((LogSO3(ExpSO3(w)) - w).norm(), kLogRoundTrip * std::max(angle, 1e-4))
         << "angle " << angle;
@@ -85,8 +86,8 @@ TEST(Rotation, LogInvertsExpNearZero) {
 TEST(Rotation, LogInvertsExpNearPi) {
   Rng rng(17);
   for (const double gap : {1e-2, 1e-5, 1e-8, 1e-11}) {
-    const Eigen::Vector3d axis =
-        Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()).normalized();
+    const double z = rng.Normal(), y = rng.Normal();  // Last first (util/random.h).
+    const Eigen::Vector3d axis = Eigen::Vector3d(rng.Normal(), y, z).normalized();
     const Eigen::Vector3d w = (M_PI - gap) * axis;
     EXPECT_LT((LogSO3(ExpSO3(w)) - w).norm(), kLogRoundTrip) << "pi - " << gap;
   }

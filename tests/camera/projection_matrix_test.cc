@@ -16,7 +16,8 @@ constexpr double kRecoveryRelTol = 1e-9;
 std::vector<Eigen::Vector3d> PointsInFront(const Rigid3& cam_from_parent, Rng* rng) {
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < 6; ++i) {
-    const Eigen::Vector3d in_cam(rng->Uniform(-1, 1), rng->Uniform(-1, 1), rng->Uniform(2, 6));
+    const double z = rng->Uniform(2, 6), y = rng->Uniform(-1, 1);  // Last first: util/random.h.
+    const Eigen::Vector3d in_cam(rng->Uniform(-1, 1), y, z);
     points.push_back(cam_from_parent.Inverse() * in_cam);
   }
   return points;

@@ -29,12 +29,13 @@ struct RenderedFolderOptions {
 // point `centre`.
 inline Rigid3 RandomFacingView(const RenderedFolderOptions& options, const Eigen::Vector3d& centre,
                                Rng* rng) {
-  const Eigen::Vector3d tilt(rng->Uniform(-0.6, 0.6), rng->Uniform(-0.6, 0.6),
-                             rng->Uniform(-0.4, 0.4));
+  // Each vector's entries drawn last first (util/random.h).
+  const double tilt_z = rng->Uniform(-0.4, 0.4), tilt_y = rng->Uniform(-0.6, 0.6);
+  const Eigen::Vector3d tilt(rng->Uniform(-0.6, 0.6), tilt_y, tilt_z);
   const double distance = rng->Uniform(options.min_distance_m, options.max_distance_m);
   const double lateral = options.lateral_m;
-  const Eigen::Vector3d at(rng->Uniform(-lateral, lateral),
-                           rng->Uniform(-0.8 * lateral, 0.8 * lateral), distance);
+  const double at_y = rng->Uniform(-0.8 * lateral, 0.8 * lateral);
+  const Eigen::Vector3d at(rng->Uniform(-lateral, lateral), at_y, distance);
   // ExpSO3(tilt) D = D ExpSO3(D tilt) for D = diag(1, -1, -1).
   return FacingBoardPose({tilt.x(), -tilt.y(), -tilt.z()}, centre, at);
 }

@@ -45,7 +45,8 @@ GridViews RenderKalibrViews(const CameraIntrinsics& camera, double blur_px, uint
     const Eigen::Vector3d tilt(angle * std::cos(axis), angle * std::sin(axis),
                                rng.Uniform(-0.5, 0.5));
     const double distance = rng.Uniform(0.55, 1.0);
-    const Eigen::Vector3d at(rng.Uniform(-0.1, 0.1), rng.Uniform(-0.06, 0.06), distance);
+    const double at_y = rng.Uniform(-0.06, 0.06);  // Last first (util/random.h).
+    const Eigen::Vector3d at(rng.Uniform(-0.1, 0.1), at_y, distance);
     const Rigid3 cam_from_board = FacingBoardPose(tilt, centre, at);
     bool inside = true;
     for (const Eigen::Vector3d& p : out.grid.CornersInBoard()) {

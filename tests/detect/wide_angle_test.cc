@@ -419,14 +419,19 @@ TEST(WideAngle, BoardLinesAreStraightOnTheTangentPlane) {
     const double angle = rng.Uniform(0, 100) * kDeg, azimuth = rng.Uniform(0, 2 * M_PI);
     const Eigen::Vector3d ray(std::sin(angle) * std::cos(azimuth),
                               std::sin(angle) * std::sin(azimuth), std::cos(angle));
-    const Rigid3 pose = FacingBoardPoseAlong(
-        Eigen::Vector3d(rng.Uniform(-0.6, 0.6), rng.Uniform(-0.6, 0.6), rng.Uniform(-1, 1)),
-        Eigen::Vector3d::Zero(), ray, rng.Uniform(0.3, 1.0));
+    // The call's draws last first (util/random.h): the distance, then the turn's z, y, x.
+    const double distance = rng.Uniform(0.3, 1.0);
+    const double turn_z = rng.Uniform(-1, 1), turn_y = rng.Uniform(-0.6, 0.6);
+    const Rigid3 pose =
+        FacingBoardPoseAlong(Eigen::Vector3d(rng.Uniform(-0.6, 0.6), turn_y, turn_z),
+                             Eigen::Vector3d::Zero(), ray, distance);
     TangentPlane plane;
     ASSERT_TRUE(TangentPlane::About(ray, &plane));
     // A board line through points a and b (within 0.1 m of the centre) and a third point on it.
-    const Eigen::Vector3d a(rng.Uniform(-0.1, 0.1), rng.Uniform(-0.1, 0.1), 0);
-    const Eigen::Vector3d b(rng.Uniform(-0.1, 0.1), rng.Uniform(-0.1, 0.1), 0);
+    const double ay = rng.Uniform(-0.1, 0.1);  // Last first (util/random.h).
+    const Eigen::Vector3d a(rng.Uniform(-0.1, 0.1), ay, 0);
+    const double by = rng.Uniform(-0.1, 0.1);
+    const Eigen::Vector3d b(rng.Uniform(-0.1, 0.1), by, 0);
     const double t = rng.Uniform(0.2, 0.8);
     std::array<Eigen::Vector2d, 3> on_plane;
     int i = 0;

@@ -83,7 +83,8 @@ std::vector<Eigen::Vector2d> Starts(const std::vector<Eigen::Vector2d>& truth, u
   std::vector<Eigen::Vector2d> starts;
   starts.reserve(truth.size());
   for (const Eigen::Vector2d& t : truth) {
-    starts.push_back(t + Eigen::Vector2d(rng.Uniform(-0.7, 0.7), rng.Uniform(-0.7, 0.7)));
+    const double dy = rng.Uniform(-0.7, 0.7);  // Last first (util/random.h).
+    starts.push_back(t + Eigen::Vector2d(rng.Uniform(-0.7, 0.7), dy));
   }
   return starts;
 }

@@ -39,7 +39,8 @@ TEST(CeresMethod, ReportedStdMatchesTheCramerRaoBound) {
   Rng rng(50, RngStream::kScene);
   sim.scene.points.clear();
   for (int i = 0; i < 150; ++i) {
-    sim.scene.points.emplace_back(rng.Uniform(-6, 6), rng.Uniform(15, 30), rng.Uniform(-4, 5));
+    const double z = rng.Uniform(-4, 5), y = rng.Uniform(15, 30);  // Last first: util/random.h.
+    sim.scene.points.emplace_back(rng.Uniform(-6, 6), y, z);
   }
   sim.scene.duration_s = 50;
   OracleOptions options;
