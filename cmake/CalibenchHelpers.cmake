@@ -38,8 +38,20 @@ function(calibench_add_test module name)
   # The labels go on the discovered tests (list ${target}_TESTS) from a second include file:
   # gtest_discover_tests(PROPERTIES LABELS "a;b") expands the list on the way and keeps only "a"
   # (which is why the "data" label had no tests before).
+  # The same file gives the long tests of CALIBENCH_TEST_COSTS (tests/CMakeLists.txt) their COST.
   set(labels_file "${CMAKE_CURRENT_BINARY_DIR}/${target}_labels.cmake")
-  file(WRITE "${labels_file}" "if(${target}_TESTS)\n  set_tests_properties(\${${target}_TESTS} "
-                              "PROPERTIES LABELS \"${module};${ARG_LABELS}\")\nendif()\n")
+  string(CONCAT content "if(${target}_TESTS)\n  set_tests_properties(\${${target}_TESTS} "
+                        "PROPERTIES LABELS \"${module};${ARG_LABELS}\")\n")
+  foreach(entry IN LISTS CALIBENCH_TEST_COSTS)
+    string(REPLACE "=" ";" name_and_cost "${entry}")
+    list(GET name_and_cost 0 test_name)
+    list(GET name_and_cost 1 cost)
+    string(APPEND content "  list(FIND ${target}_TESTS \"${test_name}\" index)\n"
+                          "  if(NOT index EQUAL -1)\n"
+                          "    set_tests_properties(\"${test_name}\" PROPERTIES COST ${cost})\n"
+                          "  endif()\n")
+  endforeach()
+  string(APPEND content "endif()\n")
+  file(WRITE "${labels_file}" "${content}")
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${labels_file}")
 endfunction()

@@ -3,8 +3,13 @@
 #
 # CALIBENCH_SANITIZE=ON      AddressSanitizer + UndefinedBehaviorSanitizer; any UB report is fatal
 #                            (-fno-sanitize-recover), so a test that triggers one fails.
-# CALIBENCH_BUILD_FUZZERS=ON libFuzzer coverage instrumentation for the libraries (clang only);
-#                            fuzz/ links its targets with -fsanitize=fuzzer.
+# CALIBENCH_BUILD_FUZZERS=ON libFuzzer's edge coverage for every target (clang only), ASan + UBSan
+#                            with it; fuzz/ links its targets with -fsanitize=fuzzer. One build
+#                            (preset asan) holds the tests and the fuzzers: the edge counters
+#                            (inline-8bit-counters, pc-table) cost the tests little; comparison
+#                            tracing (trace-cmp, in -fsanitize=fuzzer-no-link) would put a call on
+#                            every comparison of the numeric code, and the YAML fuzzers get their
+#                            keywords from their dictionaries instead (fuzz/*.dict).
 # Eigen stops trusting malloc's 16-byte alignment under __SANITIZE_ADDRESS__ and switches to its
 # own aligned malloc (pointer offset by 16). Ceres from Debian is built without ASan and frees with
 # plain free(): an Eigen matrix allocated in our code and freed in Ceres (or the reverse) is then a
@@ -24,7 +29,10 @@ if(CALIBENCH_BUILD_FUZZERS)
   if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
     message(FATAL_ERROR "CALIBENCH_BUILD_FUZZERS needs clang (CXX=clang++): libFuzzer is clang's")
   endif()
-  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined
-                      -fno-omit-frame-pointer)
-  add_link_options(-fsanitize=address,undefined)
+  add_compile_options(-fsanitize-coverage=inline-8bit-counters,pc-table)
+  if(NOT CALIBENCH_SANITIZE)
+    add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=undefined
+                        -fno-omit-frame-pointer)
+    add_link_options(-fsanitize=address,undefined)
+  endif()
 endif()

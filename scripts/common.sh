@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Shared by scripts/bench, scripts/test and scripts/lint: install missing Debian packages,
-# configure, build.
+# Shared by scripts/bench, scripts/test, scripts/lint, scripts/sanitize and scripts/fuzz: install
+# missing Debian packages, configure, build.
 # Idempotent: with everything installed and built it only re-runs the (no-op) incremental build.
 set -euo pipefail
 
@@ -44,4 +44,18 @@ configure() {
 build() {
   configure
   cmake --build "$BUILD_DIR" -j "${CALIBENCH_JOBS:-2}" >&2
+}
+
+# build-asan/ (preset asan: clang, ASan + UBSan, the tests and the fuzzers), configured afresh when
+# missing or when an older one was configured otherwise (g++, or without the fuzzers).
+ASAN_DIR="$CALIBENCH_ROOT/build-asan"
+configure_asan() {
+  local cache="$ASAN_DIR/CMakeCache.txt" fresh=()
+  if [ -f "$ASAN_DIR/build.ninja" ] && grep -q "^CMAKE_CXX_COMPILER:[A-Z]*=.*clang++" "$cache" &&
+     grep -qx "CALIBENCH_BUILD_FUZZERS:BOOL=ON" "$cache"; then
+    return 0
+  fi
+  [ -f "$cache" ] && fresh=(--fresh)
+  cmake --preset asan "${fresh[@]}" -S "$CALIBENCH_ROOT" \
+    -DCALIBENCH_DATA_DIR="${CALIBENCH_DATA_DIR:-$CALIBENCH_ROOT/../shared/data}" >&2
 }
