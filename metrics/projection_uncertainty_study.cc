@@ -45,12 +45,24 @@ UncertaintyStudyResult RunUncertaintyStudy(const CameraIntrinsics& truth,
                                            const std::vector<View>& views,
                                            const std::vector<Rigid3>& cam_from_board,
                                            int image_width, int image_height,
-                                           const UncertaintyStudyOptions& options) {
+                                           const UncertaintyStudyOptions& options,
+                                           const std::vector<std::vector<View>>* measured_draws) {
   UncertaintyStudyResult result;
   std::string why;
   if (!options.Check(&why)) {
     result.message = "uncertainty study options: " + why;
     return result;
+  }
+  const int draws =
+      measured_draws != nullptr ? static_cast<int>(measured_draws->size()) : options.draws;
+  if (measured_draws != nullptr) {
+    for (const std::vector<View>& measured : *measured_draws) {
+      if (measured.size() != views.size()) {
+        result.message = "a measured draw has " + std::to_string(measured.size()) +
+                         " views where the study has " + std::to_string(views.size());
+        return result;
+      }
+    }
   }
   if (views.empty() || cam_from_board.size() != (options.shared_pose ? 1 : views.size())) {
     result.message = options.shared_pose ? "need one true pose" : "need one true pose per view";
@@ -98,13 +110,18 @@ UncertaintyStudyResult RunUncertaintyStudy(const CameraIntrinsics& truth,
   // The draws.
   std::vector<std::vector<Eigen::Vector2d>> reprojected(pixels.size());
   std::vector<std::vector<double>> draw_predictions(pixels.size());
-  for (int d = 0; d < options.draws; ++d) {
-    Rng rng(options.seed + static_cast<uint64_t>(d), RngStream::kPixelNoise);
-    std::vector<View> noisy = views;
-    for (View& view : noisy) {
-      for (Eigen::Vector2d& p : view.pixels) {
-        p.x() += options.pixel_sigma_px * rng.Normal();
-        p.y() += options.pixel_sigma_px * rng.Normal();
+  for (int d = 0; d < draws; ++d) {
+    std::vector<View> noisy;
+    if (measured_draws != nullptr) {
+      noisy = (*measured_draws)[static_cast<size_t>(d)];
+    } else {
+      Rng rng(options.seed + static_cast<uint64_t>(d), RngStream::kPixelNoise);
+      noisy = views;
+      for (View& view : noisy) {
+        for (Eigen::Vector2d& p : view.pixels) {
+          p.x() += options.pixel_sigma_px * rng.Normal();
+          p.y() += options.pixel_sigma_px * rng.Normal();
+        }
       }
     }
     const RefineResult solved = RefineCalibration(noisy, truth, cam_from_board, refine);

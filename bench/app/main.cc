@@ -373,6 +373,10 @@ CLI::App* AddUncertaintyStudyCommand(CLI::App* app, calibench::UncertaintyStudyA
       "distances (the table of docs/results/uncertainty.md)");
   study->add_option("--out", study_args->out_path, "Markdown table (also printed)");
   study->add_option("--draws", study_args->draws, "Re-solves per case (default 100)");
+  study->add_flag("--rendered", study_args->rendered,
+                  "Also on rendered checkerboard images, detected again at every draw");
+  study->add_option("--threads", study_args->threads,
+                    "Rendering and detection in parallel (0: all cores)");
   return study;
 }
 

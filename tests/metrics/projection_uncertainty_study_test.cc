@@ -73,7 +73,8 @@ TEST(ProjectionUncertaintyStudy, OneSharedPoseMatchesItsMonteCarloSpread) {
   std::vector<View> views(10);
   for (View& view : views) {
     while (view.points.size() < 40) {
-      const Eigen::Vector3d in_cam(rng.Uniform(-1, 1), rng.Uniform(-0.8, 0.8), rng.Uniform(1, 3));
+      const double z = rng.Uniform(1, 3), y = rng.Uniform(-0.8, 0.8);  // Last first.
+      const Eigen::Vector3d in_cam(rng.Uniform(-1, 1), y, z);
       Eigen::Vector2d pixel;
       if (!ProjectPoint(truth, in_cam, &pixel) || pixel.x() < 0 || pixel.y() < 0 ||
           pixel.x() > 639 || pixel.y() > 479) {
@@ -90,6 +91,45 @@ TEST(ProjectionUncertaintyStudy, OneSharedPoseMatchesItsMonteCarloSpread) {
   ExpectValidated(RunUncertaintyStudy(truth, views, {cam_from_parent}, 640, 480, options));
   options.distance_m = 2.0;
   ExpectValidated(RunUncertaintyStudy(truth, views, {cam_from_parent}, 640, 480, options));
+}
+
+TEST(ProjectionUncertaintyStudy, MeasuredDrawsSpreadAsTheirNoiseNotTheirFixedError) {
+  // A detector's corners as the rendered study measures them: a fixed error per corner (the same
+  // in every draw: the geometry on the pixel grid), 0.2 px, plus noise that changes, 0.1 px. The
+  // re-solves spread as the 0.1 px predicts; each draw's own sigma_hat (from its residuals) holds
+  // both, sqrt(0.1^2 + 0.2^2) = 2.2x the noise, so its ratio is ~0.45: below kOwnRatioMax.
+  constexpr double kNoisePx = 0.1, kFixedPx = 0.2, kOwnRatioMax = 0.6;
+  const CameraIntrinsics truth{520.0, 515.0, 90.0, 322.0, 236.0, -0.21, 0.08};
+  SyntheticBoardOptions board;
+  board.num_views = 12;
+  Rng rng(24);
+  const SyntheticBoardViews data = MakeBoardViews(truth, board, &rng);
+  std::vector<View> fixed = data.views;
+  for (View& view : fixed) {
+    for (Eigen::Vector2d& p : view.pixels) p += kFixedPx * NormalPair<Eigen::Vector2d>(&rng);
+  }
+  std::vector<std::vector<View>> draws(kDraws, fixed);
+  for (std::vector<View>& draw : draws) {
+    for (View& view : draw) {
+      for (Eigen::Vector2d& p : view.pixels) p += kNoisePx * NormalPair<Eigen::Vector2d>(&rng);
+    }
+  }
+  UncertaintyStudyOptions options;
+  options.pixel_sigma_px = kNoisePx;
+  options.max_distance_to_data_px = 40;
+  const UncertaintyStudyResult r =
+      RunUncertaintyStudy(truth, data.views, data.cam_from_board, 640, 480, options, &draws);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_GE(r.draws_used, kDraws - 2);
+  EXPECT_NEAR(r.median_ratio, 1.0, kMedianRatioTol)
+      << "observed " << r.median_observed_px << " px, predicted " << r.median_predicted_px;
+  EXPECT_LT(r.median_draw_ratio, kOwnRatioMax);
+  // A draw whose view count is not the study's is refused, naming both counts.
+  draws[3].pop_back();
+  const UncertaintyStudyResult bad =
+      RunUncertaintyStudy(truth, data.views, data.cam_from_board, 640, 480, options, &draws);
+  EXPECT_FALSE(bad.ok);
+  EXPECT_NE(bad.message.find("11 views where the study has 12"), std::string::npos) << bad.message;
 }
 
 TEST(ProjectionUncertaintyStudy, BadOptionsAreRefusedWithAReason) {
