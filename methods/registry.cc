@@ -19,42 +19,61 @@ std::unique_ptr<Method> MakeCeresMethod();
 std::unique_ptr<Method> MakeEkfMethod();
 std::unique_ptr<Method> MakeEkfRigMethod();
 
+const char* ToString(MethodFamily family) {
+  switch (family) {
+    case MethodFamily::kAdaptive:
+      return "adaptive";
+    case MethodFamily::kBatch:
+      return "batch";
+    case MethodFamily::kFilter:
+      return "filter";
+  }
+  return "batch";
+}
+
 const std::vector<MethodType>& MethodTypes() {
   static const std::vector<MethodType> types = {
       {"adaptive",
        "the thesis's adaptive (Lyapunov) estimator on the source itself",
+       MethodFamily::kAdaptive,
        true,
        {},
        MakeAdaptiveMethod},
       {"dlt",
        "normalised DLT of M on all frames pooled (non-coplanar points)",
+       MethodFamily::kBatch,
        false,
        {},
        MakeDltMethod},
       {"zhang",
        "cv::calibrateCamera on the (frame, board) views; extrinsic by chordal rotation averaging",
+       MethodFamily::kBatch,
        false,
        {"zhang_handeye"},
        MakeZhangMethod},
       {"zhang_handeye",
        "zhang's intrinsics; extrinsic by hand-eye calibration on board 0 (rotation from the "
        "quaternion form of AX = XB, translation as Tsai-Lenz)",
+       MethodFamily::kBatch,
        false,
        {},
        MakeZhangHandEyeMethod},
       {"ceres",
        "maximum likelihood (Ceres) over the intrinsics and the constant extrinsic",
+       MethodFamily::kBatch,
        false,
        {},
        MakeCeresMethod},
       {"ekf",
        "an extended Kalman filter on the intrinsics and the extrinsic, random-walk process",
+       MethodFamily::kFilter,
        false,
        {},
        MakeEkfMethod},
       {"ekf_rig",
        "rig scenarios: one extended Kalman filter on every camera's intrinsics, camera 0's "
        "extrinsic and each camera's pose relative to camera 0, on all cameras' corners at once",
+       MethodFamily::kFilter,
        false,
        {},
        MakeEkfRigMethod},

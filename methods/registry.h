@@ -18,9 +18,19 @@
 
 namespace calibench {
 
+// What kind of estimator a type is: the report compares the adaptive estimator with the best
+// batch method in every answer (schema.json's "family").
+enum class MethodFamily {
+  kAdaptive,  // The thesis's continuous-time estimator and its variants.
+  kBatch,     // A solve on a set of frames (static, or repeated on windows online).
+  kFilter,    // A recursive Bayesian filter (EKF).
+};
+const char* ToString(MethodFamily family);
+
 struct MethodType {
-  std::string name;                 // As configs spell it.
-  std::string description;          // One line.
+  std::string name;         // As configs spell it.
+  std::string description;  // One line.
+  MethodFamily family = MethodFamily::kBatch;
   bool enabled_by_default = false;  // In the map form.
   // Map form only: types whose instance the entry of this type adds too, with the same options
   // (zhang adds zhang_handeye: one calibrateCamera, two extrinsic estimates).

@@ -166,7 +166,7 @@ std::string SweepsJson(const RunConfig& config, const std::string& indent) {
   return List(items, indent);
 }
 
-// Per registered type, in registry order: the outputs it declares and its windup law.
+// Per registered type, in registry order: its family, the outputs it declares and its windup law.
 std::string MethodsJson(const std::string& indent) {
   auto names = [](const std::vector<std::string>& quoted) {
     std::string out = "[";
@@ -184,8 +184,8 @@ std::string MethodsJson(const std::string& indent) {
       windup = "{\"exponent\": " + Quote(law->exponent_option) +
                ", \"only_when_zero\": " + names(zero) + "}";
     }
-    items.push_back("{\"type\": " + Quote(t.name) + ", \"outputs\": " + names(outputs) +
-                    ", \"windup\": " + windup + "}");
+    items.push_back("{\"type\": " + Quote(t.name) + ", \"family\": " + Quote(ToString(t.family)) +
+                    ", \"outputs\": " + names(outputs) + ", \"windup\": " + windup + "}");
   }
   return List(items, indent);
 }

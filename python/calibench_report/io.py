@@ -5,10 +5,12 @@ A run directory (`calibench run`) holds schema.json and the files it lists (runs
 corner-bias`) holds corner_bias.csv. Paths shown in the report are relative to the report directory, never absolute.
 """
 import dataclasses
+import functools
 import os
 from typing import Optional
 
 import pandas as pd
+import yaml
 
 from calibench_report import schema as schema_io
 
@@ -41,6 +43,24 @@ class RunData:
     def methods(self):
         """Every method instance in the order of first appearance."""
         return list(dict.fromkeys(self.runs.method)) if len(self.runs) else []
+
+    @functools.cached_property
+    def families(self):
+        """{method instance: its type's family} (adaptive, batch, filter: schema.json's
+        methods), from the instances of config.resolved.yaml; an instance named twice keeps its
+        first type."""
+        out = {}
+        for text in self.configs:
+            for scenario in (yaml.safe_load(text) or {}).get("scenarios", []):
+                for m in scenario.get("methods", []) or []:
+                    t = self.schema.method_type(m.get("type"))
+                    if t is not None and m.get("name") not in out:
+                        out[m.get("name")] = t.family
+        return out
+
+    def of_family(self, methods, family):
+        """The instances of `methods` whose type is of `family`, in their order."""
+        return [m for m in methods if self.families.get(m) == family]
 
 
 def _csv(path, **kwargs):

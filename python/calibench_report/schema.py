@@ -82,6 +82,8 @@ class WindupLaw:
 @dataclasses.dataclass(frozen=True)
 class MethodType:
     name: str  # As configs spell it (an instance's `type`).
+    family: Optional[str]  # adaptive, batch, filter (methods/registry.h MethodFamily); None: not
+    # declared (a run directory written before families were).
     outputs: tuple  # The names of the quantities it declares.
     windup: Optional[WindupLaw]
 
@@ -145,7 +147,7 @@ def _sweep(s):
 
 def _method_type(t):
     law = t["windup"]
-    return MethodType(name=t["type"], outputs=tuple(t["outputs"]),
+    return MethodType(name=t["type"], family=t.get("family"), outputs=tuple(t["outputs"]),
                       windup=WindupLaw(exponent=law["exponent"],
                                        only_when_zero=tuple(law["only_when_zero"]))
                       if law else None)

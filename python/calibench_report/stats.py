@@ -67,6 +67,14 @@ def paired_differences(a, b):
     return d[np.isfinite(d)]
 
 
+def log_ratios(a, b):
+    """ln(a / b) over the index values (seeds) both Series have, pairs with a value that is not
+    positive and finite dropped: the paired comparison of two |errors| at any scale (a sweep's
+    points pooled), its median's exponential the typical ratio."""
+    d = paired_differences(np.log(a.where(a > 0)), np.log(b.where(b > 0)))
+    return d[np.isfinite(d)]
+
+
 def normality_p(d):
     """Lilliefors' p-value for the normality of d (mean and variance estimated)."""
     with warnings.catch_warnings():

@@ -60,3 +60,42 @@ def effect_text(c, unit=""):
 def band(median, lo, hi, bold=False):
     text = f"**{num(median)}**" if bold else num(median)
     return f"{text} [{num(lo, 2)}, {num(hi, 2)}]"
+
+
+def error_words(quantity):
+    """'f·ku error', 'geodesic rotation error': a quantity's label as an error."""
+    return quantity.label if quantity.label.endswith("error") else f"{quantity.label} error"
+
+
+def ratio_versus_text(adaptive, batch, c, what):
+    """Plain words for a comparison of log ratios ln(|adaptive error| / |batch error|):
+    'ceres beats adaptive by 2.1× [1.8, 2.5] in f·ku error, p < 0.001 (paired t)'."""
+    if c is None or not finite(c.effect):
+        return f"{adaptive} against {batch}: no common trials"
+    ratio, (lo, hi) = math.exp(c.effect), c.effect_ci
+    interval = (f" [{math.exp(lo):.2g}, {math.exp(hi):.2g}]" if finite(lo) else "")
+    if ratio >= 1:
+        words = f"{batch} beats {adaptive} by {ratio:.2g}×{interval}"
+    else:
+        interval = (f" [{math.exp(-hi):.2g}, {math.exp(-lo):.2g}]" if finite(lo) else "")
+        words = f"{adaptive} beats {batch} by {1 / ratio:.2g}×{interval}"
+    if c.tested and not c.significant:
+        words = f"not significant: {words}"
+    return f"{words} in {what}, {p_text(c)}"
+
+
+def time_versus_text(adaptive, batch, c, what):
+    """Plain words for a comparison of paired times, batch's minus adaptive's (s): 'adaptive-reset
+    re-converges 3.2 s [1.1, 5] before ceres-w2 after the pitch step, p 0.002 (Wilcoxon)'."""
+    if c is None or not finite(c.effect):
+        return f"{adaptive} against {batch}: no common trials"
+    lo, hi = c.effect_ci
+    if c.effect >= 0:
+        interval = f" [{num(lo, 2)}, {num(hi, 2)}]" if finite(lo) else ""
+        words = f"{adaptive} {what} {num(c.effect, 2)} s{interval} before {batch}"
+    else:
+        interval = f" [{num(-hi, 2)}, {num(-lo, 2)}]" if finite(lo) else ""
+        words = f"{batch} {what} {num(-c.effect, 2)} s{interval} before {adaptive}"
+    if c.tested and not c.significant:
+        words = f"not significant: {words}"
+    return f"{words}, {p_text(c)}"

@@ -184,6 +184,40 @@ class CompareTest(unittest.TestCase):
         np.testing.assert_allclose(sorted(rs.paired_differences(a, b)), [1.5, 3.5])
 
 
+class VersusTest(unittest.TestCase):
+    """The adaptive estimator against a batch method: log ratios paired by seed, and the words."""
+
+    def test_log_ratios_pair_by_seed_and_drop_what_has_no_logarithm(self):
+        a = pd.Series([2.0, 4.0, 8.0, 0.0, 1.0], index=[1, 2, 3, 4, 5])
+        b = pd.Series([1.0, 1.0, 1.0, 1.0, np.nan], index=[3, 2, 1, 4, 5])
+        np.testing.assert_allclose(sorted(rs.log_ratios(a, b)), np.log([2.0, 4.0, 8.0]))
+
+    def test_ratio_words_name_the_better_method_and_its_factor(self):
+        # ln ratios of 4 and of 1/4: the batch method's error is 4x smaller, then the adaptive's.
+        worse = rs.compare(np.log(np.array([3.0, 4.0, 5.0, 4.0, 4.0, 3.5, 4.5])))
+        rs.holm([worse])
+        text = tables.ratio_versus_text("adaptive", "ceres", worse, "f·ku error")
+        self.assertTrue(text.startswith("ceres beats adaptive by 4× ["), text)
+        self.assertIn("in f·ku error, p ", text)
+        better = rs.compare(-np.log(np.array([3.0, 4.0, 5.0, 4.0, 4.0, 3.5, 4.5])))
+        rs.holm([better])
+        self.assertTrue(tables.ratio_versus_text("adaptive", "ceres", better, "e")
+                        .startswith("adaptive beats ceres by 4× ["))
+        few = rs.compare(np.log(np.array([2.0, 3.0])))
+        self.assertIn("not testable (n=2<5)", tables.ratio_versus_text("a", "b", few, "e"))
+
+    def test_time_words_say_who_re_converges_first(self):
+        c = rs.compare(np.array([2.0, 3.0, 1.0, 2.0, 2.5, 1.5]))  # batch - adaptive (s).
+        rs.holm([c])
+        text = tables.time_versus_text("adaptive", "ceres-w2", c, "re-converges")
+        self.assertTrue(text.startswith("adaptive re-converges 2 s ["), text)
+        self.assertIn(" before ceres-w2, p ", text)
+        c = rs.compare(-np.array([2.0, 3.0, 1.0, 2.0, 2.5, 1.5]))
+        rs.holm([c])
+        self.assertTrue(tables.time_versus_text("adaptive", "ceres-w2", c, "re-converges")
+                        .startswith("ceres-w2 re-converges 2 s ["))
+
+
 class CoverageTest(unittest.TestCase):
     def test_coverage_counts_the_trials_inside(self):
         cover, n = rs.coverage([0.5, -1.0, 3.0, np.nan], [1.0, 1.0, 1.0, 1.0])

@@ -53,8 +53,10 @@ class ReportTest(unittest.TestCase):
     def test_opens_with_the_answers(self):
         headings = re.findall(r"^(#+) (.*)$", self.md, flags=re.M)
         self.assertEqual(headings[0], ("#", "calibench report"))
-        self.assertEqual(headings[1], ("##", "The answers"))
-        questions = [h for level, h in headings[2:8]]
+        self.assertEqual(headings[1], ("##", "Verdicts: the adaptive estimator against batch "
+                                             "calibration"))
+        self.assertEqual(headings[2], ("##", "The answers"))
+        questions = [h for level, h in headings[3:9]]
         self.assertEqual([q.split(":")[0] for q in questions],
                          ["Pixel noise", "Feature points", "Adaptive gain",
                           "A calibration that changes", "A camera rig", "Detection"])
@@ -66,6 +68,17 @@ class ReportTest(unittest.TestCase):
         self.assertRegex(answers, r"\| step +\| pitch at 5 s +\|")
         self.assertIn("not testable (n=2<5)", answers)
         self.assertIn("Not in these runs.", answers)  # Points, the rig and detection.
+        # The verdicts: the adaptive estimator against the best batch method, in plain words,
+        # with the ratio's interval and p; the load step's 2 trials are not testable.
+        verdicts = self.md.split("## The answers")[0]
+        self.assertRegex(verdicts, r"- \*\*Pixel noise\*\*: noise: (not significant: )?\w+ "
+                                   r"beats \w+ by [0-9.]+× \[[0-9.]+, [0-9.]+\] in f·ku error, "
+                                   r"(p [0-9.e-]+|p < 0.001) \(")
+        self.assertRegex(verdicts, r"- \*\*Adaptive gain\*\*: gain: .*adaptive at alpha = ")
+        self.assertRegex(verdicts, r"- \*\*A calibration that changes\*\*: step: .* "
+                                   r"re-converges .*not testable \(n=2<5\)")
+        self.assertNotIn("Feature points**", verdicts)  # No points sweep in these runs.
+        self.assertRegex(answers, r"\| noise +\| f·ku \(px\) .* beats .* in f·ku error")
         for figure in ("answer_noise.png", "answer_gain.png", "tracking_pareto.png"):
             self.assertIn(f"]({figure})", answers)
             self.assertTrue(os.path.exists(os.path.join(self.out, figure)), figure)

@@ -159,17 +159,23 @@ TEST(Schema, DescribesEveryColumnAndEachSweepsRole) {
                       "\"tracks\": false}"),
             std::string::npos)
       << json.substr(json.find("\"sweeps\""));
-  // Per registered type: its outputs and its windup law.
+  // Per registered type: its family, its outputs and its windup law.
   for (const MethodType& t : MethodTypes()) {
-    EXPECT_NE(json.find("{\"type\": \"" + t.name + "\", \"outputs\": ["), std::string::npos)
+    EXPECT_NE(json.find("{\"type\": \"" + t.name + "\", \"family\": \"" + ToString(t.family) +
+                        "\", \"outputs\": ["),
+              std::string::npos)
         << t.name;
   }
-  EXPECT_NE(json.find("{\"type\": \"adaptive\", \"outputs\": [\"pe_min_eig\"], \"windup\": "
+  EXPECT_NE(json.find("{\"type\": \"adaptive\", \"family\": \"adaptive\", \"outputs\": "
+                      "[\"pe_min_eig\"], \"windup\": "
                       "{\"exponent\": \"alpha\", \"only_when_zero\": [\"forgetting_beta\", "
                       "\"reset_threshold\"]}}"),
             std::string::npos)
       << json.substr(json.find("\"methods\""));
-  EXPECT_NE(json.find("{\"type\": \"dlt\", \"outputs\": [], \"windup\": null}"), std::string::npos);
+  EXPECT_NE(
+      json.find("{\"type\": \"dlt\", \"family\": \"batch\", \"outputs\": [], \"windup\": null}"),
+      std::string::npos);
+  EXPECT_NE(json.find("{\"type\": \"ekf\", \"family\": \"filter\""), std::string::npos);
 }
 
 TEST(Schema, IsWrittenIntoTheRunDirectory) {

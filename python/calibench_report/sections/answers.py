@@ -21,8 +21,35 @@ QUESTIONS = {
 }
 
 
+SHORT = {"noise": "Pixel noise", "points": "Feature points", "gain": "Adaptive gain",
+         "dynamic": "A calibration that changes", "rig": "A camera rig"}
+
+
+def verdicts(ctx):
+    """The first screen: per question, where the adaptive estimator stands against the best
+    batch method (the suite's question), with its effect, interval and Holm-adjusted p; or []."""
+    lines = []
+    for key, verdict in (("noise", lambda: sweeps.verdict(ctx, "noise")),
+                         ("points", lambda: sweeps.verdict(ctx, "points")),
+                         ("gain", lambda: gain.verdict(ctx)),
+                         ("dynamic", lambda: dynamic.verdict(ctx)),
+                         ("rig", lambda: rig.verdict(ctx))):
+        text = verdict()
+        if text:
+            lines.append(f"- **{SHORT[key]}**: {text}.")
+    if not lines:
+        return []
+    return ["## Verdicts: the adaptive estimator against batch calibration", "",
+            "Static questions: the ratio of the two |errors| on the same trials (its median, the "
+            "bootstrap 95% interval of that median, the paired test on the log ratios); changes: "
+            "the difference of the re-convergence times, batch's minus adaptive's. Each against "
+            "the best batch method of its runs; p Holm-adjusted within its question. The tables "
+            "below name the winners.", ""] + lines + [""]
+
+
 def section(ctx):
     out = Section()
+    out.md += verdicts(ctx)
     out.md += ["## The answers", "",
                "Each question below is answered from these runs alone. *Winner*: the smallest "
                "median |error| over the trials (summary.csv). *Significant*: its paired "

@@ -6,7 +6,8 @@ import math
 
 from calibench_report import plots, stats
 from calibench_report.sections import Section
-from calibench_report.tables import effect_text, markdown, num, p_text
+from calibench_report.tables import (effect_text, error_words, markdown, num, p_text,
+                                     ratio_versus_text)
 
 CONVERGE = "converge_time_s"
 
@@ -194,8 +195,9 @@ def section(ctx):
 # The first page's answer (sections/answers.py).
 
 def answer_row(analysis, sweep, quantity):
-    """(row, best point) of a gain sweep: the swept instance's best gain for the quantity
-    (smallest median |error|, summary.csv), compared with every other gain on the same trials."""
+    """(row, best point, instance) of a gain sweep: the swept instance's best gain for the
+    quantity (smallest median |error|, summary.csv), compared with every other gain on the same
+    trials."""
     axis = gain_axis(sweep)
     if axis is None:
         return None
@@ -226,10 +228,52 @@ def answer_row(analysis, sweep, quantity):
         f"none significantly ({axis[1]} = {best.x:g} has the smallest median)"
     ratio = (f" ({ranked[0][0] / rival[0]:.2g}× that of {rival[1]}, the best other method)"
              if rival[1] and math.isfinite(rival[0]) and rival[0] > 0 else "")
-    return [sweep.name, instance, quantity.title, name,
-            f"{num(ranked[0][0])} {quantity.unit_text}{ratio}", f"{num(converge)} s",
-            f"{axis[1]} = {runner.x:g}: {effect_text(c, quantity.unit_text)}, {p_text(c)}"
-            if runner else "–"]
+    row = [sweep.name, instance, quantity.title, name,
+           f"{num(ranked[0][0])} {quantity.unit_text}{ratio}", f"{num(converge)} s",
+           f"{axis[1]} = {runner.x:g}: {effect_text(c, quantity.unit_text)}, {p_text(c)}"
+           if runner else "–"]
+    return row, best, instance
+
+
+def versus_batch(ctx, point, instance, quantity):
+    """The adaptive instance at `point` (its best gain) against the best batch method there
+    (smallest median |error|): ln(|adaptive error| / |batch error|) paired by seed.
+    (batch, Comparison) or None; not Holm-adjusted."""
+    analysis = ctx.analysis
+    series, _ = analysis.series(analysis.point_rows(point), quantity)
+    batch = [m for m in ctx.data.of_family(series, "batch")
+             if math.isfinite(float(series[m].median()))]
+    if instance not in series or not batch:
+        return None
+    best = min(batch, key=lambda m: (float(series[m].median()), batch.index(m)))
+    return best, stats.compare(stats.log_ratios(series[instance], series[best]))
+
+
+def versus_rows(ctx):
+    """[(row, instance, gain text, quantity, (batch, Comparison) or None)] of the gain sweeps,
+    the comparisons Holm-adjusted as one family."""
+    gains = all_gains(ctx.analysis)
+    out = []
+    for name in gains:
+        sweep = ctx.data.schema.sweep(name)
+        axis = gain_axis(sweep)
+        for q in ctx.data.schema.headline():
+            r = answer_row(ctx.analysis, sweep, q)
+            if r:
+                row, best, instance = r
+                out.append((row, f"{instance} at {axis[1]} = {best.x:g}", q,
+                            versus_batch(ctx, best, instance, q)))
+    stats.holm([v[1] for _, _, _, v in out if v])
+    return out
+
+
+def verdict(ctx):
+    """The first screen's line: the adaptive estimator at its best gain against the best batch
+    method, in the bounded headline quantity (f·ku), per gain sweep; or None."""
+    q = ctx.data.schema.bounded_headline()
+    parts = [f"{row[0]}: {ratio_versus_text(who, v[0], v[1], error_words(q))}"
+             for row, who, quantity, v in versus_rows(ctx) if v and q and quantity == q]
+    return "; ".join(parts) if parts else None
 
 
 def answer_figure(ctx, gains, quantities, path):
@@ -266,11 +310,12 @@ def answer(ctx):
     """The first page's answer on the gain sweeps: a table and a figure, or None."""
     gains = all_gains(ctx.analysis)
     quantities = ctx.data.schema.headline()
-    body = [r for name in gains for q in quantities
-            for r in [answer_row(ctx.analysis, ctx.data.schema.sweep(name), q)] if r]
+    body = [row + [ratio_versus_text(who, v[0], v[1], error_words(q)) if v else "–"]
+            for row, who, q, v in versus_rows(ctx)]
     if not body:
         return None
     answer_figure(ctx, gains, quantities, ctx.path("answer_gain.png"))
     head = ["sweep", "instance", "quantity", "best gain", "its median |error|",
-            "its median convergence", "next gain: Δ [95% CI], p (Holm over the gains)"]
+            "its median convergence", "next gain: Δ [95% CI], p (Holm over the gains)",
+            "at its best gain against the best batch method (median ratio [95% CI], p Holm)"]
     return [markdown(body, head), "", "![gain](answer_gain.png)", ""]

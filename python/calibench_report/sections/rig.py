@@ -16,7 +16,7 @@ import pandas as pd
 
 from calibench_report import stats
 from calibench_report.sections import Section
-from calibench_report.tables import effect_text, markdown, num, p_text
+from calibench_report.tables import effect_text, markdown, num, p_text, time_versus_text
 
 
 def median(values):
@@ -136,6 +136,51 @@ def steady_contest(rig):
     return winner, comparisons
 
 
+def versus_batch(ctx, rig, end_s):
+    """The adaptive estimator against batch calibration on a rig camera's relative rotation:
+    the adaptive and the batch instance that re-converge first (median censored time, ties by
+    steady error), paired by trial, Δ = batch's time - adaptive's. (adaptive, batch,
+    Comparison) or None; not Holm-adjusted."""
+    methods = list(dict.fromkeys(rig.method))
+    times = {m: reconvergence(rig[rig.method == m], end_s) for m in methods}
+    steady = {m: median(rig[rig.method == m].rel_rot_steady_err_deg) for m in methods}
+
+    def first(family):
+        ranked = sorted(ctx.data.of_family(methods, family),
+                        key=lambda m: (median(times[m]), steady[m]))
+        return ranked[0] if ranked else None
+
+    a, b = first("adaptive"), first("batch")
+    if a is None or b is None:
+        return None
+    return a, b, stats.compare(stats.paired_differences(times[b], times[a]))
+
+
+def versus_rows(ctx):
+    """{(scenario, camera): (adaptive, batch, Comparison)} of the rig tracking scenarios, the
+    comparisons Holm-adjusted as one family."""
+    rig = ctx.data.table("rig")
+    out = {}
+    if not len(rig):
+        return out
+    for (scenario, camera), x in rig.groupby(["scenario", "camera"], sort=False):
+        if x.segment_from_s.notna().any():
+            v = versus_batch(ctx, x, run_end(ctx.data, scenario))
+            if v:
+                out[(scenario, camera)] = v
+    stats.holm([c for _, _, c in out.values()])
+    return out
+
+
+def verdict(ctx):
+    """The first screen's line: per rig scenario and camera, the adaptive estimator against
+    batch calibration on the relative rotation; or None."""
+    parts = [f"{scenario}, camera {camera}: "
+             f"{time_versus_text(a, b, c, 're-converges in relative rotation')}"
+             for (scenario, camera), (a, b, c) in versus_rows(ctx).items()]
+    return "; ".join(parts) if parts else None
+
+
 def answer(ctx):
     """The first page's answer on the rig tracking scenarios: per scenario and camera, who
     re-converges first in relative rotation and who then follows it closest, each against its
@@ -144,6 +189,7 @@ def answer(ctx):
     if not len(rig):
         return None
     body = []
+    versus = versus_rows(ctx)
     for (scenario, camera), x in rig.groupby(["scenario", "camera"], sort=False):
         if not x.segment_from_s.notna().any():
             continue
@@ -152,6 +198,7 @@ def answer(ctx):
         if first is None or closest is None:
             continue
         row = [f"{scenario}, camera {camera}", f"{x.trial.nunique()}"]
+        v = versus.get((scenario, camera))
         for (winner, comparisons), value, unit in (
                 (first, lambda w: median(reconvergence(w, end_s)), "s"),
                 (closest, lambda w: median(w.rel_rot_steady_err_deg), "deg")):
@@ -159,12 +206,13 @@ def answer(ctx):
             c = comparisons.get(runner)
             row += [f"{winner} ({num(value(x[x.method == winner]), 2)} {unit})",
                     f"{runner or '–'}: {effect_text(c, unit)}", p_text(c)]
+        row.append(time_versus_text(*v, "re-converges") if v else "–")
         body.append(row)
     if not body:
         return None
     head = ["scenario", "trials", "first to re-converge (median)", "runner-up, Δ [95% CI]",
             "p (Holm)", "closest once settled (median steady error)", "runner-up, Δ [95% CI]",
-            "p (Holm)"]
+            "p (Holm)", "adaptive against batch: the first of each, Δ [95% CI], p (Holm)"]
     return [markdown(body, head), "",
             "Re-convergence: the first time after the last change from which the relative "
             "rotation's error stays within the tolerance; steady error: its median |error| over "

@@ -5,9 +5,10 @@ import math
 
 import numpy as np
 
-from calibench_report import plots
+from calibench_report import plots, stats
 from calibench_report.sections import Section
-from calibench_report.tables import SIGNIFICANT, band, effect_text, markdown, num, p_text
+from calibench_report.tables import (SIGNIFICANT, band, effect_text, markdown, num, p_text,
+                                     error_words, ratio_versus_text)
 
 TITLES = {
     "noise": "Error against the pixel noise",
@@ -240,6 +241,57 @@ def answer_row(analysis, sweep, quantity):
             f"{len(significant)} of {len(wins)}", closest, elsewhere]
 
 
+def versus_batch(ctx, sweep, quantity):
+    """The adaptive estimator against the best batch method over a sweep: at each point the
+    trials paired by seed, ln(|adaptive error| / |batch error|) pooled over the points (a ratio:
+    the points' scales differ). The best batch method has the smallest median |error| at the
+    most points (ties: its order). (adaptive, batch, Comparison) or None; not Holm-adjusted."""
+    analysis, data = ctx.analysis, ctx.data
+    methods = analysis.methods_of(analysis.rows_of(sweep))
+    adaptive, batch = data.of_family(methods, "adaptive"), data.of_family(methods, "batch")
+    if not adaptive or not batch:
+        return None
+    series_at = [analysis.series(analysis.point_rows(p), quantity)[0]
+                 for p in analysis.points(sweep)]
+    wins = collections.Counter()
+    for series in series_at:
+        medians = {m: float(series[m].median()) for m in batch if m in series}
+        medians = {m: v for m, v in medians.items() if math.isfinite(v)}
+        if medians:
+            wins[min(medians, key=lambda m: (medians[m], batch.index(m)))] += 1
+    if not wins:
+        return None
+    best = min(wins, key=lambda m: (-wins[m], batch.index(m)))
+    a = adaptive[0]
+    d = [stats.log_ratios(s[a], s[best]) for s in series_at if a in s and best in s]
+    d = np.concatenate(d) if d else np.array([])
+    return a, best, stats.compare(d)
+
+
+def versus_rows(ctx, role):
+    """{(sweep, quantity): (adaptive, batch, Comparison)} of a role's sweeps and headline
+    quantities, Holm-adjusted as one family."""
+    out = {}
+    for sweep in ctx.data.schema.sweeps_of(role):
+        for q in ctx.data.schema.headline():
+            if len(ctx.analysis.rows_of(sweep)):
+                v = versus_batch(ctx, sweep, q)
+                if v:
+                    out[(sweep.name, q.name)] = v
+    stats.holm([c for _, _, c in out.values()])
+    return out
+
+
+def verdict(ctx, role):
+    """The first screen's line for a role's sweeps: the adaptive estimator against the best
+    batch method in the bounded headline quantity (f·ku), per sweep; or None."""
+    q = ctx.data.schema.bounded_headline()
+    rows = versus_rows(ctx, role)
+    parts = [f"{sweep}: {ratio_versus_text(a, b, c, error_words(q))}"
+             for (sweep, name), (a, b, c) in rows.items() if q and name == q.name]
+    return "; ".join(parts) if parts else None
+
+
 def answer_figure(ctx, sweep_list, quantities, path):
     fig, axes = plots.figure(len(quantities), len(sweep_list), 4.2, 3.0)
     for r, q in enumerate(quantities):
@@ -263,7 +315,10 @@ def answer(ctx, role):
     schema = ctx.data.schema
     sweep_list = [s for s in schema.sweeps_of(role) if len(ctx.analysis.rows_of(s))]
     quantities = schema.headline()
-    body = [r for s in sweep_list for q in quantities
+    versus = versus_rows(ctx, role)
+    body = [r + [ratio_versus_text(*versus[(s.name, q.name)], error_words(q))
+                 if (s.name, q.name) in versus else "–"]
+            for s in sweep_list for q in quantities
             for r in [answer_row(ctx.analysis, s, q)] if r]
     if not body:
         return None
@@ -271,5 +326,9 @@ def answer(ctx, role):
     answer_figure(ctx, sweep_list, quantities, ctx.path(figure))
     head = ["sweep", "quantity", "winner", "best at (points)", f"significant ({SIGNIFICANT})",
             "closest win: point, runner-up, Δ of the runner-up [95% CI], p",
-            "other best methods (points)"]
-    return [markdown(body, head), "", f"![{role}]({figure})", ""]
+            "other best methods (points)",
+            "adaptive against the best batch method (median ratio [95% CI], p Holm)"]
+    note = ("The last column pools the sweep's points: at each, the trials paired by seed, the "
+            "ratio of the two |errors|; its median over all pairs, the bootstrap interval of "
+            "that median, the test on the log ratios, Holm over the table's rows.")
+    return [markdown(body, head), "", note, "", f"![{role}]({figure})", ""]
