@@ -216,9 +216,12 @@ def method_table(ctx, scenario, events_list):
         unit = f" ({e.quantity.unit_text})" if e.quantity else ""
         head += [f"{label}: re-converge (s) of {q}", f"steady{unit}"]
     head += [" and ".join(q.label for q in targeted) + " target (steady)", "µs per frame",
+             "ms per simulated s",
              f"NEES, steady parts (7 dof; 95% band [{lo:.2f}, {hi:.2f}])",
              f"NEES rotation, steady parts (3 dof; [{lo3:.2f}, {hi3:.2f}])"]
     steady = steady_times(bands, events)
+    tracks = data.tracks[data.tracks.scenario == scenario] if len(data.tracks) else None
+    duration_s = float(tracks.t_s.max()) if tracks is not None and len(tracks) else math.nan
     body = []
     for m in dict.fromkeys(events.method):
         e = events[events.method == m]
@@ -239,6 +242,9 @@ def method_table(ctx, scenario, events_list):
         cells.append("holds" if holds else "no")
         cost = median(timings[timings.method == m].wall_per_frame_us) if len(timings) else math.nan
         cells.append(f"{cost:.0f}" if math.isfinite(cost) else "–")
+        per_s = (median(timings[timings.method == m].wall_ms) / duration_s
+                 if len(timings) and duration_s > 0 else math.nan)
+        cells.append(num(per_s))
         for quantity, (a, b) in (("nees", (lo, hi)), ("nees_rotation", (lo3, hi3))):
             n = bands[(bands.method == m) & (bands.quantity == quantity) & steady]
             if n["mean"].notna().any():
