@@ -53,6 +53,24 @@ Eigen::Matrix2d SampleCovariancePx2(const std::vector<Eigen::Vector2d>& pixels) 
   return cov / static_cast<double>(pixels.size() - 1);
 }
 
+namespace {
+
+// The ellipse of a 2 x 2 pixel covariance.
+bool FillEllipse(PixelUncertainty* out, std::string* why) {
+  if (!out->covariance_px2.allFinite()) {
+    if (why) *why = "the covariance or the projection's derivatives are not finite there";
+    return false;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(out->covariance_px2);  // Ascending.
+  out->worst_std_px = std::sqrt(std::max(0.0, eig.eigenvalues()[1]));
+  out->smallest_std_px = std::sqrt(std::max(0.0, eig.eigenvalues()[0]));
+  const Eigen::Vector2d major = eig.eigenvectors().col(1);
+  out->major_angle_rad = std::atan2(major.y(), major.x());
+  return true;
+}
+
+}  // namespace
+
 bool ProjectionUncertaintyAt(const CameraIntrinsics& camera, const ProjectionCovariance& covariance,
                              const Eigen::Vector2d& pixel, double distance_m, PixelUncertainty* out,
                              std::string* why) {
@@ -82,16 +100,62 @@ bool ProjectionUncertaintyAt(const CameraIntrinsics& camera, const ProjectionCov
   g.block<2, 3>(0, 10) = -jacobian.d_point * Hat(point);
   g.rightCols<3>() = at_infinity ? Eigen::Matrix<double, 2, 3>::Zero() : jacobian.d_point;
   out->covariance_px2 = g * covariance.covariance * g.transpose();
-  if (!out->covariance_px2.allFinite()) {
-    if (why) *why = "the covariance or the projection's derivatives are not finite there";
+  return FillEllipse(out, why);
+}
+
+bool TransferUncertaintyAt(const CameraIntrinsics& camera0, const CameraIntrinsics& camera_c,
+                           const Rigid3& cam_c_from_cam_0, const TransferCovariance& covariance,
+                           const Eigen::Vector2d& pixel0, double distance_m, PixelUncertainty* out,
+                           Eigen::Vector2d* pixel_c, std::string* why) {
+  if (!covariance.IsSet()) {
+    if (why) *why = "no relative-pose covariance (the rig solve did not compute one)";
     return false;
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(out->covariance_px2);  // Ascending.
-  out->worst_std_px = std::sqrt(std::max(0.0, eig.eigenvalues()[1]));
-  out->smallest_std_px = std::sqrt(std::max(0.0, eig.eigenvalues()[0]));
-  const Eigen::Vector2d major = eig.eigenvectors().col(1);
-  out->major_angle_rad = std::atan2(major.y(), major.x());
-  return true;
+  if (!(distance_m > 0)) {
+    if (why) *why = "distance must be positive (or infinity)";
+    return false;
+  }
+  const bool at_infinity = std::isinf(distance_m);
+  const double range = at_infinity ? 1.0 : distance_m;
+  Eigen::Vector3d ray;
+  if (!UnprojectToRay(camera0, pixel0, &ray)) {
+    if (why) *why = "the pixel does not unproject through camera 0";
+    return false;
+  }
+  const Eigen::Matrix3d& r = cam_c_from_cam_0.rotation;
+  const Eigen::Vector3d turned = r * (range * ray);
+  const Eigen::Vector3d point =
+      turned + (at_infinity ? Eigen::Vector3d::Zero() : cam_c_from_cam_0.translation);
+  const auto params_c = camera_c.Params();
+  ProjectionJacobian jacobian;
+  if (!ProjectWithJacobian(camera_c.family, params_c.data(), point, /*jacobians=*/true,
+                           &jacobian)) {
+    if (why) *why = "the point does not project into camera c";
+    return false;
+  }
+  if (pixel_c != nullptr) *pixel_c = jacobian.pixel;
+  Eigen::Matrix<double, 2, TransferCovariance::kSize> g =
+      Eigen::Matrix<double, 2, TransferCovariance::kSize>::Zero();
+  // Camera 0's intrinsics move the ray: central differences (UnprojectToRay converges to 1e-12).
+  auto params0 = camera0.Params();
+  for (int i = 0; i < 10; ++i) {
+    const double h = 1e-6 * std::max(1.0, std::abs(params0[i]));
+    auto plus = params0, minus = params0;
+    plus[i] += h, minus[i] -= h;
+    Eigen::Vector3d ray_plus, ray_minus;
+    if (!UnprojectToRay(CameraIntrinsics::FromParams(plus.data(), camera0.family), pixel0,
+                        &ray_plus) ||
+        !UnprojectToRay(CameraIntrinsics::FromParams(minus.data(), camera0.family), pixel0,
+                        &ray_minus)) {
+      continue;  // A parameter the lens cannot move there (its bound): no derivative.
+    }
+    g.col(i) = jacobian.d_point * r * (range * (ray_plus - ray_minus) / (2 * h));
+  }
+  g.block<2, 10>(0, 10) = jacobian.d_intrinsics;
+  g.block<2, 3>(0, 20) = -jacobian.d_point * Hat(turned);
+  g.block<2, 3>(0, 23) = at_infinity ? Eigen::Matrix<double, 2, 3>::Zero() : jacobian.d_point;
+  out->covariance_px2 = g * covariance.covariance * g.transpose();
+  return FillEllipse(out, why);
 }
 
 void SummariseUncertaintyMap(UncertaintyMap* map) {
@@ -120,6 +184,29 @@ UncertaintyMap ProjectionUncertaintyMap(const CameraIntrinsics& camera,
       PixelUncertainty u;
       if (ProjectionUncertaintyAt(camera, covariance, grid.PixelAt(i, j), options.distance_m, &u,
                                   nullptr)) {
+        grid.At(i, j) = u.worst_std_px;
+      }
+    }
+  }
+  SummariseUncertaintyMap(&map);
+  return map;
+}
+
+UncertaintyMap TransferUncertaintyMap(const RigCamera& zero, const RigCamera& camera_c,
+                                      const Rigid3& cam_c_from_cam_0,
+                                      const TransferCovariance& covariance,
+                                      const UncertaintyMapOptions& options) {
+  UncertaintyMap map;
+  map.worst_std_px = ImageGrid::Over(zero.image_width, zero.image_height, options.cols);
+  ImageGrid& grid = map.worst_std_px;
+  for (int j = 0; j < grid.rows; ++j) {
+    for (int i = 0; i < grid.cols; ++i) {
+      PixelUncertainty u;
+      Eigen::Vector2d at;
+      if (TransferUncertaintyAt(zero.intrinsics, camera_c.intrinsics, cam_c_from_cam_0, covariance,
+                                grid.PixelAt(i, j), options.distance_m, &u, &at, nullptr) &&
+          at.x() >= 0 && at.y() >= 0 && at.x() <= camera_c.image_width - 1 &&
+          at.y() <= camera_c.image_height - 1) {
         grid.At(i, j) = u.worst_std_px;
       }
     }

@@ -37,6 +37,7 @@
 #include "camera/image_grid.h"
 #include "camera/pose.h"
 #include "camera/projection_covariance.h"
+#include "camera/rig.h"
 
 namespace calibench {
 
@@ -99,6 +100,36 @@ UncertaintyMap ProjectionUncertaintyMap(const CameraIntrinsics& camera,
 // Fills median_px, max_px (over the finite samples) and centre_px (the sample nearest the image
 // centre) from map->worst_std_px.
 void SummariseUncertaintyMap(UncertaintyMap* map);
+
+// A rig's relative pose in pixels: where camera c sees what camera 0 sees at a pixel. The
+// covariance of what carries it, z = [camera 0's 10 raw intrinsics, camera c's, the rotation and
+// translation perturbation (r, dt) of cam_c_from_cam_0: R' = Exp(r) R, t' = t + dt], sigma^2
+// included (batch/rig_refine.h fills it from the rig's joint covariance, the frames eliminated).
+// The point at `distance_m` along camera 0's ray through pixel0 (infinity: the ray, and the
+// relative translation drops out) is x_c = R (d u(theta_0, q0)) + t in camera c; its pixel
+// q_c = pi(theta_c, x_c) moves by G dz, G = [dq_c/dtheta_0 (through the ray, by central
+// differences of UnprojectToRay), dq_c/dtheta_c, -dq_c/dx [R d u]x, dq_c/dx], and
+// Cov(q_c) = G Cov(z) G^T.
+struct TransferCovariance {
+  static constexpr int kSize = 26;
+  using Matrix = Eigen::Matrix<double, kSize, kSize>;
+  Matrix covariance = Matrix::Zero();
+  bool set = false;
+  bool IsSet() const { return set; }
+};
+// The uncertainty of q_c (and q_c itself in *pixel_c when not null). False with *why where pixel0
+// does not unproject through camera 0 or the point does not project into camera c's lens.
+bool TransferUncertaintyAt(const CameraIntrinsics& camera0, const CameraIntrinsics& camera_c,
+                           const Rigid3& cam_c_from_cam_0, const TransferCovariance& covariance,
+                           const Eigen::Vector2d& pixel0, double distance_m, PixelUncertainty* out,
+                           Eigen::Vector2d* pixel_c, std::string* why);
+
+// TransferUncertaintyAt over a grid of camera 0's image (`zero`), NaN where the point does not
+// land inside camera c's image (`camera_c`; sizes from each RigCamera).
+UncertaintyMap TransferUncertaintyMap(const RigCamera& zero, const RigCamera& camera_c,
+                                      const Rigid3& cam_c_from_cam_0,
+                                      const TransferCovariance& covariance,
+                                      const UncertaintyMapOptions& options);
 
 // The pixel where `estimate` projects what `reference` sees at `pixel`: the point at `distance_m`
 // along reference's ray, taken into each view's board frame by `reference_cam_from_board`, brought

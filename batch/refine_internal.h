@@ -91,5 +91,14 @@ ProjectionCovariance RigCameraProjection(const std::vector<RigFrame>& frames, in
                                          const std::vector<RigFrameBlocks>& frame_blocks,
                                          const Eigen::MatrixXd& s_inverse, double sigma_px);
 
+// The TransferCovariance (batch/projection_uncertainty.h) of camera c from the rig parameters'
+// covariance `covariance` (sigma^2 included, the frames eliminated): cam_from_rig and columns of
+// camera 0 and camera c, in that order. With R = R_c R_0^T and the perturbations R' = Exp(d) R,
+// t' = t + dt of each cam_from_rig, cam_c_from_cam_0 moves by
+//     r = d_c - R d_0,  dt = dt_c - R dt_0 + [R t_0]x r.
+TransferCovariance RigTransferCovariance(const std::array<Rigid3, 2>& cam_from_rig,
+                                         const std::array<RigCameraColumns, 2>& columns,
+                                         const Eigen::MatrixXd& covariance);
+
 }  // namespace refine_internal
 }  // namespace calibench

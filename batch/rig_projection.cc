@@ -1,5 +1,6 @@
 // Each rig camera's projection covariance from the rig's joint solve (refine_internal.h,
-// RigCameraProjection; batch/rig_refine.cc FillRigCovariance gathers its blocks).
+// RigCameraProjection; batch/rig_refine.cc FillRigCovariance gathers its blocks), and the
+// covariance of what carries camera 0's rays into camera c (RigTransferCovariance).
 #include "batch/refine_internal.h"
 
 namespace calibench {
@@ -54,6 +55,32 @@ ProjectionCovariance RigCameraProjection(const std::vector<RigFrame>& frames, in
   out.covariance = 0.5 * (out.covariance + out.covariance.transpose()).eval();
   out.sigma_px = sigma_px;
   out.num_views = static_cast<int>(seen.size());
+  return out;
+}
+
+TransferCovariance RigTransferCovariance(const std::array<Rigid3, 2>& cam_from_rig,
+                                         const std::array<RigCameraColumns, 2>& columns,
+                                         const Eigen::MatrixXd& covariance) {
+  constexpr int kZ = TransferCovariance::kSize;
+  const Eigen::Matrix3d r = cam_from_rig[1].rotation * cam_from_rig[0].rotation.transpose();
+  const Eigen::Matrix3d rt0 = Hat(r * cam_from_rig[0].translation);
+  Eigen::MatrixXd l = Eigen::MatrixXd::Zero(kZ, covariance.rows());
+  for (int k = 0; k < 2; ++k) {
+    const RigCameraColumns& col = columns[k];
+    for (size_t i = 0; i < col.free.size(); ++i) {
+      l(10 * k + col.free[i], col.intrinsics_at + static_cast<int>(i)) = 1.0;
+    }
+    if (col.pose_at < 0) continue;  // Camera 0 defines the rig: its pose is fixed.
+    // Camera 0's pose enters with -R, camera c's with I: r = d_c - R d_0.
+    const Eigen::Matrix3d sign_r = k == 0 ? Eigen::Matrix3d(-r) : Eigen::Matrix3d::Identity();
+    l.block<3, 3>(20, col.pose_at) = sign_r;
+    l.block<3, 3>(23, col.pose_at) = rt0 * sign_r;
+    l.block<3, 3>(23, col.pose_at + 3) = sign_r;
+  }
+  TransferCovariance out;
+  out.covariance = l * covariance * l.transpose();
+  out.covariance = 0.5 * (out.covariance + out.covariance.transpose()).eval();
+  out.set = out.covariance.allFinite();
   return out;
 }
 

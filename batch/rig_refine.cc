@@ -341,10 +341,19 @@ bool FillRigCovariance(const std::vector<RigFrame>& frames, const RigParameters&
   if (!refine_internal::InvertInformationMatrix(schur, &inverse, why)) return false;
   const Eigen::MatrixXd covariance = sigma * sigma * inverse;
   out->projection.assign(num_cameras, ProjectionCovariance());
+  out->transfer.assign(num_cameras, TransferCovariance());
   for (int c = 0; c < num_cameras; ++c) {
     out->projection[c] = refine_internal::RigCameraProjection(
         frames, c, cam_from_rig[c], {free[c], intrinsics_at[c], pose_at[c]}, frame_blocks, inverse,
         sigma);
+    if (c > 0) {
+      using refine_internal::RigCameraColumns;
+      out->transfer[c] = refine_internal::RigTransferCovariance(
+          {cam_from_rig[0], cam_from_rig[c]},
+          {RigCameraColumns{free[0], intrinsics_at[0], pose_at[0]},
+           RigCameraColumns{free[c], intrinsics_at[c], pose_at[c]}},
+          covariance);
+    }
   }
   for (int c = 0; c < num_cameras; ++c) {
     const int n = static_cast<int>(free[c].size());

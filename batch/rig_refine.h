@@ -104,6 +104,9 @@ struct RigRefineResult : MethodSummary {
   // Per camera: Cov(z) of its projection uncertainty (batch/projection_uncertainty.h), averaged
   // over the frames it saw (rig_refine.cc, RigProjection); unset without a covariance.
   std::vector<ProjectionCovariance> projection;
+  // Per camera c: the covariance of what carries camera 0's rays into camera c (its relative pose
+  // in pixels, batch/projection_uncertainty.h TransferUncertaintyAt); [0] unset.
+  std::vector<TransferCovariance> transfer;
   double rms_reproj_px = 0.0;                     // Over every corner of every camera.
   std::vector<double> camera_rms_px;              // Per camera.
   std::vector<std::vector<double>> frame_rms_px;  // [frame][camera]; NaN where not seen.

@@ -440,6 +440,24 @@ std::string FormatRigReport(const CalibrateRigResult& result) {
                     j.rotation_std_deg.y(), j.rotation_std_deg.z());
       out << line;
     }
+    if (c < static_cast<int>(result.rig.transfer.size()) && result.rig.transfer[c].IsSet()) {
+      // The relative pose in pixels: camera 0's rays, and its points at 1 m, in camera c.
+      const Rigid3 cam_c_from_cam_0 =
+          rig.cameras[c].cam_from_rig * rig.cameras[0].cam_from_rig.Inverse();
+      UncertaintyMapOptions near;
+      near.distance_m = 1.0;
+      const UncertaintyMap rays = TransferUncertaintyMap(
+          rig.cameras[0], rig.cameras[c], cam_c_from_cam_0, result.rig.transfer[c], {});
+      const UncertaintyMap at_1m = TransferUncertaintyMap(
+          rig.cameras[0], rig.cameras[c], cam_c_from_cam_0, result.rig.transfer[c], near);
+      if (std::isfinite(rays.median_px)) {
+        std::snprintf(line, sizeof(line),
+                      "  in camera %d's pixels: camera 0's rays land within %.3f px median "
+                      "(worst %.3f), its points at 1 m within %.3f px (formal, 1 sigma)\n",
+                      c, rays.median_px, rays.max_px, at_1m.median_px);
+        out << line;
+      }
+    }
     std::snprintf(line, sizeof(line), "  translation        %.3f %.3f %.3f mm\n", t.x(), t.y(),
                   t.z());
     out << line;

@@ -1,11 +1,14 @@
 // Each rig camera's projection uncertainty (batch/rig_refine.h, RigRefineResult::projection)
 // against the spread of its projection over Monte Carlo re-solves of the rig, as the single
 // camera's (tests/metrics/projection_uncertainty_study_test.cc): the averaged frame of camera c
-// is that of the frames it saw, each cam_from_board = cam_from_rig_c * rig_from_board_f.
+// is that of the frames it saw, each cam_from_board = cam_from_rig_c * rig_from_board_f. And the
+// relative pose in pixels (RigRefineResult::transfer) against the same re-solves.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cstdio>
+#include <limits>
 
 #include "batch/projection_uncertainty.h"
 #include "batch/rig_refine.h"
@@ -29,6 +32,70 @@ std::vector<Rigid3> CameraPoses(const std::vector<RigFrame>& frames, const Camer
     }
   }
   return poses;
+}
+
+Rigid3 CamFromCamZero(const CameraRig& rig, int c) {
+  return rig.cameras[c].cam_from_rig * rig.cameras[0].cam_from_rig.Inverse();
+}
+
+// The relative pose in pixels (RigRefineResult::transfer): where camera c sees what camera 0 sees
+// at a pixel of a 12-column grid over camera 0's data, rays at infinity (the rotation alone) and
+// points at 1 m (the baseline counts), through each re-solved rig against the prediction at the
+// truth; the median over the pixels that land inside camera c's image (a camera with fewer than
+// 10 such pixels is left out; at least one camera at both distances is checked).
+void ExpectTransfersMatchTheirSpread(const CameraRig& truth, const std::vector<RigFrame>& frames,
+                                     const RigRefineResult& predicted,
+                                     const std::vector<RigRefineResult>& solves) {
+  const RigCamera& zero = truth.cameras[0];
+  const ImageGrid grid = ImageGrid::Over(zero.image_width, zero.image_height, 12);
+  int checked = 0;
+  for (int c = 1; c < truth.NumCameras(); ++c) {
+    ASSERT_TRUE(predicted.transfer[c].IsSet()) << c;
+    const RigCamera& camera = truth.cameras[c];
+    for (const double distance_m : {std::numeric_limits<double>::infinity(), 1.0}) {
+      std::vector<double> ratios;
+      for (int j = 0; j < grid.rows; ++j) {
+        for (int i = 0; i < grid.cols; ++i) {
+          const Eigen::Vector2d pixel0 = grid.PixelAt(i, j);
+          bool near = false;
+          for (const RigFrame& frame : frames) {
+            for (const Eigen::Vector2d& p : frame.views_by_camera[0].pixels) {
+              near = near || (p - pixel0).norm() < 40;
+            }
+          }
+          PixelUncertainty u;
+          Eigen::Vector2d at;
+          if (!near ||
+              !TransferUncertaintyAt(zero.intrinsics, camera.intrinsics, CamFromCamZero(truth, c),
+                                     predicted.transfer[c], pixel0, distance_m, &u, &at, nullptr) ||
+              at.x() < 0 || at.y() < 0 || at.x() > camera.image_width - 1 ||
+              at.y() > camera.image_height - 1) {
+            continue;
+          }
+          std::vector<Eigen::Vector2d> draws;
+          for (const RigRefineResult& solve : solves) {
+            PixelUncertainty unused;
+            Eigen::Vector2d q;
+            TransferCovariance any;
+            any.set = true;
+            ASSERT_TRUE(TransferUncertaintyAt(
+                solve.rig.cameras[0].intrinsics, solve.rig.cameras[c].intrinsics,
+                CamFromCamZero(solve.rig, c), any, pixel0, distance_m, &unused, &q, nullptr));
+            draws.push_back(q);
+          }
+          ratios.push_back(WorstStdPx(SampleCovariancePx2(draws)) / u.worst_std_px);
+        }
+      }
+      if (ratios.size() < 10) continue;  // Camera c hardly sees what camera 0 sees.
+      ++checked;
+      std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+      std::printf("transfer into camera %d at %g m: observed / predicted %.3f over %zu pixels\n", c,
+                  distance_m, ratios[ratios.size() / 2], ratios.size());
+      EXPECT_NEAR(ratios[ratios.size() / 2], 1.0, kMedianRatioTol)
+          << "transfer into camera " << c << " at " << distance_m << " m";
+    }
+  }
+  EXPECT_GE(checked, 2) << "no camera sees enough of what camera 0 sees";
 }
 
 // For each camera of `truth`, rays at infinity and points at 0.6 m (the camera's translation in
@@ -65,6 +132,7 @@ void ExpectEachCameraMatchesItsSpread(const CameraRig& truth, int num_frames, bo
     ASSERT_TRUE(solves.back().IsUsable()) << solves.back().message;
     noisy_frames.push_back(std::move(noisy));
   }
+  ExpectTransfersMatchTheirSpread(truth, exact.frames, predicted, solves);
   for (int c = 0; c < truth.NumCameras(); ++c) {
     ASSERT_TRUE(predicted.projection[c].IsSet()) << c;
     const RigCamera& camera = truth.cameras[c];
