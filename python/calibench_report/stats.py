@@ -75,6 +75,23 @@ def log_ratios(a, b):
     return d[np.isfinite(d)]
 
 
+def first_against_first(times, tiebreak, family_of):
+    """The adaptive estimator against batch calibration on a re-convergence: per family the
+    method whose median time (over its trials, a Series each) is smallest, ties broken by
+    `tiebreak` (method -> number); the batch one's times minus the adaptive one's, paired by
+    trial. (adaptive, batch, Comparison) or None when either family is absent; not Holm-adjusted.
+    `family_of`: method -> family (io.RunData.families)."""
+    def first(family):
+        ranked = sorted((m for m in times if family_of.get(m) == family),
+                        key=lambda m: (float(times[m].median()), tiebreak[m]))
+        return ranked[0] if ranked else None
+
+    a, b = first("adaptive"), first("batch")
+    if a is None or b is None:
+        return None
+    return a, b, compare(paired_differences(times[b], times[a]))
+
+
 def normality_p(d):
     """Lilliefors' p-value for the normality of d (mean and variance estimated)."""
     with warnings.catch_warnings():

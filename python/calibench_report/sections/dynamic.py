@@ -14,6 +14,7 @@ Methods are named by their instances; none is known by name: the windup rows are
 instances whose type declares a windup law (schema.json `methods`) that holds for their options,
 read from config.resolved.yaml."""
 import dataclasses
+import functools
 import math
 import os
 
@@ -442,28 +443,21 @@ def section(ctx):
 
 
 def versus_batch(ctx, scenario, event):
-    """The adaptive estimator against batch calibration after `event`: the adaptive instance
-    and the batch instance that re-converge first (median censored time, ties by steady error),
-    paired by trial, Δ = batch's time - adaptive's. (adaptive, batch, Comparison) or None; not
-    Holm-adjusted."""
+    """The adaptive estimator against batch calibration after `event`
+    (stats.first_against_first on the censored re-convergence times, ties by steady error)."""
     ev = ctx.data.events
     methods = list(dict.fromkeys(ev[ev.scenario == scenario].method))
     times = {m: reconvergence(ctx.data, scenario, event, m) for m in methods}
-
-    def first(family):
-        ranked = sorted(ctx.data.of_family(methods, family),
-                        key=lambda m: (median(times[m][0]), median(times[m][1])))
-        return ranked[0] if ranked else None
-
-    a, b = first("adaptive"), first("batch")
-    if a is None or b is None:
-        return None
-    return a, b, stats.compare(stats.paired_differences(times[b][0], times[a][0]))
+    return stats.first_against_first({m: t for m, (t, _) in times.items()},
+                                     {m: median(s) for m, (_, s) in times.items()},
+                                     ctx.data.families)
 
 
+@functools.lru_cache(maxsize=None)
 def versus_rows(ctx):
     """{scenario: (event, (adaptive, batch, Comparison) or None)} of the dynamic scenarios'
-    first changes, the comparisons Holm-adjusted as one family."""
+    first changes, the comparisons Holm-adjusted as one family (once per report: the verdict
+    and the answer table read it)."""
     out = {}
     for scenario, (_, events_list) in analyse(ctx, role_only=True).items():
         e = first_change(events_list)

@@ -2,6 +2,7 @@
 methods.<instance>.<option>) against its gain: RMSE and RMSE/CRLB, the angles' RMSE, convergence
 time and share converged, all from summary.csv."""
 import dataclasses
+import functools
 import math
 
 from calibench_report import plots, stats
@@ -249,9 +250,10 @@ def versus_batch(ctx, point, instance, quantity):
     return best, stats.compare(stats.log_ratios(series[instance], series[best]))
 
 
+@functools.lru_cache(maxsize=None)
 def versus_rows(ctx):
-    """[(row, instance, gain text, quantity, (batch, Comparison) or None)] of the gain sweeps,
-    the comparisons Holm-adjusted as one family."""
+    """[(row, gain text, quantity, (batch, Comparison) or None)] of the gain sweeps, the
+    comparisons Holm-adjusted as one family (once per report)."""
     gains = all_gains(ctx.analysis)
     out = []
     for name in gains:

@@ -10,6 +10,7 @@ camera c give, against the truth; camera/rig.h has the conventions).
   * who re-converges first, compared with every other method paired by trial (Δ = other -
     winner), Holm-adjusted as one family, as the dynamic section does for one camera.
 Methods are named by their instances; none is known by name."""
+import functools
 import math
 
 import pandas as pd
@@ -137,28 +138,19 @@ def steady_contest(rig):
 
 
 def versus_batch(ctx, rig, end_s):
-    """The adaptive estimator against batch calibration on a rig camera's relative rotation:
-    the adaptive and the batch instance that re-converge first (median censored time, ties by
-    steady error), paired by trial, Δ = batch's time - adaptive's. (adaptive, batch,
-    Comparison) or None; not Holm-adjusted."""
+    """The adaptive estimator against batch calibration on a rig camera's relative rotation
+    (stats.first_against_first on the censored re-convergence times, ties by steady error)."""
     methods = list(dict.fromkeys(rig.method))
-    times = {m: reconvergence(rig[rig.method == m], end_s) for m in methods}
-    steady = {m: median(rig[rig.method == m].rel_rot_steady_err_deg) for m in methods}
-
-    def first(family):
-        ranked = sorted(ctx.data.of_family(methods, family),
-                        key=lambda m: (median(times[m]), steady[m]))
-        return ranked[0] if ranked else None
-
-    a, b = first("adaptive"), first("batch")
-    if a is None or b is None:
-        return None
-    return a, b, stats.compare(stats.paired_differences(times[b], times[a]))
+    return stats.first_against_first(
+        {m: reconvergence(rig[rig.method == m], end_s) for m in methods},
+        {m: median(rig[rig.method == m].rel_rot_steady_err_deg) for m in methods},
+        ctx.data.families)
 
 
+@functools.lru_cache(maxsize=None)
 def versus_rows(ctx):
     """{(scenario, camera): (adaptive, batch, Comparison)} of the rig tracking scenarios, the
-    comparisons Holm-adjusted as one family."""
+    comparisons Holm-adjusted as one family (once per report)."""
     rig = ctx.data.table("rig")
     out = {}
     if not len(rig):

@@ -1,6 +1,7 @@
 """The swept scenarios by role: error against the swept value, the best method per point, and
 (in an appendix page per sweep) every point's scoreboard and paired comparisons."""
 import collections
+import functools
 import math
 
 import numpy as np
@@ -268,9 +269,10 @@ def versus_batch(ctx, sweep, quantity):
     return a, best, stats.compare(d)
 
 
+@functools.lru_cache(maxsize=None)
 def versus_rows(ctx, role):
     """{(sweep, quantity): (adaptive, batch, Comparison)} of a role's sweeps and headline
-    quantities, Holm-adjusted as one family."""
+    quantities, Holm-adjusted as one family (once per report)."""
     out = {}
     for sweep in ctx.data.schema.sweeps_of(role):
         for q in ctx.data.schema.headline():
