@@ -103,6 +103,31 @@ bool ProjectionUncertaintyAt(const CameraIntrinsics& camera, const ProjectionCov
   return FillEllipse(out, why);
 }
 
+namespace {
+
+// The point at `distance_m` along camera 0's ray through pixel0, in camera c (`turned`: its
+// rotated part, R d u).
+bool TransferredPoint(const CameraIntrinsics& camera0, const Rigid3& cam_c_from_cam_0,
+                      const Eigen::Vector2d& pixel0, double distance_m, Eigen::Vector3d* turned,
+                      Eigen::Vector3d* point) {
+  Eigen::Vector3d ray;
+  if (!(distance_m > 0) || !UnprojectToRay(camera0, pixel0, &ray)) return false;
+  const bool at_infinity = std::isinf(distance_m);
+  *turned = cam_c_from_cam_0.rotation * ((at_infinity ? 1.0 : distance_m) * ray);
+  *point = *turned + (at_infinity ? Eigen::Vector3d::Zero() : cam_c_from_cam_0.translation);
+  return true;
+}
+
+}  // namespace
+
+bool TransferPixel(const CameraIntrinsics& camera0, const CameraIntrinsics& camera_c,
+                   const Rigid3& cam_c_from_cam_0, const Eigen::Vector2d& pixel0, double distance_m,
+                   Eigen::Vector2d* pixel_c) {
+  Eigen::Vector3d turned, point;
+  return TransferredPoint(camera0, cam_c_from_cam_0, pixel0, distance_m, &turned, &point) &&
+         ProjectPoint(camera_c, point, pixel_c);
+}
+
 bool TransferUncertaintyAt(const CameraIntrinsics& camera0, const CameraIntrinsics& camera_c,
                            const Rigid3& cam_c_from_cam_0, const TransferCovariance& covariance,
                            const Eigen::Vector2d& pixel0, double distance_m, PixelUncertainty* out,
@@ -117,15 +142,12 @@ bool TransferUncertaintyAt(const CameraIntrinsics& camera0, const CameraIntrinsi
   }
   const bool at_infinity = std::isinf(distance_m);
   const double range = at_infinity ? 1.0 : distance_m;
-  Eigen::Vector3d ray;
-  if (!UnprojectToRay(camera0, pixel0, &ray)) {
+  Eigen::Vector3d turned, point;
+  if (!TransferredPoint(camera0, cam_c_from_cam_0, pixel0, distance_m, &turned, &point)) {
     if (why) *why = "the pixel does not unproject through camera 0";
     return false;
   }
   const Eigen::Matrix3d& r = cam_c_from_cam_0.rotation;
-  const Eigen::Vector3d turned = r * (range * ray);
-  const Eigen::Vector3d point =
-      turned + (at_infinity ? Eigen::Vector3d::Zero() : cam_c_from_cam_0.translation);
   const auto params_c = camera_c.Params();
   ProjectionJacobian jacobian;
   if (!ProjectWithJacobian(camera_c.family, params_c.data(), point, /*jacobians=*/true,
@@ -139,6 +161,7 @@ bool TransferUncertaintyAt(const CameraIntrinsics& camera0, const CameraIntrinsi
   // Camera 0's intrinsics move the ray: central differences (UnprojectToRay converges to 1e-12).
   auto params0 = camera0.Params();
   for (int i = 0; i < 10; ++i) {
+    if (covariance.covariance(i, i) == 0) continue;  // Fixed or unused: no variance to carry.
     const double h = 1e-6 * std::max(1.0, std::abs(params0[i]));
     auto plus = params0, minus = params0;
     plus[i] += h, minus[i] -= h;

@@ -117,6 +117,11 @@ struct TransferCovariance {
   bool set = false;
   bool IsSet() const { return set; }
 };
+// q_c alone (no covariance): false where pixel0 does not unproject through camera 0 or the point
+// does not project into camera c's lens.
+bool TransferPixel(const CameraIntrinsics& camera0, const CameraIntrinsics& camera_c,
+                   const Rigid3& cam_c_from_cam_0, const Eigen::Vector2d& pixel0, double distance_m,
+                   Eigen::Vector2d* pixel_c);
 // The uncertainty of q_c (and q_c itself in *pixel_c when not null). False with *why where pixel0
 // does not unproject through camera 0 or the point does not project into camera c's lens.
 bool TransferUncertaintyAt(const CameraIntrinsics& camera0, const CameraIntrinsics& camera_c,

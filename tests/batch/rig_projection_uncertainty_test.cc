@@ -74,13 +74,10 @@ void ExpectTransfersMatchTheirSpread(const CameraRig& truth, const std::vector<R
           }
           std::vector<Eigen::Vector2d> draws;
           for (const RigRefineResult& solve : solves) {
-            PixelUncertainty unused;
             Eigen::Vector2d q;
-            TransferCovariance any;
-            any.set = true;
-            ASSERT_TRUE(TransferUncertaintyAt(
-                solve.rig.cameras[0].intrinsics, solve.rig.cameras[c].intrinsics,
-                CamFromCamZero(solve.rig, c), any, pixel0, distance_m, &unused, &q, nullptr));
+            ASSERT_TRUE(TransferPixel(solve.rig.cameras[0].intrinsics,
+                                      solve.rig.cameras[c].intrinsics, CamFromCamZero(solve.rig, c),
+                                      pixel0, distance_m, &q));
             draws.push_back(q);
           }
           ratios.push_back(WorstStdPx(SampleCovariancePx2(draws)) / u.worst_std_px);
