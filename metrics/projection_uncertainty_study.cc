@@ -56,6 +56,10 @@ UncertaintyStudyResult RunUncertaintyStudy(const CameraIntrinsics& truth,
   const int draws =
       measured_draws != nullptr ? static_cast<int>(measured_draws->size()) : options.draws;
   if (measured_draws != nullptr) {
+    if (draws < 10) {
+      result.message = "fewer than 10 measured draws (" + std::to_string(draws) + ")";
+      return result;
+    }
     for (const std::vector<View>& measured : *measured_draws) {
       if (measured.size() != views.size()) {
         result.message = "a measured draw has " + std::to_string(measured.size()) +

@@ -62,10 +62,10 @@ struct UncertaintyStudyResult {
 // options.shared_pose, one for all.
 // `measured_draws` (optional): each draw's views as a detector measured them in rendered images
 // (view v of a draw seen from cam_from_board[v]; any subset of its points), in place of the
-// Gaussian draws: their number replaces options.draws. The prediction stays the formula's at the
-// truth on `views` with options.pixel_sigma_px, which the caller sets to the detector's measured
-// error per axis: the study then asks whether an error that is not iid Gaussian (bias, correlation
-// along an edge, a pixel grid) spreads the calibration as that sigma predicts.
+// Gaussian draws: their number (at least 10) replaces options.draws. The prediction stays the
+// formula's at the truth on `views` with options.pixel_sigma_px, which the caller sets to the
+// detector's measured error per axis: the study then asks whether an error that is not iid Gaussian
+// (bias, correlation along an edge, a pixel grid) spreads the calibration as that sigma predicts.
 UncertaintyStudyResult RunUncertaintyStudy(
     const CameraIntrinsics& truth, const std::vector<View>& views,
     const std::vector<Rigid3>& cam_from_board, int image_width, int image_height,

@@ -130,6 +130,12 @@ TEST(ProjectionUncertaintyStudy, MeasuredDrawsSpreadAsTheirNoiseNotTheirFixedErr
       RunUncertaintyStudy(truth, data.views, data.cam_from_board, 640, 480, options, &draws);
   EXPECT_FALSE(bad.ok);
   EXPECT_NE(bad.message.find("11 views where the study has 12"), std::string::npos) << bad.message;
+  // Fewer than 10 measured draws are refused, whatever options.draws says.
+  draws.resize(5);
+  const UncertaintyStudyResult few =
+      RunUncertaintyStudy(truth, data.views, data.cam_from_board, 640, 480, options, &draws);
+  EXPECT_FALSE(few.ok);
+  EXPECT_NE(few.message.find("fewer than 10 measured draws (5)"), std::string::npos) << few.message;
 }
 
 TEST(ProjectionUncertaintyStudy, BadOptionsAreRefusedWithAReason) {
