@@ -24,6 +24,10 @@ using refine_internal::Parameters;
 using refine_internal::PerViewIntrinsicsCovariance;
 
 constexpr int kN = PinholeSkewCamera::kNumParams;
+// Above this many residuals a shared-pose bound (IntrinsicsCovarianceAt) takes the normal
+// equations instead of ceres::Covariance's dense SVD: every default sweep's trial (<= 32k) stays on
+// the reference computation, a dynamic scenario's (180 s at 20 Hz: 1.15M) does not.
+constexpr int kTallProblemResiduals = 200'000;
 
 // The hand-written Jacobians (batch/projection_jacobian.h) cover every family; autodiff asks for
 // the ceres::Jet reference.
@@ -504,7 +508,18 @@ bool IntrinsicsCovarianceAt(const std::vector<View>& views, const CameraIntrinsi
   ceres::Problem problem(problem_options);
   RefineOptions plain = options;
   plain.loss = RobustLoss::kNone;
-  BuildProblem(views, plain, &params, &problem);
+  const int points = BuildProblem(views, plain, &params, &problem);
+  if (plain.shared_pose && 2 * points > kTallProblemResiduals) {
+    // A long trial seen from one pose (a dynamic scenario: 1e6 residuals): the normal equations,
+    // equal to ~1e-10 relative, where the dense SVD would take seconds.
+    Eigen::MatrixXd joint;
+    if (!JointCovariance(&problem, &params, FixedOf(plain), pixel_sigma_px * pixel_sigma_px, &joint,
+                         why)) {
+      return false;
+    }
+    *covariance = joint.topLeftCorner<kN, kN>();
+    return true;
+  }
   return CovarianceOfIntrinsics(&problem, &params, pixel_sigma_px * pixel_sigma_px, covariance,
                                 why);
 }

@@ -81,19 +81,24 @@ bool JointCovariance(ceres::Problem* problem, Parameters* params, const std::vec
   ceres::Problem::EvaluateOptions options;
   options.parameter_blocks = {blocks[0], blocks[1], blocks[2]};
   options.apply_loss_function = true;
-  // J^T J in chunks of residual blocks: a growing window's whole Jacobian in CRS form would take
-  // ~20 bytes a residual (200 MB at 1e6 residuals) for a 16 x 16 result.
+  // J^T J in chunks of residual blocks of ~kChunkResiduals residuals (a block is a point or a
+  // whole view): a growing window's whole Jacobian in CRS form would take ~20 bytes a residual
+  // (200 MB at 1e6 residuals) for a 16 x 16 result, and a chunk that fits in the cache is
+  // reused without page faults.
   std::vector<ceres::ResidualBlockId> residual_blocks;
   problem->GetResidualBlocks(&residual_blocks);
-  constexpr size_t kChunk = 4096;
+  constexpr int kChunkResiduals = 8192;
   const int n = kN - static_cast<int>(fixed.size()) + 6;  // Free intrinsics + 3 + 3.
   Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(n, n);
   ceres::CRSMatrix jacobian;
-  for (size_t from = 0; from < residual_blocks.size(); from += kChunk) {
-    options.residual_blocks.assign(
-        residual_blocks.begin() + static_cast<long>(from),
-        residual_blocks.begin() +
-            static_cast<long>(std::min(residual_blocks.size(), from + kChunk)));
+  for (size_t from = 0, to = 0; from < residual_blocks.size(); from = to) {
+    int residuals = 0;
+    for (to = from; to < residual_blocks.size() && (to == from || residuals < kChunkResiduals);
+         ++to) {
+      residuals += problem->GetCostFunctionForResidualBlock(residual_blocks[to])->num_residuals();
+    }
+    options.residual_blocks.assign(residual_blocks.begin() + static_cast<long>(from),
+                                   residual_blocks.begin() + static_cast<long>(to));
     if (!problem->Evaluate(options, nullptr, nullptr, nullptr, &jacobian) ||
         jacobian.num_cols != n) {
       if (why) *why = "covariance: the Jacobian could not be evaluated";

@@ -222,6 +222,49 @@ TEST(ReprojectionCostFunction, JacobiansMatchAutodiff) {
   }
 }
 
+// A bound over one shared pose and more than 200k residuals (a dynamic scenario's trial) takes the
+// normal equations instead of the dense SVD: the same matrix. Independent check: the same views
+// repeated k times carry k times the information, so the tall problem's bound times k is the short
+// one's, which stays on ceres::Covariance's dense SVD. Tolerance 1e-8 relative: both invert a
+// Jacobi-scaled 10 x 10 with condition ~1e6 (rounding ~1e-10); an error in the normal equations
+// (a missed chunk, a wrong tangent column) moves it by >= 1/k = 0.4%.
+TEST(Refine, TallSharedPoseBoundEqualsTheDenseOne) {
+  SyntheticBoardOptions board;
+  board.num_views = 10;
+  Rng scene_rng(12);
+  const SyntheticBoardViews clean = MakeBoardViews(kTruth, board, &scene_rng);
+  // Every view's points in view 0's board frame: one cam_from_object sees them all.
+  const Rigid3& cam_from_object = clean.cam_from_board[0];
+  std::vector<View> short_views = clean.views;
+  for (size_t v = 0; v < short_views.size(); ++v) {
+    const Rigid3 object_from_board = cam_from_object.Inverse() * clean.cam_from_board[v];
+    for (Eigen::Vector3d& p : short_views[v].points) p = object_from_board * p;
+  }
+  long residuals = 0;
+  for (const View& v : short_views) residuals += 2 * static_cast<long>(v.points.size());
+  const int repeats = static_cast<int>(200'000 / residuals) + 2;
+  std::vector<View> tall_views;
+  for (int k = 0; k < repeats; ++k) {
+    tall_views.insert(tall_views.end(), short_views.begin(), short_views.end());
+  }
+  ASSERT_GT(residuals * repeats, 200'000);
+  ASSERT_LT(residuals, 200'000);
+  RefineOptions options;
+  options.model = LensModel::kPinholeK2;
+  options.shared_pose = true;
+  IntrinsicsCovariance short_cov, tall_cov;
+  std::string why;
+  ASSERT_TRUE(IntrinsicsCovarianceAt(short_views, kTruth, {cam_from_object}, options, 0.3,
+                                     &short_cov, &why))
+      << why;
+  ASSERT_TRUE(
+      IntrinsicsCovarianceAt(tall_views, kTruth, {cam_from_object}, options, 0.3, &tall_cov, &why))
+      << why;
+  const double rel = (tall_cov * repeats - short_cov).norm() / short_cov.norm();
+  EXPECT_LT(rel, 1e-8) << repeats << " repeats";
+  std::printf("tall shared-pose bound x %d vs dense: %.2e relative\n", repeats, rel);
+}
+
 // The reported standard deviations agree with the Monte Carlo spread and with the CRLB.
 TEST(Refine, CovarianceMatchesMonteCarloSpread) {
   const double sigma = 0.5;
