@@ -31,6 +31,10 @@ from statsmodels.stats.multitest import multipletests
 NORMALITY_LEVEL = 0.05  # Lilliefors: below it the differences are taken as not normal.
 MIN_PAIRS = 5  # Fewer paired trials: no test.
 SIGNIFICANCE = 0.05  # A difference is called significant below this Holm-adjusted p.
+POWER = 0.8  # The power a trial count is chosen for (trials_for_power).
+# A noncentrality beyond which a paired t-test's power is 1 to double precision at any level the
+# report uses (its critical t is < 20 from 5 pairs at 1e-4); scipy's noncentral t fails far out.
+NONCENTRALITY_CERTAIN = 40.0
 BOOTSTRAP_RESAMPLES = 2000
 BOOTSTRAP_SEED = 1  # numpy Generator seed of every bootstrap (deterministic intervals).
 Z95 = 1.959963984540054  # Two-sided 95% normal quantile: coverage of mean +- Z95 * std.
@@ -46,6 +50,9 @@ class Comparison:
     p_adjusted: float = math.nan  # Holm-adjusted within the family (holm()).
     effect: float = math.nan  # Median of the paired differences.
     effect_ci: tuple = (math.nan, math.nan)  # Its bootstrap 95% interval.
+    # Mean / standard deviation of the differences (Cohen's dz; infinite when every difference
+    # is the same non-zero one, NaN when all are 0 or fewer than 2).
+    standardized: float = math.nan
     reason: str = ""  # Why there is no test: "n<5", "identical", "Δ constant".
 
     @property
@@ -79,8 +86,9 @@ def first_against_first(times, tiebreak, family_of):
     """The adaptive estimator against batch calibration on a re-convergence: per family the
     method whose median time (over its trials, a Series each) is smallest, ties broken by
     `tiebreak` (method -> number); the batch one's times minus the adaptive one's, paired by
-    trial. (adaptive, batch, Comparison) or None when either family is absent; not Holm-adjusted.
-    `family_of`: method -> family (io.RunData.families)."""
+    trial (times on the frame grid: compare(grid=True)). (adaptive, batch, Comparison) or None
+    when either family is absent; not Holm-adjusted. `family_of`: method -> family
+    (io.RunData.families)."""
     def first(family):
         ranked = sorted((m for m in times if family_of.get(m) == family),
                         key=lambda m: (float(times[m].median()), tiebreak[m]))
@@ -89,7 +97,7 @@ def first_against_first(times, tiebreak, family_of):
     a, b = first("adaptive"), first("batch")
     if a is None or b is None:
         return None
-    return a, b, compare(paired_differences(times[b], times[a]))
+    return a, b, compare(paired_differences(times[b], times[a]), grid=True)
 
 
 def normality_p(d):
@@ -130,20 +138,36 @@ def bootstrap_median_ci(d, level=0.95):
     return float(result.confidence_interval.low), float(result.confidence_interval.high)
 
 
-def compare(d):
-    """The Comparison of paired differences d (NaNs already dropped: paired_differences)."""
+def compare(d, grid=False):
+    """The Comparison of paired differences d (NaNs already dropped: paired_differences).
+    `grid`: d are differences of times on the frame grid (re-convergence), of independent trials
+    (each its own phase and noise): there the same difference in every trial is the usual outcome
+    of a clear effect (both methods land on the same frames each time), tested by the exact sign
+    test (every pair on one side: p = 2 / 2^n). Elsewhere it means the trials repeat one another
+    and is not tested ("Δ constant")."""
     d = np.asarray(d, dtype=float)
-    return dataclasses.replace(_compare(d.tobytes()))  # A copy: holm() sets p_adjusted.
+    return dataclasses.replace(_compare(d.tobytes(), grid))  # A copy: holm() sets p_adjusted.
+
+
+def sign_test_p(d):
+    """Two-sided exact p of the sign test of differences d (zeros dropped; H0: median 0)."""
+    d = np.asarray(d, dtype=float)
+    d = d[d != 0]
+    return float(stats.binomtest(int(np.sum(d > 0)), d.size).pvalue) if d.size else 1.0
 
 
 @functools.lru_cache(maxsize=4096)
-def _compare(d_bytes):
+def _compare(d_bytes, grid):
     """compare() of the differences in d_bytes, memoised: a gain sweep repeats the batch
     methods' rows, hence their comparisons, at every gain."""
     d = np.frombuffer(d_bytes, dtype=float)
     out = Comparison(n=int(d.size))
     if d.size:
         out.effect = float(np.median(d))
+    if d.size >= 2 and np.any(d != 0):
+        # The same difference every trial (sd 0, or rounding's ~1e-16 of it): dz infinite.
+        mean, sd = float(np.mean(d)), float(np.std(d, ddof=1))
+        out.standardized = mean / sd if sd > 1e-12 * abs(mean) else math.copysign(math.inf, mean)
     if d.size < MIN_PAIRS:  # The median alone: no interval, no test.
         out.reason = f"n<{MIN_PAIRS}"
         return out
@@ -151,11 +175,36 @@ def _compare(d_bytes):
     if np.all(d == 0):
         out.reason = "identical"
         return out
-    if np.ptp(d) == 0:  # The same difference in every trial: the trials repeat one another.
-        out.reason = "Δ constant"
+    if np.ptp(d) == 0:  # The same difference in every trial.
+        if grid:
+            out.test, out.p = "S", sign_test_p(d)
+        else:  # The trials repeat one another.
+            out.reason = "Δ constant"
         return out
     out.test, out.normality_p, out.p = choose_and_test(d)
     return out
+
+
+def trials_for_power(standardized, alpha, power=POWER, most=1000):
+    """The fewest pairs at which a two-sided paired t-test at level `alpha` detects a mean
+    difference of `standardized` standard deviations (Cohen's dz) with probability `power`
+    (noncentral t), and at which a Wilcoxon signed-rank test can reach `alpha` at all (its smallest
+    two-sided p with n pairs is 2 / 2^n); None beyond `most` or when dz is 0 or unknown."""
+    dz = abs(standardized)
+    if not dz > 0:  # 0 or NaN.
+        return None
+    floor = max(MIN_PAIRS, math.ceil(math.log2(2.0 / alpha)))
+    if dz * math.sqrt(floor) > NONCENTRALITY_CERTAIN:
+        return floor
+    for n in range(floor, most + 1):
+        t_crit = stats.t.ppf(1.0 - alpha / 2.0, n - 1)
+        nc = dz * math.sqrt(n)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # A far tail of a large effect: 0, as it should be.
+            reached = stats.nct.sf(t_crit, n - 1, nc) + stats.nct.cdf(-t_crit, n - 1, nc)
+        if reached >= power:
+            return n
+    return None
 
 
 def holm(comparisons):

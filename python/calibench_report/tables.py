@@ -34,7 +34,7 @@ def p_value(p):
     return f"{p:.2g}" if p >= 1e-4 else f"{p:.1e}"
 
 
-TEST_NAMES = {"t": "paired t", "W": "Wilcoxon"}
+TEST_NAMES = {"t": "paired t", "W": "Wilcoxon", "S": "sign test"}
 
 
 def p_text(c):
@@ -89,6 +89,8 @@ def time_versus_text(adaptive, batch, c, what):
     re-converges 3.2 s [1.1, 5] before ceres-w2 after the pitch step, p 0.002 (Wilcoxon)'."""
     if c is None or not finite(c.effect):
         return f"{adaptive} against {batch}: no common trials"
+    if c.reason == "identical":
+        return f"{adaptive} and {batch} tie: the same time in every trial ({c.n})"
     lo, hi = c.effect_ci
     if c.effect >= 0:
         interval = f" [{num(lo, 2)}, {num(hi, 2)}]" if finite(lo) else ""

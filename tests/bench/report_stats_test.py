@@ -218,6 +218,35 @@ class VersusTest(unittest.TestCase):
                         .startswith("ceres-w2 re-converges 2 s ["))
 
 
+class PowerTest(unittest.TestCase):
+    """The standardized effect and the trials a paired t-test needs for 80% power."""
+
+    def test_standardized_effect_is_mean_over_sample_sd(self):
+        # d = 1..5: mean 3, sample variance 10 / 4 = 2.5.
+        # Mutation tried: np.std(d) (ddof 0) -> 3 / sqrt(2) fails.
+        self.assertAlmostEqual(rs.compare(np.array([1.0, 2, 3, 4, 5])).standardized,
+                               3 / math.sqrt(2.5), places=12)
+        self.assertEqual(rs.compare(np.full(8, -0.25)).standardized, -math.inf)
+        self.assertTrue(math.isnan(rs.compare(np.zeros(6)).standardized))
+
+    def test_pairs_match_published_power_tables(self):
+        # G*Power 3.1, "means: difference between two dependent means (matched pairs)", a priori,
+        # two tails, alpha 0.05, power 0.80: dz 0.5 -> 34 pairs, 0.8 -> 15, 1.0 -> 10.
+        # Mutation tried: a one-sided critical value (1 - alpha) -> 27, 12, 8 fail.
+        for dz, pairs in ((0.5, 34), (0.8, 15), (1.0, 10), (-0.8, 15)):
+            self.assertEqual(rs.trials_for_power(dz, 0.05), pairs, dz)
+
+    def test_floor_is_where_a_rank_test_can_reach_the_level(self):
+        # Wilcoxon's smallest two-sided p with n pairs is 2 / 2^n: at 0.05 / 4 = 0.0125 it takes
+        # n = 8 (2 / 2^7 = 0.0156 > 0.0125 >= 2 / 2^8), however large the effect.
+        self.assertEqual(rs.trials_for_power(math.inf, 0.05 / 4), 8)
+        self.assertEqual(rs.trials_for_power(30.0, 0.05 / 4), 8)
+        # At 0.05: 2 / 2^5 = 0.0625 is above it, 2 / 2^6 below: 6, one above stats.MIN_PAIRS.
+        self.assertEqual(rs.trials_for_power(30.0, 0.05), 6)
+        self.assertIsNone(rs.trials_for_power(0.0, 0.05))
+        self.assertIsNone(rs.trials_for_power(math.nan, 0.05))
+
+
 class CoverageTest(unittest.TestCase):
     def test_coverage_counts_the_trials_inside(self):
         cover, n = rs.coverage([0.5, -1.0, 3.0, np.nan], [1.0, 1.0, 1.0, 1.0])

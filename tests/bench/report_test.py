@@ -78,6 +78,11 @@ class ReportTest(unittest.TestCase):
         self.assertRegex(verdicts, r"- \*\*A calibration that changes\*\*: step: .* "
                                    r"re-converges .*not testable \(n=2<5\)")
         self.assertNotIn("Feature points**", verdicts)  # No points sweep in these runs.
+        # Under them the trials against the effects: a row per verdict comparison with its pairs
+        # (the step's 2 trials; the noise sweep's trials pooled over its points).
+        self.assertIn("| pairs for 80% power", verdicts)
+        self.assertRegex(verdicts, r"\| Pixel noise +\| noise +\| [0-9]+ +\| [0-9.e∞-]+ +\| ")
+        self.assertRegex(verdicts, r"\| A calibration that changes +\| step +\| 2 +\| ")
         self.assertRegex(answers, r"\| noise +\| f·ku \(px\) .* beats .* in f·ku error")
         for figure in ("answer_noise.png", "answer_gain.png", "tracking_pareto.png"):
             self.assertIn(f"]({figure})", answers)

@@ -8,8 +8,11 @@ at the most points; each of its wins is significant when its comparison with the
 runner-up has a Holm-adjusted p below stats.SIGNIFICANCE (the family: every comparison of that
 point, as in the appendix tables); its closest win, the one with the largest p, is shown with the
 runner-up's effect. Where it wins nowhere significantly, the table says so."""
+import math
+
+from calibench_report import stats
 from calibench_report.sections import Section, corner_bias, dynamic, gain, rig, sweeps
-from calibench_report.tables import SIGNIFICANT
+from calibench_report.tables import SIGNIFICANT, markdown, num
 
 QUESTIONS = {
     "noise": "Pixel noise: which method is most accurate as the noise grows?",
@@ -44,7 +47,51 @@ def verdicts(ctx):
             "bootstrap 95% interval of that median, the paired test on the log ratios); changes: "
             "the difference of the re-convergence times, batch's minus adaptive's. Each against "
             "the best batch method of its runs; p Holm-adjusted within its question. The tables "
-            "below name the winners.", ""] + lines + [""]
+            "below name the winners.", ""] + lines + [""] + power_table(ctx)
+
+
+def verdict_comparisons(ctx):
+    """[(question, case, Comparison, family size)]: every comparison a verdict line reads."""
+    out = []
+    for role in ("noise", "points"):
+        rows = sweeps.versus_rows(ctx, role)
+        q = ctx.data.schema.bounded_headline()
+        out += [(SHORT[role], sweep, c, len(rows)) for (sweep, name), (_, _, c) in rows.items()
+                if q and name == q.name]
+    rows = gain.versus_rows(ctx)
+    q = ctx.data.schema.bounded_headline()
+    out += [(SHORT["gain"], row[0], v[1], len(rows)) for row, _, quantity, v in rows
+            if v and q and quantity == q]
+    rows = dynamic.versus_rows(ctx)
+    out += [(SHORT["dynamic"], scenario, v[2], len(rows)) for scenario, (_, v) in rows.items()
+            if v]
+    rows = rig.versus_rows(ctx)
+    out += [(SHORT["rig"], f"{scenario}, camera {camera}", c, len(rows))
+            for (scenario, camera), (_, _, c) in rows.items()]
+    return out
+
+
+def power_table(ctx):
+    """The trial counts against the effects measured: per verdict comparison its pairs, its
+    standardized effect, and the pairs at which it would be significant with 80% power at the
+    strictest Holm level of its family (stats.trials_for_power); or []."""
+    body = []
+    for question, case, c, family in verdict_comparisons(ctx):
+        alpha = stats.SIGNIFICANCE / max(1, family)
+        needed = stats.trials_for_power(c.standardized, alpha)
+        dz = "∞" if math.isinf(c.standardized) else num(c.standardized, 2)
+        body.append([question, case, str(c.n), dz,
+                     str(needed) if needed else "–"])
+    if not body:
+        return []
+    return ["The trials against the effects: per verdict the pairs it used, the mean paired "
+            "difference over its standard deviation (Cohen's dz; the log ratio for a static "
+            "question), and the pairs a paired t-test needs to find that effect with "
+            f"{stats.POWER:.0%} power at the strictest Holm level of its question "
+            f"({stats.SIGNIFICANCE:g} / the question's comparisons), never fewer than the "
+            "Wilcoxon test's floor (2 / 2ⁿ below that level). \"–\": no effect measured (every "
+            "pair equal).", "", markdown(body, ["question", "case", "pairs", "dz",
+                                                "pairs for 80% power"]), ""]
 
 
 def section(ctx):

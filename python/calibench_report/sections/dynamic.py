@@ -400,7 +400,8 @@ def contest(ctx, scenario, event):
     if not ranked:
         return None
     winner = ranked[0]
-    comparisons = {m: stats.compare(stats.paired_differences(times[m][0], times[winner][0]))
+    comparisons = {m: stats.compare(stats.paired_differences(times[m][0], times[winner][0]),
+                                    grid=True)
                    for m in ranked[1:]}
     stats.holm(list(comparisons.values()))
     trials = len(times[winner][0])

@@ -54,7 +54,7 @@ def contest(rig, end_s):
     if not ranked or not math.isfinite(median(times[ranked[0]])):
         return None
     winner = ranked[0]
-    comparisons = {m: stats.compare(stats.paired_differences(times[m], times[winner]))
+    comparisons = {m: stats.compare(stats.paired_differences(times[m], times[winner]), grid=True)
                    for m in ranked[1:]}
     stats.holm(list(comparisons.values()))
     return winner, comparisons
