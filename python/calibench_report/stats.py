@@ -16,7 +16,9 @@ estimators on the same Monte Carlo trials:
   * the coverage of reported standard deviations and the binomial band of a coverage.
 Fewer than MIN_PAIRS pairs (the median of d alone, without an interval), d all zero ("identical")
 or d constant (the trials repeat one another, e.g. rendered frames without noise) give no test: a
-reason instead of a p-value.
+reason instead of a p-value. Except for times on the frame grid of distinct trials (compare's
+`grid`, trials_differ): there a constant d is a clear effect, tested by the exact sign test.
+The power of a comparison: its standardized effect (Cohen's dz) and trials_for_power.
 """
 import dataclasses
 import functools
@@ -82,13 +84,13 @@ def log_ratios(a, b):
     return d[np.isfinite(d)]
 
 
-def first_against_first(times, tiebreak, family_of):
+def first_against_first(times, tiebreak, family_of, grid=True):
     """The adaptive estimator against batch calibration on a re-convergence: per family the
     method whose median time (over its trials, a Series each) is smallest, ties broken by
     `tiebreak` (method -> number); the batch one's times minus the adaptive one's, paired by
-    trial (times on the frame grid: compare(grid=True)). (adaptive, batch, Comparison) or None
-    when either family is absent; not Holm-adjusted. `family_of`: method -> family
-    (io.RunData.families)."""
+    trial (times on the frame grid: compare's `grid`, true when the trials differ). (adaptive,
+    batch, Comparison) or None when either family is absent; not Holm-adjusted. `family_of`:
+    method -> family (io.RunData.families)."""
     def first(family):
         ranked = sorted((m for m in times if family_of.get(m) == family),
                         key=lambda m: (float(times[m].median()), tiebreak[m]))
@@ -97,7 +99,7 @@ def first_against_first(times, tiebreak, family_of):
     a, b = first("adaptive"), first("batch")
     if a is None or b is None:
         return None
-    return a, b, compare(paired_differences(times[b], times[a]), grid=True)
+    return a, b, compare(paired_differences(times[b], times[a]), grid=grid)
 
 
 def normality_p(d):
@@ -140,13 +142,25 @@ def bootstrap_median_ci(d, level=0.95):
 
 def compare(d, grid=False):
     """The Comparison of paired differences d (NaNs already dropped: paired_differences).
-    `grid`: d are differences of times on the frame grid (re-convergence), of independent trials
-    (each its own phase and noise): there the same difference in every trial is the usual outcome
+    `grid`: d are differences of times on the frame grid (re-convergence) of trials that differ
+    (their own noise; trials_differ): there the same difference in every trial is the usual outcome
     of a clear effect (both methods land on the same frames each time), tested by the exact sign
     test (every pair on one side: p = 2 / 2^n). Elsewhere it means the trials repeat one another
     and is not tested ("Δ constant")."""
     d = np.asarray(d, dtype=float)
     return dataclasses.replace(_compare(d.tobytes(), grid))  # A copy: holm() sets p_adjusted.
+
+
+def trials_differ(per_trial):
+    """Whether a scenario's trials are distinct draws: some per-trial figure on a continuous scale
+    (e.g. each method's steady error, a Series or array per method in `per_trial`) takes more than
+    one value. Trials that repeat one another (no noise, no random phase) give one value each."""
+    for values in per_trial:
+        v = np.asarray(values, dtype=float)
+        v = v[np.isfinite(v)]
+        if v.size > 1 and np.ptp(v) > 0:
+            return True
+    return False
 
 
 def sign_test_p(d):

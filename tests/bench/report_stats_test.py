@@ -218,6 +218,35 @@ class VersusTest(unittest.TestCase):
                         .startswith("ceres-w2 re-converges 2 s ["))
 
 
+class GridTimesTest(unittest.TestCase):
+    """Re-convergence times on the frame grid of distinct trials: a constant difference is tested
+    by the exact sign test; of trials that repeat one another it is not."""
+
+    def test_constant_difference_of_distinct_trials_gets_the_sign_test(self):
+        # Ten trials, each 1.9 s apart: the sign test's two-sided p is 2 / 2^10 (binomial, all
+        # ten on one side). Mutation tried: one-sided binomtest -> 1 / 2^10 fails.
+        c = rs.compare(np.full(10, 1.9), grid=True)
+        self.assertEqual((c.test, c.reason), ("S", ""))
+        self.assertAlmostEqual(c.p, 2 / 2**10, places=15)
+        other = rs.compare(np.array([0.5, 1.0, -0.2, 0.8, 1.1, 0.3, 0.9]))
+        rs.holm([c, other])  # Holm: the smaller p times 2.
+        self.assertAlmostEqual(c.p_adjusted, 2 * 2 / 2**10, places=15)
+        self.assertEqual(rs.compare(np.full(10, 1.9)).reason, "Δ constant")
+        self.assertEqual(rs.compare(np.zeros(10), grid=True).reason, "identical")
+        self.assertEqual(rs.sign_test_p([1.0, -1.0, 0.0, 2.0]), 1.0)  # 2 of 3 on one side.
+
+    def test_trials_differ_when_a_continuous_figure_does(self):
+        copies = [pd.Series([0.01] * 5), np.full(5, 0.2)]
+        self.assertFalse(rs.trials_differ(copies))
+        self.assertTrue(rs.trials_differ(copies + [np.array([0.1, np.nan, 0.2])]))
+        self.assertFalse(rs.trials_differ([np.array([np.nan, 0.3])]))  # One finite value.
+
+    def test_tie_is_said_in_words(self):
+        c = rs.compare(np.zeros(10), grid=True)
+        text = tables.time_versus_text("adaptive-reset", "ceres-w2", c, "re-converges")
+        self.assertEqual(text, "adaptive-reset and ceres-w2 tie: the same time in every trial (10)")
+
+
 class PowerTest(unittest.TestCase):
     """The standardized effect and the trials a paired t-test needs for 80% power."""
 

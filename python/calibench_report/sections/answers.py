@@ -80,8 +80,11 @@ def power_table(ctx):
         alpha = stats.SIGNIFICANCE / max(1, family)
         needed = stats.trials_for_power(c.standardized, alpha)
         dz = "∞" if math.isinf(c.standardized) else num(c.standardized, 2)
-        body.append([question, case, str(c.n), dz,
-                     str(needed) if needed else "–"])
+        if needed:
+            pairs = str(needed)
+        else:  # No effect measured, or one too small to test.
+            pairs = "> 1000" if math.isfinite(c.standardized) and c.standardized != 0 else "–"
+        body.append([question, case, str(c.n), dz, pairs])
     if not body:
         return []
     return ["The trials against the effects: per verdict the pairs it used, the mean paired "
@@ -90,7 +93,7 @@ def power_table(ctx):
             f"{stats.POWER:.0%} power at the strictest Holm level of its question "
             f"({stats.SIGNIFICANCE:g} / the question's comparisons), never fewer than the "
             "Wilcoxon test's floor (2 / 2ⁿ below that level). \"–\": no effect measured (every "
-            "pair equal).", "", markdown(body, ["question", "case", "pairs", "dz",
+            "pair equal, or fewer than 2); \"> 1000\": an effect too small to test.", "", markdown(body, ["question", "case", "pairs", "dz",
                                                 "pairs for 80% power"]), ""]
 
 

@@ -400,8 +400,9 @@ def contest(ctx, scenario, event):
     if not ranked:
         return None
     winner = ranked[0]
+    distinct = stats.trials_differ(steady for _, steady in times.values())
     comparisons = {m: stats.compare(stats.paired_differences(times[m][0], times[winner][0]),
-                                    grid=True)
+                                    grid=distinct)
                    for m in ranked[1:]}
     stats.holm(list(comparisons.values()))
     trials = len(times[winner][0])
@@ -451,7 +452,8 @@ def versus_batch(ctx, scenario, event):
     times = {m: reconvergence(ctx.data, scenario, event, m) for m in methods}
     return stats.first_against_first({m: t for m, (t, _) in times.items()},
                                      {m: median(s) for m, (_, s) in times.items()},
-                                     ctx.data.families)
+                                     ctx.data.families,
+                                     grid=stats.trials_differ(s for _, s in times.values()))
 
 
 @functools.lru_cache(maxsize=None)

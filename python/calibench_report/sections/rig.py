@@ -54,7 +54,9 @@ def contest(rig, end_s):
     if not ranked or not math.isfinite(median(times[ranked[0]])):
         return None
     winner = ranked[0]
-    comparisons = {m: stats.compare(stats.paired_differences(times[m], times[winner]), grid=True)
+    distinct = stats.trials_differ(rig[rig.method == m].rel_rot_steady_err_deg for m in methods)
+    comparisons = {m: stats.compare(stats.paired_differences(times[m], times[winner]),
+                                    grid=distinct)
                    for m in ranked[1:]}
     stats.holm(list(comparisons.values()))
     return winner, comparisons
@@ -144,7 +146,8 @@ def versus_batch(ctx, rig, end_s):
     return stats.first_against_first(
         {m: reconvergence(rig[rig.method == m], end_s) for m in methods},
         {m: median(rig[rig.method == m].rel_rot_steady_err_deg) for m in methods},
-        ctx.data.families)
+        ctx.data.families,
+        grid=stats.trials_differ(rig[rig.method == m].rel_rot_steady_err_deg for m in methods))
 
 
 @functools.lru_cache(maxsize=None)
