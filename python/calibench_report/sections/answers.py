@@ -51,17 +51,17 @@ def verdicts(ctx):
 
 
 def verdict_comparisons(ctx):
-    """[(question, case, Comparison, family size)]: every comparison a verdict line reads."""
+    """[(question, case, Comparison, family size)]: every comparison a verdict line reads, with
+    the size of the family its p is Holm-adjusted in (each question's versus_rows)."""
+    q = ctx.data.schema.bounded_headline()
     out = []
     for role in ("noise", "points"):
         rows = sweeps.versus_rows(ctx, role)
-        q = ctx.data.schema.bounded_headline()
         out += [(SHORT[role], sweep, c, len(rows)) for (sweep, name), (_, _, c) in rows.items()
                 if q and name == q.name]
-    rows = gain.versus_rows(ctx)
-    q = ctx.data.schema.bounded_headline()
-    out += [(SHORT["gain"], row[0], v[1], len(rows)) for row, _, quantity, v in rows
-            if v and q and quantity == q]
+    rows = [(row, quantity, v) for row, _, quantity, v in gain.versus_rows(ctx) if v]
+    out += [(SHORT["gain"], row[0], v[1], len(rows)) for row, quantity, v in rows
+            if q and quantity == q]
     rows = dynamic.versus_rows(ctx)
     out += [(SHORT["dynamic"], scenario, v[2], len(rows)) for scenario, (_, v) in rows.items()
             if v]
@@ -93,8 +93,8 @@ def power_table(ctx):
             f"{stats.POWER:.0%} power at the strictest Holm level of its question "
             f"({stats.SIGNIFICANCE:g} / the question's comparisons), never fewer than the "
             "Wilcoxon test's floor (2 / 2ⁿ below that level). \"–\": no effect measured (every "
-            "pair equal, or fewer than 2); \"> 1000\": an effect too small to test.", "", markdown(body, ["question", "case", "pairs", "dz",
-                                                "pairs for 80% power"]), ""]
+            "pair equal, or fewer than 2); \"> 1000\": an effect too small to test.", "",
+            markdown(body, ["question", "case", "pairs", "dz", "pairs for 80% power"]), ""]
 
 
 def section(ctx):

@@ -388,19 +388,25 @@ def analyse(ctx, role_only=False):
     return out
 
 
+def reconvergence_by_method(ctx, scenario, event):
+    """{method: (censored re-convergence per trial, steady error per trial)} after `event`, and
+    whether the trials differ (stats.trials_differ on the steady errors)."""
+    ev = ctx.data.events
+    methods = dict.fromkeys(ev[ev.scenario == scenario].method)
+    times = {m: reconvergence(ctx.data, scenario, event, m) for m in methods}
+    return times, stats.trials_differ(steady for _, steady in times.values())
+
+
 def contest(ctx, scenario, event):
     """Who re-converges first after `event`: per method the median (over the trials) of the
     censored re-convergence time, ties broken by the median steady error; the winner compared
     with each other method, paired by trial (Δ = other - winner), Holm-adjusted as one family.
     Returns (winner, its median, its steady error, runner-up, {method: Comparison}, trials)."""
-    ev = ctx.data.events
-    methods = list(dict.fromkeys(ev[ev.scenario == scenario].method))
-    times = {m: reconvergence(ctx.data, scenario, event, m) for m in methods}
-    ranked = sorted(methods, key=lambda m: (median(times[m][0]), median(times[m][1])))
+    times, distinct = reconvergence_by_method(ctx, scenario, event)
+    ranked = sorted(times, key=lambda m: (median(times[m][0]), median(times[m][1])))
     if not ranked:
         return None
     winner = ranked[0]
-    distinct = stats.trials_differ(steady for _, steady in times.values())
     comparisons = {m: stats.compare(stats.paired_differences(times[m][0], times[winner][0]),
                                     grid=distinct)
                    for m in ranked[1:]}
@@ -447,13 +453,10 @@ def section(ctx):
 def versus_batch(ctx, scenario, event):
     """The adaptive estimator against batch calibration after `event`
     (stats.first_against_first on the censored re-convergence times, ties by steady error)."""
-    ev = ctx.data.events
-    methods = list(dict.fromkeys(ev[ev.scenario == scenario].method))
-    times = {m: reconvergence(ctx.data, scenario, event, m) for m in methods}
+    times, distinct = reconvergence_by_method(ctx, scenario, event)
     return stats.first_against_first({m: t for m, (t, _) in times.items()},
                                      {m: median(s) for m, (_, s) in times.items()},
-                                     ctx.data.families,
-                                     grid=stats.trials_differ(s for _, s in times.values()))
+                                     ctx.data.families, grid=distinct)
 
 
 @functools.lru_cache(maxsize=None)

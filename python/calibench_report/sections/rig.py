@@ -43,18 +43,25 @@ def reconvergence(rig, end_s):
     return x.rel_rot_reconverge_s.fillna(censor)
 
 
+def reconvergence_by_method(rig, end_s):
+    """({method: censored re-convergence per trial}, {method: median steady error}, whether the
+    trials differ (stats.trials_differ on the steady errors)), methods in their order of appearance."""
+    by_method = {m: rig[rig.method == m] for m in dict.fromkeys(rig.method)}
+    times = {m: reconvergence(x, end_s) for m, x in by_method.items()}
+    steady = {m: median(x.rel_rot_steady_err_deg) for m, x in by_method.items()}
+    distinct = stats.trials_differ(x.rel_rot_steady_err_deg for x in by_method.values())
+    return times, steady, distinct
+
+
 def contest(rig, end_s):
     """Who re-converges first: per method the median censored re-convergence, ties broken by the
     median steady error; the winner against each other method paired by trial, Holm over them.
     (winner, {method: Comparison}) or None."""
-    methods = list(dict.fromkeys(rig.method))
-    times = {m: reconvergence(rig[rig.method == m], end_s) for m in methods}
-    steady = {m: median(rig[rig.method == m].rel_rot_steady_err_deg) for m in methods}
-    ranked = sorted(methods, key=lambda m: (median(times[m]), steady[m]))
+    times, steady, distinct = reconvergence_by_method(rig, end_s)
+    ranked = sorted(times, key=lambda m: (median(times[m]), steady[m]))
     if not ranked or not math.isfinite(median(times[ranked[0]])):
         return None
     winner = ranked[0]
-    distinct = stats.trials_differ(rig[rig.method == m].rel_rot_steady_err_deg for m in methods)
     comparisons = {m: stats.compare(stats.paired_differences(times[m], times[winner]),
                                     grid=distinct)
                    for m in ranked[1:]}
@@ -142,12 +149,8 @@ def steady_contest(rig):
 def versus_batch(ctx, rig, end_s):
     """The adaptive estimator against batch calibration on a rig camera's relative rotation
     (stats.first_against_first on the censored re-convergence times, ties by steady error)."""
-    methods = list(dict.fromkeys(rig.method))
-    return stats.first_against_first(
-        {m: reconvergence(rig[rig.method == m], end_s) for m in methods},
-        {m: median(rig[rig.method == m].rel_rot_steady_err_deg) for m in methods},
-        ctx.data.families,
-        grid=stats.trials_differ(rig[rig.method == m].rel_rot_steady_err_deg for m in methods))
+    times, steady, distinct = reconvergence_by_method(rig, end_s)
+    return stats.first_against_first(times, steady, ctx.data.families, grid=distinct)
 
 
 @functools.lru_cache(maxsize=None)
