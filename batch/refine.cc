@@ -509,9 +509,10 @@ bool IntrinsicsCovarianceAt(const std::vector<View>& views, const CameraIntrinsi
   RefineOptions plain = options;
   plain.loss = RobustLoss::kNone;
   const int points = BuildProblem(views, plain, &params, &problem);
-  if (plain.shared_pose && 2 * points > kTallProblemResiduals) {
-    // A long trial seen from one pose (a dynamic scenario: 1e6 residuals): the normal equations,
-    // equal to ~1e-10 relative, where the dense SVD would take seconds.
+  if (plain.shared_pose && (plain.normal_equations || 2 * points > kTallProblemResiduals)) {
+    // One pose, as FillCovariance with normal_equations, or a long trial seen from one pose (a
+    // dynamic scenario: 1e6 residuals): the normal equations, equal to ~1e-10 relative, where the
+    // dense SVD would take seconds.
     Eigen::MatrixXd joint;
     if (!JointCovariance(&problem, &params, FixedOf(plain), pixel_sigma_px * pixel_sigma_px, &joint,
                          why)) {

@@ -17,8 +17,9 @@
 // parameters). Per-view poses: the Schur complement of the poses in J^T J (refine.cc,
 // PerViewIntrinsicsCovariance); autodiff and IntrinsicsCovarianceAt: ceres::Covariance's dense
 // SVD of the whole Jacobian (the same matrix, 10-50x slower; IntrinsicsCovarianceAt of one shared
-// pose over more than 200k residuals: the normal equations). Evaluated at the true parameters
-// with the true sigma, the same computation is the Cramer-Rao lower bound (IntrinsicsCovarianceAt).
+// pose with normal_equations or over 200k residuals: the normal equations). Evaluated at the true
+// parameters with the true sigma, the same computation is the Cramer-Rao lower bound
+// (IntrinsicsCovarianceAt).
 #pragma once
 
 #include <Eigen/Core>

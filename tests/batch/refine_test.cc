@@ -262,6 +262,14 @@ TEST(Refine, TallSharedPoseBoundEqualsTheDenseOne) {
       << why;
   const double rel = (tall_cov * repeats - short_cov).norm() / short_cov.norm();
   EXPECT_LT(rel, 1e-8) << repeats << " repeats";
+  // normal_equations asks for the same path on a short problem (as RefineCalibration's online
+  // windows do): the same matrix again.
+  options.normal_equations = true;
+  IntrinsicsCovariance short_normal;
+  ASSERT_TRUE(IntrinsicsCovarianceAt(short_views, kTruth, {cam_from_object}, options, 0.3,
+                                     &short_normal, &why))
+      << why;
+  EXPECT_LT((short_normal - short_cov).norm() / short_cov.norm(), 1e-8);
   std::printf("tall shared-pose bound x %d vs dense: %.2e relative\n", repeats, rel);
 }
 
